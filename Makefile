@@ -1,0 +1,106 @@
+# terrain LOD toolchain: dem2fqm fqmfilter fqmsolve tilepack tileplay
+# make            build everything (installs missing Debian packages first)
+# make check      build and run every test
+# make example    build a pyramid from the default example DEM
+# make bench      measure errors, speed and memory on ../shared/data
+# make install    PREFIX=/usr/local DESTDIR=
+
+PREFIX  ?= /usr/local
+BINDIR  ?= $(PREFIX)/bin
+LIBDIR  ?= $(PREFIX)/lib/terrain-lod
+MANDIR  ?= $(PREFIX)/share/man
+B       := build
+
+CC      ?= cc
+CXX     ?= c++
+CFLAGS  ?= -O2 -g
+CXXFLAGS ?= -O2 -g
+WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
+
+# Resolved when a recipe runs, i.e. after $(B)/.deps has installed them.
+PKGS    := OpenEXR libtiff-4 geographiclib OpenImageIO jansson proj
+PKGCF    = $(shell pkg-config --cflags $(PKGS))
+PKGLIBS  = $(shell pkg-config --libs $(PKGS)) -lOpenEXRCore-3_1 -lgeotiff
+ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(PKGCF) -Isrc/lib \
+            -DTL_LIBDIR='"$(LIBDIR)"'
+ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) $(PKGCF) -Isrc/lib
+LDLIBS   = -Wl,--as-needed $(PKGLIBS) -lz -lstdc++ -lm -lpthread -ldl
+
+PROGS   := dem2fqm fqmfilter fqmsolve
+LIBC    := $(wildcard src/lib/*.c)
+# OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
+# it lives in a plugin that dem.c loads only for formats libtiff cannot read.
+PLUGIN  := $(B)/tl_oiio.so
+LIBCXX  := $(filter-out src/lib/oiio_plugin.cpp,$(wildcard src/lib/*.cpp))
+LIBOBJ  := $(LIBC:src/lib/%.c=$(B)/lib/%.o) $(LIBCXX:src/lib/%.cpp=$(B)/lib/%.o)
+TESTC   := $(wildcard tests/t_*.c)
+TESTBIN := $(TESTC:tests/%.c=$(B)/tests/%)
+TOOLC   := $(wildcard tests/tools/*.c)
+TOOLBIN := $(TOOLC:tests/tools/%.c=$(B)/tools/%)
+MAN1    := $(PROGS:%=man/%.1)
+MAN5    := $(wildcard man/*.5)
+
+all: $(PROGS:%=$(B)/%) $(PLUGIN)
+
+# Install the Debian packages the build needs, once, when one is missing.
+$(B)/.deps:
+	@mkdir -p $(B)
+	@if ! command -v pkg-config >/dev/null || \
+	    ! pkg-config --exists $(PKGS) egl epoxy glfw3 libpng || \
+	    ! test -f /usr/include/geotiff/geotiff.h; then \
+		echo "make: missing build dependencies; running scripts/install-deps"; \
+		sh scripts/install-deps; \
+	fi
+	@touch $@
+
+$(B)/lib/%.o: src/lib/%.c src/lib/*.h | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CC) $(ALLCFLAGS) -c $< -o $@
+
+$(B)/lib/%.o: src/lib/%.cpp src/lib/*.h | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CXX) $(ALLCXXFLAGS) -c $< -o $@
+
+$(PLUGIN): src/lib/oiio_plugin.cpp src/lib/oiio_plugin.h | $(B)/.deps
+	$(CXX) -shared -fPIC $(ALLCXXFLAGS) -o $@ $< $(shell pkg-config --libs OpenImageIO)
+
+$(B)/libtl.a: $(LIBOBJ)
+	rm -f $@
+	ar rcs $@ $^
+
+$(B)/%.o: src/%.c src/lib/*.h | $(B)/.deps
+	@mkdir -p $(@D)
+	$(CC) $(ALLCFLAGS) -c $< -o $@
+
+$(B)/%: $(B)/%.o $(B)/libtl.a
+	$(CC) $(CFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+
+$(B)/tests/%: tests/%.c $(B)/libtl.a
+	@mkdir -p $(@D)
+	$(CC) $(ALLCFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+
+$(B)/tools/%: tests/tools/%.c $(B)/libtl.a
+	@mkdir -p $(@D)
+	$(CC) $(ALLCFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+
+check: all $(TESTBIN) $(TOOLBIN)
+	@sh tests/run
+
+example: all
+	sh examples/run
+
+bench: all $(TOOLBIN)
+	sh scripts/bench
+
+install: all
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
+	install -m 644 $(PLUGIN) $(DESTDIR)$(LIBDIR)
+	install -m 755 $(PROGS:%=$(B)/%) $(DESTDIR)$(BINDIR)
+	install -m 644 $(MAN1) $(DESTDIR)$(MANDIR)/man1
+	install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5
+
+clean:
+	rm -rf $(B)/lib $(B)/tests $(B)/tools $(B)/*.o $(B)/libtl.a $(PLUGIN) $(PROGS:%=$(B)/%)
+
+.PHONY: all check example bench install clean
+.SECONDARY:

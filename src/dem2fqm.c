@@ -1,0 +1,228 @@
+/* dem2fqm - a DEM in, its level-0 fundamental quadric map out: per vertex
+ * the area-weighted plane quadrics of its triangles, in its own frame. */
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "dem.h"
+#include "fqm.h"
+#include "raster.h"
+#include "util.h"
+
+static const char *prog = "dem2fqm";
+
+static void
+usage(FILE *f)
+{
+	fprintf(f, "usage: %s [-e encoding] [-N nodata] [-n name] [-s dx[,dy]] "
+	    "[-z compression]\n"
+	    "               [dem [out]]\n"
+	    "  -e encoding     auto (default), grey, terrainrgb, terrarium\n"
+	    "  -N nodata       void value, overriding the file's\n"
+	    "  -n name         file name giving an .hgt on stdin its tile "
+	    "(N42E001.hgt)\n"
+	    "  -s dx[,dy]      cell size in metres of an ungeoreferenced DEM "
+	    "(default 1)\n"
+	    "  -z compression  of an EXR output: zip (default), zips, rle, "
+	    "piz, none\n"
+	    "  dem             GeoTIFF, PNG, EXR, SRTM .hgt, or - (stdin, "
+	    "default)\n"
+	    "  out             level-0 FQM: EXR file or - (stream, default)\n",
+	    prog);
+}
+
+typedef struct {
+	dem_opts dem;
+	enum rs_compression comp;
+	const char *in, *out;
+} options;
+
+/* Three DEM rows around j (a ring), NULL past the edges. */
+typedef struct {
+	float *z[3];
+	unsigned char *valid[3];
+} window;
+
+static int
+convert(const options *o, tl_err *e)
+{
+	dem *d;
+	rs_writer *out = NULL;
+	rs_header h;
+	fqm_info fi = { 0 };
+	fqm_layout L;
+	geo_metric m = { 0 };
+	window win = { 0 };
+	fqm_vertex *fv = NULL;
+	float *row = NULL;
+	tl_progress pr;
+	int W, H, r = -1;
+
+	rs_header_init(&h, 0, 0);
+	if ((d = dem_open(o->in, &o->dem, e)) == NULL)
+		return -1;
+	fi.geo = *dem_georef(d);
+	W = fi.size0[0] = fi.geo.width;
+	H = fi.size0[1] = fi.geo.height;
+	if (W < 3 || H < 3) {
+		tl_fail(e, "%s: %dx%d samples: a DEM needs at least 3x3",
+		    tl_name(o->in, 0), W, H);
+		goto done;
+	}
+	if (fi.geo.model == GEO_NONE && o->dem.cell[0] == 0)
+		tl_warn(prog, "%s: not georeferenced: cells taken as 1 m "
+		    "(set with -s)", tl_name(o->in, 0));
+	if (geo_metric_init(&m, &fi.geo, e) < 0 ||
+	    fqm_header(&h, &fi, "none", e) < 0 ||
+	    fqm_layout_of(&h, &L, "dem2fqm", e) < 0)
+		goto done;
+	for (int k = 0; k < 3; k++) {
+		win.z[k] = tl_alloc(W, sizeof *win.z[k], e);
+		win.valid[k] = tl_alloc(W, 1, e);
+		if (win.z[k] == NULL || win.valid[k] == NULL)
+			goto done;
+	}
+	fv = tl_alloc(W, sizeof *fv, e);
+	row = tl_alloc((size_t)W * h.nch, sizeof *row, e);
+	if (fv == NULL || row == NULL)
+		goto done;
+	if ((out = rs_create(o->out, &h, o->comp, e)) == NULL)
+		goto done;
+	tl_progress_start(&pr, prog, H);
+	for (int j = 0; j < H; j++) {
+		const float *z[3];
+		const unsigned char *v[3];
+		for (int k = 0; k < 3; k++) {
+			int jj = j - 1 + k, slot = (jj + 3) % 3;
+			z[k] = jj >= 0 && jj < H ? win.z[slot] : NULL;
+			v[k] = win.valid[slot];
+		}
+		if (j == 0 && dem_read_row(d, 0, win.z[0], win.valid[0], e) < 0)
+			goto done;
+		if (j + 1 < H && dem_read_row(d, j + 1, win.z[(j + 1) % 3],
+		    win.valid[(j + 1) % 3], e) < 0)
+			goto done;
+		fqm_row0(z, v, W, j, &m, fv);
+		fqm_encode(&L, fv, W, row);
+		if (rs_write_row(out, row, e) < 0)
+			goto done;
+		tl_progress_step(&pr, j + 1);
+	}
+	tl_progress_end(&pr);
+	r = rs_finish(out, e);
+	out = NULL;
+done:
+	rs_abort(out);
+	dem_close(d);
+	rs_header_free(&h);
+	geo_metric_free(&m);
+	for (int k = 0; k < 3; k++)
+		free(win.z[k]), free(win.valid[k]);
+	free(fv), free(row);
+	return r;
+}
+
+static int
+parse_cell(const char *s, double cell[2])
+{
+	char buf[64], *comma;
+
+	if (strlen(s) >= sizeof buf)
+		return -1;
+	strcpy(buf, s);
+	if ((comma = strchr(buf, ',')) != NULL)
+		*comma++ = '\0';
+	if (tl_parse_double(buf, &cell[0]) < 0 || cell[0] <= 0)
+		return -1;
+	cell[1] = cell[0];
+	if (comma != NULL && (tl_parse_double(comma, &cell[1]) < 0 ||
+	    cell[1] <= 0))
+		return -1;
+	return 0;
+}
+
+int
+main(int argc, char **argv)
+{
+	static const struct option longopts[] = {
+		{ "help", no_argument, NULL, 'h' },
+		{ "version", no_argument, NULL, 'V' },
+		{ NULL, 0, NULL, 0 },
+	};
+	options o = { .comp = RS_ZIP, .in = "-", .out = "-" };
+	tl_err e;
+	int c;
+
+	while ((c = getopt_long(argc, argv, "e:hN:n:s:Vz:", longopts, NULL)) !=
+	    -1) {
+		switch (c) {
+		case 'e':
+			if (strcmp(optarg, "auto") == 0)
+				o.dem.encoding = DEM_ENC_AUTO;
+			else if (strcmp(optarg, "grey") == 0 ||
+			    strcmp(optarg, "gray") == 0)
+				o.dem.encoding = DEM_ENC_GREY;
+			else if (strcmp(optarg, "terrainrgb") == 0)
+				o.dem.encoding = DEM_ENC_TERRAINRGB;
+			else if (strcmp(optarg, "terrarium") == 0)
+				o.dem.encoding = DEM_ENC_TERRARIUM;
+			else {
+				tl_warn(prog, "-e %s: unknown encoding", optarg);
+				return 2;
+			}
+			break;
+		case 'h':
+			usage(stdout);
+			return 0;
+		case 'N':
+			if (tl_parse_double(optarg, &o.dem.nodata) < 0) {
+				tl_warn(prog, "-N %s: not a number", optarg);
+				return 2;
+			}
+			o.dem.has_nodata = 1;
+			break;
+		case 'n':
+			o.dem.hgt_name = optarg;
+			break;
+		case 's':
+			if (parse_cell(optarg, o.dem.cell) < 0) {
+				tl_warn(prog, "-s %s: expected dx or dx,dy in "
+				    "metres, > 0", optarg);
+				return 2;
+			}
+			break;
+		case 'V':
+			printf("%s %s\n", prog, TL_VERSION);
+			return 0;
+		case 'z':
+			if (rs_compression_parse(optarg, &o.comp) < 0) {
+				tl_warn(prog, "-z %s: unknown compression", optarg);
+				return 2;
+			}
+			break;
+		default:
+			usage(stderr);
+			return 2;
+		}
+	}
+	argc -= optind, argv += optind;
+	if (argc > 2) {
+		usage(stderr);
+		return 2;
+	}
+	if (argc > 0)
+		o.in = argv[0];
+	if (argc > 1)
+		o.out = argv[1];
+	if (strcmp(o.out, "-") == 0 && isatty(STDOUT_FILENO)) {
+		tl_warn(prog, "stdout: refusing to write a stream to a terminal");
+		return 1;
+	}
+	if (convert(&o, &e) < 0) {
+		tl_warn(prog, "%s", e.msg);
+		return 1;
+	}
+	return 0;
+}

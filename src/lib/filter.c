@@ -1,0 +1,204 @@
+/* filter.c - kernels and the separable, streaming quadric filter. */
+#include "filter.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+const fk_kernel fk_kernels[] = {
+	{ "binomial", 1, { 2 / 4., 1 / 4. } },
+	{ "none", 0, { 1 } },
+	{ "box", 1, { 1 / 3., 1 / 3. } },
+	{ "binomial5", 2, { 6 / 16., 4 / 16., 1 / 16. } },
+	{ NULL, 0, { 0 } },
+};
+
+const fk_kernel *
+fk_find(const char *name)
+{
+	for (const fk_kernel *k = fk_kernels; k->name != NULL; k++)
+		if (strcmp(k->name, name) == 0)
+			return k;
+	return NULL;
+}
+
+double
+fk_extend(const double *h, size_t stride, int n, int i)
+{
+	int r;
+
+	if (i >= 0 && i < n)
+		return h[(size_t)i * stride];
+	if (i < 0) {
+		r = -i < n ? -i : n - 1;
+		return 2 * h[0] - h[(size_t)r * stride];
+	}
+	r = 2 * (n - 1) - i;
+	if (r < 0)
+		r = 0;
+	return 2 * h[(size_t)(n - 1) * stride] - h[(size_t)r * stride];
+}
+
+/* q += w * r seen from the point (dx, dy, dz) of r's frame. */
+static void
+add_moved(quadric *q, const quadric *r, double dx, double dy, double dz,
+    double w)
+{
+	quadric t = *r;
+	double d[3] = { dx, dy, dz };
+
+	q_translate(&t, d);
+	q_add(q, &t, w);
+}
+
+int
+fk_init(fk_filter *f, const fk_kernel *k, int level, int fw, int fh,
+    const geo_metric *m, tl_err *e)
+{
+	memset(f, 0, sizeof *f);
+	f->k = k;
+	f->level = level;
+	f->fw = fw, f->fh = fh;
+	f->cw = (fw - 1 + 1) / 2 + 1; /* ceil((fw-1)/2) + 1 */
+	f->ch = (fh - 1 + 1) / 2 + 1;
+	f->m = m;
+	/* 2r+1 rows, and at least 2: a padded row's odd reflection
+	 * (2h[n-1] - h[n-2]) needs the two last rows even without a kernel */
+	f->nring = k->radius > 0 ? 2 * k->radius + 1 : 2;
+	f->ring = tl_alloc((size_t)f->nring * f->cw, sizeof *f->ring, e);
+	f->tag = tl_alloc(f->nring, sizeof *f->tag, e);
+	if (f->ring == NULL || f->tag == NULL) {
+		fk_free(f);
+		return -1;
+	}
+	for (int s = 0; s < f->nring; s++)
+		f->tag[s] = -1;
+	return 0;
+}
+
+void
+fk_free(fk_filter *f)
+{
+	free(f->ring), free(f->tag);
+	f->ring = NULL;
+	f->tag = NULL;
+}
+
+int
+fk_ready(const fk_filter *f)
+{
+	int need = 2 * f->out + f->k->radius;
+
+	if (need > f->fh - 1)
+		need = f->fh - 1;
+	return f->out < f->ch && f->next > need;
+}
+
+/* Horizontal pass over fine row j: into the frame of fine column 2k,
+ * at the horizontally filtered reference height. */
+void
+fk_push(fk_filter *f, const fqm_vertex *fine)
+{
+	const fk_kernel *k = f->k;
+	int j = f->next++, slot = j % f->nring;
+	fqm_vertex *out = f->ring + (size_t)slot * f->cw;
+	/* metres between fine columns along this row */
+	double s = (double)(1L << f->level) * fqm_dx(f->m, (long)j << f->level);
+	size_t st = sizeof *fine / sizeof(double);
+
+	f->tag[slot] = j;
+	for (int c = 0; c < f->cw; c++) {
+		fqm_vertex *o = &out[c];
+		double zh = 0;
+		memset(o, 0, sizeof *o);
+		for (int a = -k->radius; a <= k->radius; a++)
+			zh += k->w[abs(a)] *
+			    fk_extend(&fine[0].z, st, f->fw, 2 * c + a);
+		o->z = zh;
+		o->s = fk_extend(&fine[0].s, st, f->fw, 2 * c);
+		for (int a = -k->radius; a <= k->radius; a++) {
+			int i = 2 * c + a;
+			double w = k->w[abs(a)];
+			if (i >= f->fw) {
+				/* past the edge: no planes there; a padded
+				 * vertex no tap reaches (kernel none) takes
+				 * its neighbour's, extrapolating its planes */
+				if (k->radius > 0)
+					continue;
+				i = f->fw - 1, w = 1;
+			}
+			if (i < 0)
+				continue;
+			add_moved(&o->q, &fine[i].q, -(i - 2 * c) * s, 0,
+			    zh - fine[i].z, w);
+			if (i == 2 * c + a)
+				o->v += w * fine[i].v;
+		}
+	}
+}
+
+/* The ring row holding fine row i (it is always there: see fk_ready). */
+static const fqm_vertex *
+held(const fk_filter *f, int i)
+{
+	int slot = i % f->nring;
+
+	return f->tag[slot] == i ? f->ring + (size_t)slot * f->cw : NULL;
+}
+
+/* Reference-height column c of the held rows, odd-reflected past the
+ * first and last fine row. */
+static double
+ext_rows(const fk_filter *f, int c, int i, int field)
+{
+	const fqm_vertex *row;
+	int n = f->fh, r;
+
+	if (i >= 0 && i < n) {
+		row = held(f, i);
+		return field ? row[c].s : row[c].z;
+	}
+	if (i < 0) {
+		r = -i < n ? -i : n - 1;
+		return 2 * ext_rows(f, c, 0, field) - ext_rows(f, c, r, field);
+	}
+	r = 2 * (n - 1) - i;
+	if (r < 0)
+		r = 0;
+	return 2 * ext_rows(f, c, n - 1, field) - ext_rows(f, c, r, field);
+}
+
+/* Vertical pass: coarse row m from fine rows 2m-r .. 2m+r. */
+void
+fk_pull(fk_filter *f, fqm_vertex *coarse)
+{
+	const fk_kernel *k = f->k;
+	int m = f->out++, j0 = 2 * m;
+	double y0 = fqm_y(f->m, (long)j0 << f->level);
+
+	for (int c = 0; c < f->cw; c++) {
+		fqm_vertex *o = &coarse[c];
+		double zc = 0;
+		memset(o, 0, sizeof *o);
+		for (int b = -k->radius; b <= k->radius; b++)
+			zc += k->w[abs(b)] * ext_rows(f, c, j0 + b, 0);
+		o->z = zc;
+		o->s = ext_rows(f, c, j0, 1);
+		for (int b = -k->radius; b <= k->radius; b++) {
+			int i = j0 + b;
+			double w = k->w[abs(b)];
+			const fqm_vertex *h;
+			if (i >= f->fh) { /* as in fk_push */
+				if (k->radius > 0)
+					continue;
+				i = f->fh - 1, w = 1;
+			}
+			if (i < 0)
+				continue;
+			h = &held(f, i)[c];
+			add_moved(&o->q, &h->q, 0,
+			    y0 - fqm_y(f->m, (long)i << f->level), zc - h->z, w);
+			if (i == j0 + b)
+				o->v += w * h->v;
+		}
+	}
+}

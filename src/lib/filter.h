@@ -1,0 +1,48 @@
+/* filter.h - filter kernels and the streaming level filter of QEM-filtering:
+ * quadrics low-pass filtered (translated into each coarse vertex's frame, in
+ * double) and sub-sampled by 2; coarse vertex k at fine vertex 2k. */
+#ifndef TL_FILTER_H
+#define TL_FILTER_H
+
+#include "fqm.h"
+
+/* A symmetric, non-negative kernel (a negative tap would make the filtered
+ * quadric indefinite): w[0] centre, w[k] at +-k, taps sum to 1. */
+typedef struct {
+	const char *name;
+	int radius;
+	double w[3];
+} fk_kernel;
+
+extern const fk_kernel fk_kernels[]; /* terminated by name == NULL */
+const fk_kernel *fk_find(const char *name);
+
+/* The level filter holds 2r+1 horizontally filtered rows of the coarse
+ * width: memory O(coarse width x kernel height), never a level. */
+typedef struct {
+	const fk_kernel *k;
+	int level;         /* of the fine input */
+	int fw, fh, cw, ch; /* fine and coarse sizes */
+	const geo_metric *m;
+	int nring;
+	fqm_vertex *ring;  /* nring x cw */
+	int *tag;          /* fine row held by each ring slot */
+	int next;          /* next fine row to push */
+	int out;           /* next coarse row to pull */
+} fk_filter;
+
+int fk_init(fk_filter *f, const fk_kernel *k, int level, int fw, int fh,
+    const geo_metric *m, tl_err *e);
+/* 1 when the next coarse row can be pulled, 0 when a fine row must be
+ * pushed first. */
+int fk_ready(const fk_filter *f);
+void fk_push(fk_filter *f, const fqm_vertex *fine); /* fine row f->next */
+void fk_pull(fk_filter *f, fqm_vertex *coarse);      /* coarse row f->out */
+void fk_free(fk_filter *f);
+
+/* Value i of n samples, odd reflection (2h0 - h(-i)) past either end: it
+ * keeps linear functions linear, so reference heights of padded vertices
+ * and the vertex-filtered pyramid reproduce a plane exactly. */
+double fk_extend(const double *h, size_t stride, int n, int i);
+
+#endif

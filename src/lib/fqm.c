@@ -1,0 +1,202 @@
+/* fqm.c - FQM and vertex-map headers and rows (see fqm.h, fqm(5)). */
+#include "fqm.h"
+
+#include <string.h>
+
+static const char *const qch[10] = {
+	"Q.a11", "Q.a12", "Q.a13", "Q.a22", "Q.a23", "Q.a33",
+	"Q.b1", "Q.b2", "Q.b3", "Q.c",
+};
+
+int
+fqm_level_size(int n0, int level)
+{
+	long long span = n0 - 1, step = 1LL << level;
+
+	return (int)((span + step - 1) / step) + 1;
+}
+
+static int
+set_info(rs_header *h, const fqm_info *fi, const char *kind, tl_err *e)
+{
+	if (rs_set_int(h, "fqm:version", FQM_VERSION, e) < 0 ||
+	    rs_set_string(h, "fqm:kind", kind, e) < 0 ||
+	    rs_set_int(h, "fqm:level", fi->level, e) < 0 ||
+	    rs_set_v2i(h, "fqm:size0", fi->size0[0], fi->size0[1], e) < 0)
+		return -1;
+	return geo_to_header(&fi->geo, h, e);
+}
+
+int
+fqm_header(rs_header *h, const fqm_info *fi, const char *kernel, tl_err *e)
+{
+	rs_header_init(h, fqm_level_size(fi->size0[0], fi->level),
+	    fqm_level_size(fi->size0[1], fi->level));
+	for (int k = 0; k < 10; k++)
+		if (rs_add_channel(h, qch[k], e) < 0)
+			return -1;
+	if (rs_add_channel(h, "Z", e) < 0 || rs_add_channel(h, "S", e) < 0 ||
+	    rs_add_channel(h, "V", e) < 0)
+		return -1;
+	if (set_info(h, fi, "fqm", e) < 0)
+		return -1;
+	return rs_set_string(h, "fqm:kernel", kernel, e);
+}
+
+int
+fqm_info_of(const rs_header *h, const char *want, fqm_info *fi,
+    const char *what, tl_err *e)
+{
+	const char *kind = rs_get_string(h, "fqm:kind");
+	int version;
+
+	memset(fi, 0, sizeof *fi);
+	if (kind == NULL || rs_get_int(h, "fqm:version", &version) < 0)
+		return tl_fail(e, "%s: not a quadric or vertex map "
+		    "(no fqm:kind / fqm:version attribute)", what);
+	if (version != FQM_VERSION)
+		return tl_fail(e, "%s: fqm version %d, this program reads %d",
+		    what, version, FQM_VERSION);
+	if (want != NULL && strcmp(kind, want) != 0)
+		return tl_fail(e, "%s: is a %s map, expected %s", what, kind,
+		    want);
+	if (rs_get_int(h, "fqm:level", &fi->level) < 0 ||
+	    rs_get_v2i(h, "fqm:size0", fi->size0) < 0)
+		return tl_fail(e, "%s: fqm:level or fqm:size0 missing", what);
+	if (fi->level < 0 || fi->level > 30 || fi->size0[0] < 1 ||
+	    fi->size0[1] < 1)
+		return tl_fail(e, "%s: bad fqm:level %d or fqm:size0 %dx%d",
+		    what, fi->level, fi->size0[0], fi->size0[1]);
+	if (h->width != fqm_level_size(fi->size0[0], fi->level) ||
+	    h->height != fqm_level_size(fi->size0[1], fi->level))
+		return tl_fail(e, "%s: size %dx%d is not that of level %d of "
+		    "a %dx%d DEM", what, h->width, h->height, fi->level,
+		    fi->size0[0], fi->size0[1]);
+	if (geo_from_header(&fi->geo, h, e) < 0)
+		return -1;
+	fi->geo.width = fi->size0[0];
+	fi->geo.height = fi->size0[1];
+	return 0;
+}
+
+int
+fqm_layout_of(const rs_header *h, fqm_layout *L, const char *what, tl_err *e)
+{
+	for (int k = 0; k < 10; k++)
+		if ((L->q[k] = rs_need_channel(h, qch[k], what, e)) < 0)
+			return -1;
+	if ((L->z = rs_need_channel(h, "Z", what, e)) < 0 ||
+	    (L->s = rs_need_channel(h, "S", what, e)) < 0 ||
+	    (L->v = rs_need_channel(h, "V", what, e)) < 0)
+		return -1;
+	return 0;
+}
+
+void
+fqm_decode(const fqm_layout *L, const float *row, int w, fqm_vertex *out)
+{
+	for (int i = 0; i < w; i++) {
+		fqm_vertex *o = &out[i];
+		for (int k = 0; k < 6; k++)
+			o->q.a[k] = row[(size_t)L->q[k] * w + i];
+		for (int k = 0; k < 3; k++)
+			o->q.b[k] = row[(size_t)L->q[6 + k] * w + i];
+		o->q.c = row[(size_t)L->q[9] * w + i];
+		o->z = row[(size_t)L->z * w + i];
+		o->s = row[(size_t)L->s * w + i];
+		o->v = row[(size_t)L->v * w + i];
+	}
+}
+
+void
+fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w, float *row)
+{
+	for (int i = 0; i < w; i++) {
+		const fqm_vertex *o = &in[i];
+		for (int k = 0; k < 6; k++)
+			row[(size_t)L->q[k] * w + i] = (float)o->q.a[k];
+		for (int k = 0; k < 3; k++)
+			row[(size_t)L->q[6 + k] * w + i] = (float)o->q.b[k];
+		row[(size_t)L->q[9] * w + i] = (float)o->q.c;
+		row[(size_t)L->z * w + i] = (float)o->z;
+		row[(size_t)L->s * w + i] = (float)o->s;
+		row[(size_t)L->v * w + i] = (float)o->v;
+	}
+}
+
+double
+fqm_dx(const geo_metric *m, long J)
+{
+	return m->dx[J < m->height ? J : m->height - 1];
+}
+
+double
+fqm_y(const geo_metric *m, long J)
+{
+	long last = m->height - 1;
+	double step;
+
+	if (J <= last)
+		return m->y[J];
+	step = last > 0 ? m->y[last] - m->y[last - 1] : m->dx[0];
+	return m->y[last] + (double)(J - last) * step;
+}
+
+/* The four triangles of a cell, corners numbered 0 (i,j) 1 (i+1,j)
+ * 2 (i+1,j+1) 3 (i,j+1): both diagonals. */
+static const int celltri[4][3] = {
+	{ 0, 1, 2 }, { 0, 2, 3 }, /* diagonal 0-2 */
+	{ 0, 1, 3 }, { 1, 2, 3 }, /* diagonal 1-3 */
+};
+
+/* Adds the triangles of cell (ci, band) that touch corner `me` to q. */
+static void
+add_cell(quadric *q, const float *const z[3],
+    const unsigned char *const valid[3], int ci, int top, int me, int i,
+    int j, const geo_metric *m)
+{
+	double p[4][3];
+
+	for (int k = 0; k < 4; k++) {
+		int di = k == 1 || k == 2, dj = k >= 2;
+		int ri = top + dj, col = ci + di; /* ri: index into z[] */
+		if (!valid[ri][col])
+			return;
+		p[k][0] = (col - i) * m->dx[j + ri - 1];
+		p[k][1] = m->y[j + ri - 1] - m->y[j];
+		p[k][2] = (double)z[ri][col] - z[1][i];
+	}
+	for (int t = 0; t < 4; t++) {
+		const int *c = celltri[t];
+		int a, b;
+		if (c[0] != me && c[1] != me && c[2] != me)
+			continue;
+		/* the vertex itself first: its plane offset is exactly 0 */
+		a = c[0] == me ? c[1] : c[0];
+		b = c[2] == me ? c[1] : c[2];
+		q_add_triangle(q, p[me], p[a], p[b], 0.5);
+	}
+}
+
+void
+fqm_row0(const float *const z[3], const unsigned char *const valid[3],
+    int w, int j, const geo_metric *m, fqm_vertex *out)
+{
+	for (int i = 0; i < w; i++) {
+		fqm_vertex *o = &out[i];
+		q_zero(&o->q);
+		o->z = o->s = z[1][i];
+		o->v = valid[1][i] ? 1 : 0;
+		for (int top = 0; top <= 1; top++) {
+			if (z[top] == NULL || z[top + 1] == NULL)
+				continue;
+			/* cell left of i (i is its corner 1 or 2), right (0 or 3) */
+			if (i > 0)
+				add_cell(&o->q, z, valid, i - 1, top,
+				    top == 0 ? 2 : 1, i, j, m);
+			if (i < w - 1)
+				add_cell(&o->q, z, valid, i, top,
+				    top == 0 ? 3 : 0, i, j, m);
+		}
+	}
+}

@@ -1,0 +1,186 @@
+/* georef.c - georeferencing to and from the geo:* header attributes, and
+ * the metric embedding of the grid (GeographicLib through geodesy.h).
+ * Reading it from GeoTIFF keys and SRTM names is dem.c's job, so that
+ * programs that only carry georeferencing never load libtiff, libgeotiff
+ * and PROJ. */
+#include "georef.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geodesy.h"
+
+void
+geo_init_none(georef *g, double cx, double cy)
+{
+	memset(g, 0, sizeof *g);
+	g->model = GEO_NONE;
+	g->point = 1;
+	g->step[0] = cx > 0 ? cx : 1;
+	g->step[1] = -(cy > 0 ? cy : g->step[0]);
+	g->unit = 1;
+}
+
+/* --- header attributes -------------------------------------------------- */
+
+static const char *const model_names[] = { "none", "projected", "geographic" };
+
+int
+geo_to_header(const georef *g, rs_header *h, tl_err *e)
+{
+	if ((unsigned)g->model > GEO_GEOGRAPHIC)
+		return tl_fail(e, "georeferencing: bad model %d", (int)g->model);
+	if (rs_set_string(h, "geo:model", model_names[g->model], e) < 0 ||
+	    rs_set_int(h, "geo:epsg", g->epsg, e) < 0 ||
+	    rs_set_string(h, "geo:crs", g->crs, e) < 0 ||
+	    rs_set_string(h, "geo:raster", g->point ? "point" : "area", e) < 0 ||
+	    rs_set_v2d(h, "geo:origin", g->origin[0], g->origin[1], e) < 0 ||
+	    rs_set_v2d(h, "geo:step", g->step[0], g->step[1], e) < 0 ||
+	    rs_set_double(h, "geo:unit", g->unit, e) < 0)
+		return -1;
+	rs_unset(h, "geo:vdatum");
+	if (g->vdatum[0] != '\0' &&
+	    rs_set_string(h, "geo:vdatum", g->vdatum, e) < 0)
+		return -1;
+	rs_unset(h, "geo:nodata");
+	if (g->has_nodata && rs_set_double(h, "geo:nodata", g->nodata, e) < 0)
+		return -1;
+	return 0;
+}
+
+static int
+copy_string(char *dst, size_t n, const char *s, const char *name, tl_err *e)
+{
+	if (s == NULL)
+		return 0;
+	if (strlen(s) >= n)
+		return tl_fail(e, "%s: too long (%zu bytes)", name, strlen(s));
+	memcpy(dst, s, strlen(s) + 1);
+	return 0;
+}
+
+int
+geo_from_header(georef *g, const rs_header *h, tl_err *e)
+{
+	const char *s;
+	int size[2];
+
+	geo_init_none(g, 1, 1);
+	if ((s = rs_get_string(h, "geo:model")) != NULL) {
+		int m;
+		for (m = 0; m < 3 && strcmp(s, model_names[m]) != 0; m++)
+			;
+		if (m == 3)
+			return tl_fail(e, "geo:model: unknown value \"%s\"", s);
+		g->model = m;
+	}
+	if ((s = rs_get_string(h, "geo:raster")) != NULL) {
+		if (strcmp(s, "point") != 0 && strcmp(s, "area") != 0)
+			return tl_fail(e, "geo:raster: unknown value \"%s\"", s);
+		g->point = strcmp(s, "point") == 0;
+	}
+	rs_get_int(h, "geo:epsg", &g->epsg);
+	rs_get_v2d(h, "geo:origin", g->origin);
+	rs_get_v2d(h, "geo:step", g->step);
+	rs_get_double(h, "geo:unit", &g->unit);
+	if (copy_string(g->crs, sizeof g->crs, rs_get_string(h, "geo:crs"),
+	    "geo:crs", e) < 0 ||
+	    copy_string(g->vdatum, sizeof g->vdatum,
+	    rs_get_string(h, "geo:vdatum"), "geo:vdatum", e) < 0)
+		return -1;
+	g->has_nodata = rs_get_double(h, "geo:nodata", &g->nodata) == 0;
+	if (rs_get_v2i(h, "fqm:size0", size) == 0)
+		g->width = size[0], g->height = size[1];
+	if (!isfinite(g->step[0]) || !isfinite(g->step[1]) ||
+	    g->step[0] == 0 || g->step[1] == 0)
+		return tl_fail(e, "geo:step: invalid pixel size %g x %g",
+		    g->step[0], g->step[1]);
+	if (g->model != GEO_GEOGRAPHIC && !(g->unit > 0 && isfinite(g->unit)))
+		return tl_fail(e, "geo:unit: invalid value %g", g->unit);
+	return 0;
+}
+
+/* --- grid geometry ------------------------------------------------------ */
+
+void
+geo_vertex_crs(const georef *g, int level, double i, double j, double *x,
+    double *y)
+{
+	double s = ldexp(1, level), c = g->point ? 0 : 0.5;
+
+	*x = g->origin[0] + (i * s + c) * g->step[0];
+	*y = g->origin[1] + (j * s + c) * g->step[1];
+}
+
+static double
+row_lat(const georef *g, int j)
+{
+	return g->origin[1] + (j + (g->point ? 0 : 0.5)) * g->step[1];
+}
+
+static int
+metric_geographic(geo_metric *m, const georef *g, tl_err *e)
+{
+	double sx = fabs(g->step[0]), lat, next, d;
+
+	for (int j = 0; j < m->height; j++) {
+		lat = row_lat(g, j);
+		if (tl_geod_inverse(lat, 0, lat, sx, &m->dx[j]) < 0)
+			return tl_fail(e, "row %d: latitude %.9g outside "
+			    "-90..90 or pixel size %g invalid", j, lat, sx);
+		if (j + 1 == m->height)
+			break;
+		next = row_lat(g, j + 1);
+		if (tl_geod_inverse(lat, 0, next, 0, &d) < 0)
+			return tl_fail(e, "row %d: latitude %.9g outside "
+			    "-90..90", j + 1, next);
+		m->y[j + 1] = m->y[j] + d;
+	}
+	return 0;
+}
+
+int
+geo_metric_init(geo_metric *m, const georef *g, tl_err *e)
+{
+	double u = g->model == GEO_GEOGRAPHIC ? 0 : g->unit;
+
+	memset(m, 0, sizeof *m);
+	if (g->height < 1)
+		return tl_fail(e, "georeferencing: no grid height");
+	if (!isfinite(g->step[0]) || !isfinite(g->step[1]) ||
+	    g->step[0] == 0 || g->step[1] == 0)
+		return tl_fail(e, "georeferencing: invalid pixel size %g x %g",
+		    g->step[0], g->step[1]);
+	if (g->model != GEO_GEOGRAPHIC && !(u > 0 && isfinite(u)))
+		return tl_fail(e, "georeferencing: invalid unit %g", u);
+	m->height = g->height;
+	m->dx = tl_alloc((size_t)g->height, sizeof *m->dx, e);
+	m->y = tl_alloc((size_t)g->height, sizeof *m->y, e);
+	if (m->dx == NULL || m->y == NULL) {
+		geo_metric_free(m);
+		return -1;
+	}
+	if (g->model == GEO_GEOGRAPHIC) {
+		if (metric_geographic(m, g, e) < 0) {
+			geo_metric_free(m);
+			return -1;
+		}
+		return 0;
+	}
+	for (int j = 0; j < m->height; j++) {
+		m->dx[j] = fabs(g->step[0]) * u;
+		m->y[j] = j * fabs(g->step[1]) * u;
+	}
+	return 0;
+}
+
+void
+geo_metric_free(geo_metric *m)
+{
+	free(m->dx);
+	free(m->y);
+	m->dx = m->y = NULL;
+	m->height = 0;
+}

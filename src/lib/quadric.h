@@ -1,0 +1,49 @@
+/* quadric.h - Garland-Heckbert error quadrics, in double: all the algebra of
+ * QEM-filtering in one place.
+ *
+ * Q(v) = v'Av + 2b'v + c for v = (x, y, z) in metres, in the frame of the
+ * vertex that owns the quadric (x along columns, y along rows, z up, origin
+ * at the vertex's grid position and reference height). A is symmetric and
+ * stored as a[] = a11 a12 a13 a22 a23 a33. */
+#ifndef TL_QUADRIC_H
+#define TL_QUADRIC_H
+
+typedef struct {
+	double a[6];
+	double b[3];
+	double c;
+} quadric;
+
+enum { Q_A11, Q_A12, Q_A13, Q_A22, Q_A23, Q_A33 };
+
+void q_zero(quadric *q);
+/* q += w * (n.v + d)^2 */
+void q_add_plane(quadric *q, const double n[3], double d, double w);
+/* q += w * area * (plane of p0 p1 p2)^2, the Garland-Heckbert face
+ * quadric; returns the area (0 for a degenerate triangle, which adds
+ * nothing). Points are in q's frame. */
+double q_add_triangle(quadric *q, const double p0[3], const double p1[3],
+    const double p2[3], double w);
+void q_add(quadric *q, const quadric *r, double w); /* q += w r */
+/* Re-express q in a frame whose origin is point d of the old frame:
+ * A' = A, b' = b + A d, c' = c + 2 b.d + d.A d. */
+void q_translate(quadric *q, const double d[3]);
+double q_eval(const quadric *q, const double v[3]);
+
+/* The z minimising Q at fixed (x, y): -(b3 + a13 x + a23 y) / a33. Returns
+ * -1 (z untouched) when a33 is not positive, i.e. no plane constrains z. A
+ * height field's planes are never vertical, so a33 > 0 wherever any
+ * triangle contributed. */
+int q_min_z(const quadric *q, double x, double y, double *z);
+
+/* The minimum-norm minimiser of Q (v = -A^+ b): eigen-decomposition of A,
+ * eigenvalues below rel * (largest) treated as zero, so flat (rank 1) and
+ * ridge-like (rank 2) quadrics keep their free directions at the frame
+ * origin. Returns the rank used (0: v = 0). */
+int q_min_3d(const quadric *q, double rel, double v[3]);
+
+/* Eigen-decomposition of the symmetric 3x3 A (Jacobi): eigenvalues w[k],
+ * unit eigenvectors in columns V[.][k]. */
+void q_eigen(const double a[6], double w[3], double V[3][3]);
+
+#endif

@@ -1,0 +1,49 @@
+/* solve.h - placing the vertices of a level: QEM-1D (z minimising the
+ * vertex's quadric on its grid position), QEM-3D (x, y, z), or the
+ * comparison heights carried by the FQM (vertex-filtered, sub-sampled). */
+#ifndef TL_SOLVE_H
+#define TL_SOLVE_H
+
+#include "fqm.h"
+
+enum sv_mode { SV_QEM1D, SV_QEM3D, SV_FILTERED, SV_SUBSAMPLE };
+
+typedef struct {
+	double z;    /* height, metres */
+	double x, y; /* 3D: offsets from the grid position, metres */
+	double v;    /* validity, passed through */
+} sv_vertex;
+
+typedef struct {
+	enum sv_mode mode;
+	double rel;   /* 3D: eigenvalue cut (q_min_3d) */
+	double shrink; /* 3D: a cell's triangles keep at least this fraction
+	                * of their grid area (no fold-over, no slivers) */
+	int level, w, h;
+	const geo_metric *m;
+	sv_vertex *prev; /* 3D: previous row, final */
+	unsigned char *mark;
+	int row;         /* next row expected */
+	long long reduced; /* 3D: vertices whose offset the fold fix reduced */
+	long long zeroed;  /* ... of which set back onto the grid */
+} sv_solver;
+
+int sv_mode_parse(const char *s, enum sv_mode *m);
+const char *sv_mode_name(enum sv_mode m);
+
+int sv_init(sv_solver *s, enum sv_mode mode, int level, int w, int h,
+    const geo_metric *m, tl_err *e);
+/* Solves the next row (rows in order). 3D rows are final when returned:
+ * each row is fixed so that its cells with the row above are convex and
+ * so that its cells with ANY next row can be made convex by moving only
+ * that next row (which is what makes a one-pass fix possible). */
+void sv_row(sv_solver *s, const fqm_vertex *in, sv_vertex *out);
+void sv_free(sv_solver *s);
+
+/* 1 when the cell with corners p[0] (i,j), p[1] (i+1,j), p[2] (i+1,j+1),
+ * p[3] (i,j+1) (x right, y down) has all four of its triangles (both
+ * diagonals) positively oriented with at least `min` times the area
+ * they have on the grid `g` (same corner order). */
+int sv_cell_ok(const double p[4][2], const double g[4][2], double min);
+
+#endif

@@ -1,0 +1,417 @@
+/* util.c - error reports, allocation, atomic output files, progress. */
+#define _GNU_SOURCE
+#include "util.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+int
+tl_fail(tl_err *e, const char *fmt, ...)
+{
+	va_list ap;
+
+	if (e == NULL)
+		return -1;
+	va_start(ap, fmt);
+	vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+	va_end(ap);
+	return -1;
+}
+
+int
+tl_failsys(tl_err *e, const char *fmt, ...)
+{
+	va_list ap;
+	int saved = errno;
+	size_t n;
+
+	if (e == NULL)
+		return -1;
+	va_start(ap, fmt);
+	vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+	va_end(ap);
+	n = strlen(e->msg);
+	snprintf(e->msg + n, sizeof e->msg - n, ": %s", strerror(saved));
+	errno = saved;
+	return -1;
+}
+
+void
+tl_warn(const char *prog, const char *fmt, ...)
+{
+	va_list ap;
+
+	fprintf(stderr, "%s: ", prog);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+const char *
+tl_name(const char *path, int output)
+{
+	if (strcmp(path, "-") == 0)
+		return output ? "stdout" : "stdin";
+	return path;
+}
+
+void *
+tl_alloc(size_t n, size_t size, tl_err *e)
+{
+	void *p;
+
+	if (size != 0 && n > SIZE_MAX / size) {
+		tl_fail(e, "allocation of %zu x %zu bytes: too large", n, size);
+		return NULL;
+	}
+	p = calloc(n ? n : 1, size ? size : 1);
+	if (p == NULL)
+		tl_fail(e, "allocation of %zu bytes: out of memory", n * size);
+	return p;
+}
+
+/* --- temporaries removed on a fatal signal ---------------------------- */
+
+#define MAXTMP 16
+static struct {
+	const char *path; /* owned by the tl_outfile */
+	int dir;
+} tmps[MAXTMP];
+
+/* Remove a directory tree with system calls only (async-signal-safe). */
+static void
+rmtree_at(int parent, const char *name, int depth)
+{
+	char buf[4096];
+	int fd;
+	long n;
+
+	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR || depth > 8)
+		return;
+	fd = openat(parent, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW);
+	if (fd < 0)
+		return;
+	while ((n = syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0) {
+		for (long off = 0; off < n;) {
+			struct {
+				uint64_t ino;
+				int64_t off;
+				unsigned short reclen;
+				unsigned char type;
+				char name[];
+			} *d = (void *)(buf + off);
+			if (strcmp(d->name, ".") != 0 && strcmp(d->name, "..") != 0)
+				rmtree_at(fd, d->name, depth + 1);
+			off += d->reclen;
+		}
+		lseek(fd, 0, SEEK_SET); /* entries moved under us: rescan */
+	}
+	close(fd);
+	unlinkat(parent, name, AT_REMOVEDIR);
+}
+
+static void
+on_signal(int sig)
+{
+	for (int i = 0; i < MAXTMP; i++) {
+		if (tmps[i].path == NULL)
+			continue;
+		if (tmps[i].dir)
+			rmtree_at(AT_FDCWD, tmps[i].path, 0);
+		else
+			unlink(tmps[i].path);
+	}
+	signal(sig, SIG_DFL);
+	raise(sig);
+}
+
+static void
+tmp_register(const char *path, int dir)
+{
+	static const int sigs[] = { SIGINT, SIGTERM, SIGHUP, SIGPIPE };
+	struct sigaction sa;
+
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigfillset(&sa.sa_mask);
+	for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++)
+		sigaction(sigs[i], &sa, NULL);
+	for (int i = 0; i < MAXTMP; i++)
+		if (tmps[i].path == NULL) {
+			tmps[i].dir = dir;
+			tmps[i].path = path;
+			return;
+		}
+}
+
+static void
+tmp_unregister(const char *path)
+{
+	for (int i = 0; i < MAXTMP; i++)
+		if (tmps[i].path == path)
+			tmps[i].path = NULL;
+}
+
+static mode_t
+current_umask(void)
+{
+	mode_t m = umask(022);
+
+	umask(m);
+	return m;
+}
+
+/* "dir/.base.XXXXXX" beside path. */
+static char *
+tmp_name(const char *path, tl_err *e)
+{
+	const char *slash = strrchr(path, '/');
+	size_t dlen = slash ? (size_t)(slash - path + 1) : 0;
+	size_t n = strlen(path) + 16;
+	char *t = tl_alloc(n, 1, e);
+
+	if (t == NULL)
+		return NULL;
+	snprintf(t, n, "%.*s.%s.XXXXXX", (int)dlen, path, path + dlen);
+	return t;
+}
+
+int
+tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	struct stat st;
+
+	memset(o, 0, sizeof *o);
+	o->fd = -1;
+	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+		return tl_fail(e, "%s: is a directory", path);
+	if ((o->path = strdup(path)) == NULL || (o->tmp = tmp_name(path, e)) == NULL) {
+		free(o->path);
+		return tl_fail(e, "%s: out of memory", path);
+	}
+	o->fd = mkstemp(o->tmp);
+	if (o->fd < 0) {
+		tl_failsys(e, "%s: cannot create", path);
+		free(o->path), free(o->tmp);
+		o->path = o->tmp = NULL;
+		return -1;
+	}
+	fchmod(o->fd, 0666 & ~current_umask());
+	tmp_register(o->tmp, 0);
+	return 0;
+}
+
+int
+tl_out_commit(tl_outfile *o, tl_err *e)
+{
+	int r = 0;
+
+	if (o->fd >= 0 && close(o->fd) != 0)
+		r = tl_failsys(e, "%s: write", o->path);
+	o->fd = -1;
+	if (r == 0 && rename(o->tmp, o->path) != 0)
+		r = tl_failsys(e, "%s: rename", o->path);
+	if (r != 0)
+		unlink(o->tmp);
+	tmp_unregister(o->tmp);
+	free(o->tmp), free(o->path);
+	o->tmp = o->path = NULL;
+	return r;
+}
+
+void
+tl_out_abort(tl_outfile *o)
+{
+	if (o->tmp == NULL)
+		return;
+	if (o->fd >= 0)
+		close(o->fd);
+	unlink(o->tmp);
+	tmp_unregister(o->tmp);
+	free(o->tmp), free(o->path);
+	o->tmp = o->path = NULL;
+	o->fd = -1;
+}
+
+int
+tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	memset(o, 0, sizeof *o);
+	o->fd = -1;
+	if ((o->path = strdup(path)) == NULL || (o->tmp = tmp_name(path, e)) == NULL) {
+		free(o->path);
+		return tl_fail(e, "%s: out of memory", path);
+	}
+	if (mkdtemp(o->tmp) == NULL) {
+		tl_failsys(e, "%s: cannot create", path);
+		free(o->path), free(o->tmp);
+		o->path = o->tmp = NULL;
+		return -1;
+	}
+	chmod(o->tmp, 0777 & ~current_umask());
+	tmp_register(o->tmp, 1);
+	return 0;
+}
+
+int
+tl_outdir_commit(tl_outfile *o, tl_err *e)
+{
+	struct stat st;
+	int r = 0;
+
+	/* Replace an earlier pyramid, never a directory that is not one. */
+	if (lstat(o->path, &st) == 0) {
+		if (!S_ISDIR(st.st_mode))
+			r = tl_fail(e, "%s: exists and is not a directory", o->path);
+		else
+			rmtree_at(AT_FDCWD, o->path, 0);
+	}
+	if (r == 0 && rename(o->tmp, o->path) != 0)
+		r = tl_failsys(e, "%s: rename", o->path);
+	if (r != 0)
+		rmtree_at(AT_FDCWD, o->tmp, 0);
+	tmp_unregister(o->tmp);
+	free(o->tmp), free(o->path);
+	o->tmp = o->path = NULL;
+	return r;
+}
+
+void
+tl_outdir_abort(tl_outfile *o)
+{
+	if (o->tmp == NULL)
+		return;
+	rmtree_at(AT_FDCWD, o->tmp, 0);
+	tmp_unregister(o->tmp);
+	free(o->tmp), free(o->path);
+	o->tmp = o->path = NULL;
+}
+
+int
+tl_scratch(tl_err *e)
+{
+	const char *dir = getenv("TMPDIR");
+	char path[PATH_MAX];
+	int fd;
+
+	if (dir == NULL || *dir == '\0')
+		dir = "/tmp";
+	/* O_TMPFILE leaves no name at all; fall back to mkstemp + unlink. */
+	fd = open(dir, O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+	if (fd >= 0)
+		return fd;
+	snprintf(path, sizeof path, "%s/tl-scratch.XXXXXX", dir);
+	fd = mkstemp(path);
+	if (fd < 0)
+		return tl_failsys(e, "%s: cannot create a scratch file", dir);
+	unlink(path);
+	return fd;
+}
+
+int
+tl_pread(int fd, void *buf, size_t n, long long off, const char *what,
+    tl_err *e)
+{
+	char *p = buf;
+
+	while (n > 0) {
+		ssize_t r = pread(fd, p, n, (off_t)off);
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0)
+			return tl_failsys(e, "%s: read", what);
+		if (r == 0)
+			return tl_fail(e, "%s: unexpected end of file", what);
+		p += r, n -= (size_t)r, off += r;
+	}
+	return 0;
+}
+
+int
+tl_pwrite(int fd, const void *buf, size_t n, long long off,
+    const char *what, tl_err *e)
+{
+	const char *p = buf;
+
+	while (n > 0) {
+		ssize_t r = pwrite(fd, p, n, (off_t)off);
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0)
+			return tl_failsys(e, "%s: write", what);
+		p += r, n -= (size_t)r, off += r;
+	}
+	return 0;
+}
+
+void
+tl_progress_start(tl_progress *p, const char *label, long long total)
+{
+	p->label = label;
+	p->total = total > 0 ? total : 1;
+	p->done = 0;
+	p->last = -1;
+	p->on = isatty(STDERR_FILENO);
+}
+
+void
+tl_progress_step(tl_progress *p, long long done)
+{
+	int pct;
+
+	if (!p->on)
+		return;
+	p->done = done;
+	pct = (int)(100 * done / p->total);
+	if (pct == p->last)
+		return;
+	p->last = pct;
+	fprintf(stderr, "\r%s: %3d%%", p->label, pct);
+}
+
+void
+tl_progress_end(tl_progress *p)
+{
+	if (p->on && p->last >= 0)
+		fprintf(stderr, "\r%s: 100%%\n", p->label);
+	p->on = 0;
+}
+
+int
+tl_parse_double(const char *s, double *v)
+{
+	char *end;
+
+	errno = 0;
+	*v = strtod(s, &end);
+	if (end == s || *end != '\0' || errno != 0 || !isfinite(*v))
+		return -1;
+	return 0;
+}
+
+int
+tl_parse_int(const char *s, int *v)
+{
+	char *end;
+	long l;
+
+	errno = 0;
+	l = strtol(s, &end, 10);
+	if (end == s || *end != '\0' || errno != 0 || l < INT_MIN || l > INT_MAX)
+		return -1;
+	*v = (int)l;
+	return 0;
+}
