@@ -61,7 +61,8 @@ filter(const options *o, tl_err *e)
 		goto done;
 	}
 	if (geo_metric_init(&m, &fi.geo, e) < 0 ||
-	    fk_init(&f, o->kernel, fi.level, ih->width, ih->height, &m, e) < 0)
+	    fk_init(&f, o->kernel, fi.level, ih->width, ih->height,
+	    fi.size0[0], fi.size0[1], &m, e) < 0)
 		goto done;
 	if (rs_header_copy(&oh, ih, e) < 0)
 		goto done;

@@ -4,7 +4,8 @@ TOP=$(cd "$(dirname "$0")/.." && pwd)
 B="$TOP/build"
 DATA=${DATA:-$TOP/../shared/data}
 PATH="$B:$B/tools:$PATH"
-export PATH
+TL_OIIO_PLUGIN=$B/tl_oiio.so	# for the tools in build/tools
+export PATH TL_OIIO_PLUGIN
 T=$(mktemp -d "${TMPDIR:-/tmp}/tltest.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 _n=0
@@ -18,19 +19,20 @@ ok() {	# ok CONDITION-EXIT-STATUS DESCRIPTION
 
 # run DESCRIPTION CMD...: passes when CMD exits 0.
 run() {
-	d=$1; shift
-	"$@" >"$T/out" 2>"$T/err"; s=$?
-	[ $s -eq 0 ] || sed 's/^/#   /' "$T/err" | head -5
-	ok $s "$d"
+	_d=$1; shift
+	"$@" >"$T/out" 2>"$T/err"; _s=$?
+	[ $_s -eq 0 ] || sed 's/^/#   /' "$T/err" | head -5
+	ok $_s "$_d"
+	return $_s
 }
 
 # fails DESCRIPTION STATUS PATTERN CMD...: CMD exits STATUS and its stderr
 # matches the extended regex PATTERN.
 fails() {
-	d=$1; want=$2; pat=$3; shift 3
-	"$@" >"$T/out" 2>"$T/err"; s=$?
-	if [ $s -eq "$want" ] && grep -Eq -- "$pat" "$T/err"; then ok 0 "$d"
-	else echo "#   exit $s, stderr: $(head -c 300 "$T/err")"; ok 1 "$d"; fi
+	_d=$1; _want=$2; _pat=$3; shift 3
+	"$@" >"$T/out" 2>"$T/err"; _s=$?
+	if [ $_s -eq "$_want" ] && grep -Eq -- "$_pat" "$T/err"; then ok 0 "$_d"
+	else echo "#   exit $_s, stderr: $(head -c 300 "$T/err")"; ok 1 "$_d"; fi
 }
 
 done_testing() {

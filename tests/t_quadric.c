@@ -217,7 +217,7 @@ plane_pyramid(const fk_kernel *k, int W, int H, double *worst3d)
 		if (w <= 2 && h <= 2)
 			break;
 		fk_filter f;
-		fk_init(&f, k, l, w, h, &m, NULL);
+		fk_init(&f, k, l, w, h, W, H, &m, NULL);
 		next = calloc((size_t)f.cw * f.ch, sizeof *next);
 		for (int j = 0, y = 0; y < f.ch; y++) {
 			while (!fk_ready(&f))

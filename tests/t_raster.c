@@ -277,6 +277,36 @@ check_piped(const char *path, const rs_header *want, uint32_t seed,
 	return rv;
 }
 
+/* A child writes the stream to a pipe that is our stdin. */
+static int
+check_stream_pipe(const rs_header *h, uint32_t seed, tl_err *e)
+{
+	int p[2], save, rv, st;
+	pid_t pid;
+
+	if (pipe(p) != 0)
+		return tl_fail(e, "pipe");
+	fflush(stdout);
+	if ((pid = fork()) == 0) {
+		struct job j = { "-", h, RS_ZIP, seed, 0, { { 0 } } };
+		close(p[0]);
+		dup2(p[1], STDOUT_FILENO);
+		close(p[1]);
+		_exit(write_raster(&j) == 0 ? 0 : 1);
+	}
+	close(p[1]);
+	save = dup(STDIN_FILENO);
+	dup2(p[0], STDIN_FILENO);
+	close(p[0]);
+	rv = check_file("-", h, seed, e);
+	dup2(save, STDIN_FILENO);
+	close(save);
+	waitpid(pid, &st, 0);
+	if (rv == 0 && (!WIFEXITED(st) || WEXITSTATUS(st) != 0))
+		rv = tl_fail(e, "writer process failed");
+	return rv;
+}
+
 static long
 file_size(const char *path)
 {
@@ -463,6 +493,21 @@ test_stream(void)
 	    "two stream writes are byte-identical");
 	ok(check_piped(tmp("a.fqm"), &h, 9, &e) == 0,
 	    "stream through a pipe: %s", e.msg);
+	ok(check_stream_pipe(&h, 11, &e) == 0,
+	    "stream from a writer process through a pipe: %s", e.msg);
+	rs_header_free(&h);
+	make_header(&h, 9000, 5, 8); /* rows larger than the buffers */
+	ok(check_stream_pipe(&h, 12, &e) == 0,
+	    "288 kB rows through a pipe: %s", e.msg);
+	ok(write_stream(tmp("w.fqm"), &h, 13, &e) == 0 &&
+	    check_file(tmp("w.fqm"), &h, 13, &e) == 0 &&
+	    write_file(tmp("w.exr"), &h, RS_ZIP, 13, &e) == 0 &&
+	    check_file(tmp("w.exr"), &h, 13, &e) == 0,
+	    "288 kB rows in files, both forms: %s", e.msg);
+	unlink(tmp("w.fqm"));
+	unlink(tmp("w.exr"));
+	rs_header_free(&h);
+	make_header(&h, 37, 53, 16);
 	fd = open(tmp("a.fqm"), O_RDONLY);
 	save = dup(STDIN_FILENO);
 	dup2(fd, STDIN_FILENO);
@@ -773,6 +818,43 @@ test_epipe(void)
 	rs_header_free(&h);
 }
 
+/* A full disk, as a file size limit: the error comes back from the EXR
+ * encoder thread or the stream writer, and no file is left. */
+static void
+test_full(void)
+{
+	struct sigaction ign = { .sa_handler = SIG_IGN }, old;
+	struct rlimit rl, lim;
+	struct job j = { NULL, NULL, RS_NONE, 1, 0, { { 0 } } };
+	rs_header h;
+	char sub[PATH_MAX];
+	int fd;
+
+	snprintf(sub, sizeof sub, "%s/full", dir);
+	mkdir(sub, 0755);
+	make_header(&h, 1000, 100, 4);
+	j.h = &h;
+	getrlimit(RLIMIT_FSIZE, &rl);
+	lim = rl;
+	lim.rlim_cur = 100000;
+	sigaction(SIGXFSZ, &ign, &old);
+	setrlimit(RLIMIT_FSIZE, &lim);
+	j.path = tmp("full/x.exr");
+	ok(write_raster(&j) < 0 && strstr(j.e.msg, "File too large") &&
+	    entries(sub) == 0, "EXR on a full disk: %s", j.e.msg);
+	j.path = "-";
+	fd = open(tmp("full/x.fqm"), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+	ok(with_stdout(fd, write_raster, &j) < 0 &&
+	    strstr(j.e.msg, "stdout: write: File too large"),
+	    "stream on a full disk: %s", j.e.msg);
+	close(fd);
+	setrlimit(RLIMIT_FSIZE, &rl);
+	sigaction(SIGXFSZ, &old, NULL);
+	unlink(tmp("full/x.fqm"));
+	rmdir(sub);
+	rs_header_free(&h);
+}
+
 static long
 peak_kb(void)
 {
@@ -855,6 +937,7 @@ main(void)
 	test_foreign();
 	test_abort();
 	test_epipe();
+	test_full();
 	cleanup();
 	return tap_done();
 }

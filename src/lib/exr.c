@@ -8,6 +8,7 @@
 
 #include <errno.h>
 #include <openexr.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,15 +126,27 @@ bind(exr_coding_channel_info_t *ch, int n, const rs_header *h, float *buf)
 
 /* --- writing ---------------------------------------------------------- */
 
+/* The caller fills one chunk buffer while an encoder thread compresses and
+ * writes the other, so computing rows and ZIP overlap. Between the header
+ * and exr_finish only the encoder calls OpenEXRCore, in chunk order: the
+ * file is the same byte for byte as a single thread would write. */
 struct exr_wr {
 	struct exr_io io;
 	tl_outfile o;
 	exr_context_t ctx;
 	exr_encode_pipeline_t enc;
 	int enc_init;
-	int lpc;      /* lines per chunk */
-	int n;        /* rows gathered */
-	float *chunk;
+	int lpc;          /* lines per chunk */
+	int n;            /* rows gathered in buf[cur] */
+	int cur;
+	float *buf[2];
+	pthread_t th;
+	int th_on;
+	pthread_mutex_t mu;
+	pthread_cond_t cv;
+	int job_y0, job_n, job_buf; /* job_n > 0: a chunk is queued or busy */
+	int quit, failed; /* failed: the encoder's error is in err */
+	tl_err err;
 };
 
 static int
@@ -192,12 +205,11 @@ write_header(rs_writer *w, exr_compression_t comp, tl_err *e)
 	return 0;
 }
 
-/* Encodes the gathered rows, the last of which is row w->y. */
+/* Encodes rows y0 .. y0+n-1 from chunk (encoder thread). */
 static int
-put_chunk(rs_writer *w, tl_err *e)
+put_chunk(rs_writer *w, const float *chunk, int y0, tl_err *e)
 {
 	struct exr_wr *x = w->impl;
-	int y0 = w->y + 1 - x->n;
 	exr_chunk_info_t ci;
 	exr_result_t rv;
 
@@ -210,7 +222,7 @@ put_chunk(rs_writer *w, tl_err *e)
 		x->enc_init = 1;
 	if (rv)
 		return exr_fail(e, &x->io, rv, w->name, "row %d", y0);
-	bind(x->enc.channels, x->enc.channel_count, &w->h, x->chunk);
+	bind(x->enc.channels, x->enc.channel_count, &w->h, (float *)chunk);
 	if (x->enc_init == 1) {
 		if ((rv = exr_encoding_choose_default_routines(x->ctx, 0,
 		    &x->enc)))
@@ -219,8 +231,63 @@ put_chunk(rs_writer *w, tl_err *e)
 	}
 	if ((rv = exr_encoding_run(x->ctx, 0, &x->enc)))
 		return exr_fail(e, &x->io, rv, w->name, "row %d", y0);
-	x->n = 0;
 	return 0;
+}
+
+static void *
+encoder(void *arg)
+{
+	rs_writer *w = arg;
+	struct exr_wr *x = w->impl;
+	int r;
+
+	pthread_mutex_lock(&x->mu);
+	for (;;) {
+		while (x->job_n == 0 && !x->quit)
+			pthread_cond_wait(&x->cv, &x->mu);
+		if (x->job_n == 0)
+			break;
+		pthread_mutex_unlock(&x->mu);
+		r = x->failed ? 0 : put_chunk(w, x->buf[x->job_buf],
+		    x->job_y0, &x->err);
+		pthread_mutex_lock(&x->mu);
+		x->failed |= r < 0;
+		x->job_n = 0;
+		pthread_cond_broadcast(&x->cv);
+	}
+	pthread_mutex_unlock(&x->mu);
+	return NULL;
+}
+
+/* Waits for the encoder to go idle; -1 with its error if it failed. */
+static int
+idle(struct exr_wr *x, tl_err *e)
+{
+	int failed;
+
+	pthread_mutex_lock(&x->mu);
+	while (x->job_n > 0)
+		pthread_cond_wait(&x->cv, &x->mu);
+	failed = x->failed;
+	pthread_mutex_unlock(&x->mu);
+	if (failed && e != NULL)
+		*e = x->err;
+	return failed ? -1 : 0;
+}
+
+static void
+stop(struct exr_wr *x)
+{
+	if (!x->th_on)
+		return;
+	pthread_mutex_lock(&x->mu);
+	x->quit = 1;
+	pthread_cond_broadcast(&x->cv);
+	pthread_mutex_unlock(&x->mu);
+	pthread_join(x->th, NULL);
+	pthread_mutex_destroy(&x->mu);
+	pthread_cond_destroy(&x->cv);
+	x->th_on = 0;
 }
 
 static int
@@ -229,10 +296,19 @@ exr_write_row(rs_writer *w, const float *row, tl_err *e)
 	struct exr_wr *x = w->impl;
 	size_t n = (size_t)w->h.nch * (size_t)w->h.width;
 
-	memcpy(x->chunk + (size_t)x->n * n, row, n * sizeof *row);
-	x->n++;
-	if (x->n == x->lpc || w->y == w->h.height - 1)
-		return put_chunk(w, e);
+	memcpy(x->buf[x->cur] + (size_t)x->n * n, row, n * sizeof *row);
+	if (++x->n < x->lpc && w->y < w->h.height - 1)
+		return 0;
+	if (idle(x, e) < 0)
+		return -1;
+	pthread_mutex_lock(&x->mu);
+	x->job_buf = x->cur;
+	x->job_y0 = w->y + 1 - x->n;
+	x->job_n = x->n;
+	pthread_cond_broadcast(&x->cv);
+	pthread_mutex_unlock(&x->mu);
+	x->cur ^= 1;
+	x->n = 0;
 	return 0;
 }
 
@@ -242,6 +318,7 @@ wr_end(struct exr_wr *x)
 {
 	exr_result_t rv = 0;
 
+	stop(x);
 	x->io.msg[0] = '\0';
 	if (x->enc_init)
 		exr_encoding_destroy(x->ctx, &x->enc);
@@ -249,8 +326,9 @@ wr_end(struct exr_wr *x)
 	if (x->ctx != NULL)
 		rv = exr_finish(&x->ctx);
 	x->ctx = NULL;
-	free(x->chunk);
-	x->chunk = NULL;
+	free(x->buf[0]);
+	free(x->buf[1]);
+	x->buf[0] = x->buf[1] = NULL;
 	return rv;
 }
 
@@ -271,9 +349,13 @@ static int
 exr_finish_w(rs_writer *w, tl_err *e)
 {
 	struct exr_wr *x = w->impl;
-	exr_result_t rv = wr_end(x);
+	exr_result_t rv;
 
-	if (rv) {
+	if (idle(x, e) < 0) {
+		exr_abort_w(w);
+		return -1;
+	}
+	if ((rv = wr_end(x))) {
 		exr_fail(e, &x->io, rv, w->name, "finish");
 		exr_abort_w(w);
 		return -1;
@@ -328,9 +410,19 @@ exr_create(rs_writer *w, const char *path, enum rs_compression c,
 	}
 	if (write_header(w, exr_comp(c), e) < 0)
 		return -1;
-	x->chunk = tl_alloc((size_t)x->lpc * (size_t)w->h.nch,
-	    (size_t)w->h.width * sizeof(float), e);
-	return x->chunk == NULL ? -1 : 0;
+	for (int i = 0; i < 2; i++)
+		if ((x->buf[i] = tl_alloc((size_t)x->lpc * (size_t)w->h.nch,
+		    (size_t)w->h.width * sizeof(float), e)) == NULL)
+			return -1;
+	pthread_mutex_init(&x->mu, NULL);
+	pthread_cond_init(&x->cv, NULL);
+	if ((errno = pthread_create(&x->th, NULL, encoder, w)) != 0) {
+		pthread_mutex_destroy(&x->mu);
+		pthread_cond_destroy(&x->cv);
+		return tl_failsys(e, "%s: encoder thread", w->name);
+	}
+	x->th_on = 1;
+	return 0;
 }
 
 /* --- reading ---------------------------------------------------------- */
@@ -454,7 +546,7 @@ get_header(rs_reader *r, tl_err *e)
 		return tl_fail(e, "%s: bad data window", r->name);
 	rs_header_init(&r->h, (int)w, (int)h);
 	x->ymin = dw.min.y;
-	if (get_channels(r, e) < 0)
+	if (get_channels(r, e) < 0 || rs_check_size(&r->h, r->name, e) < 0)
 		return -1;
 	if ((rv = exr_get_attribute_count(x->ctx, 0, &n)))
 		return exr_fail(e, &x->io, rv, r->name, "attributes");

@@ -52,9 +52,10 @@ add_moved(quadric *q, const quadric *r, double dx, double dy, double dz,
 
 int
 fk_init(fk_filter *f, const fk_kernel *k, int level, int fw, int fh,
-    const geo_metric *m, tl_err *e)
+    int w0, int h0, const geo_metric *m, tl_err *e)
 {
 	memset(f, 0, sizeof *f);
+	f->w0 = w0, f->h0 = h0;
 	f->k = k;
 	f->level = level;
 	f->fw = fw, f->fh = fh;
@@ -104,6 +105,7 @@ fk_push(fk_filter *f, const fqm_vertex *fine)
 	/* metres between fine columns along this row */
 	double s = (double)(1L << f->level) * fqm_dx(f->m, (long)j << f->level);
 	size_t st = sizeof *fine / sizeof(double);
+	double vw;
 
 	f->tag[slot] = j;
 	for (int c = 0; c < f->cw; c++) {
@@ -115,6 +117,7 @@ fk_push(fk_filter *f, const fqm_vertex *fine)
 			    fk_extend(&fine[0].z, st, f->fw, 2 * c + a);
 		o->z = zh;
 		o->s = fk_extend(&fine[0].s, st, f->fw, 2 * c);
+		vw = 0;
 		for (int a = -k->radius; a <= k->radius; a++) {
 			int i = 2 * c + a;
 			double w = k->w[abs(a)];
@@ -131,8 +134,9 @@ fk_push(fk_filter *f, const fqm_vertex *fine)
 			add_moved(&o->q, &fine[i].q, -(i - 2 * c) * s, 0,
 			    zh - fine[i].z, w);
 			if (i == 2 * c + a)
-				o->v += w * fine[i].v;
+				o->v += w * fine[i].v, vw += w;
 		}
+		o->v = vw > 0 ? o->v / vw : 0;
 	}
 }
 
@@ -173,7 +177,7 @@ fk_pull(fk_filter *f, fqm_vertex *coarse)
 {
 	const fk_kernel *k = f->k;
 	int m = f->out++, j0 = 2 * m;
-	double y0 = fqm_y(f->m, (long)j0 << f->level);
+	double y0 = fqm_y(f->m, (long)j0 << f->level), vw;
 
 	for (int c = 0; c < f->cw; c++) {
 		fqm_vertex *o = &coarse[c];
@@ -183,6 +187,7 @@ fk_pull(fk_filter *f, fqm_vertex *coarse)
 			zc += k->w[abs(b)] * ext_rows(f, c, j0 + b, 0);
 		o->z = zc;
 		o->s = ext_rows(f, c, j0, 1);
+		vw = 0;
 		for (int b = -k->radius; b <= k->radius; b++) {
 			int i = j0 + b;
 			double w = k->w[abs(b)];
@@ -198,7 +203,12 @@ fk_pull(fk_filter *f, fqm_vertex *coarse)
 			add_moved(&o->q, &h->q, 0,
 			    y0 - fqm_y(f->m, (long)i << f->level), zc - h->z, w);
 			if (i == j0 + b)
-				o->v += w * h->v;
+				o->v += w * h->v, vw += w;
 		}
+		o->v = vw > 0 ? o->v / vw : 0;
+		/* past the DEM's last sample: padding, marked invalid */
+		if ((long)c << (f->level + 1) > f->w0 - 1 ||
+		    (long)m << (f->level + 1) > f->h0 - 1)
+			o->v = 0;
 	}
 }

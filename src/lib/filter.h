@@ -23,6 +23,7 @@ typedef struct {
 	const fk_kernel *k;
 	int level;         /* of the fine input */
 	int fw, fh, cw, ch; /* fine and coarse sizes */
+	int w0, h0;        /* level-0 size: vertices past it are padding */
 	const geo_metric *m;
 	int nring;
 	fqm_vertex *ring;  /* nring x cw */
@@ -32,7 +33,7 @@ typedef struct {
 } fk_filter;
 
 int fk_init(fk_filter *f, const fk_kernel *k, int level, int fw, int fh,
-    const geo_metric *m, tl_err *e);
+    int w0, int h0, const geo_metric *m, tl_err *e);
 /* 1 when the next coarse row can be pulled, 0 when a fine row must be
  * pushed first. */
 int fk_ready(const fk_filter *f);

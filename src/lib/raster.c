@@ -366,6 +366,9 @@ dispatch(rs_reader *r, tl_err *e)
 		return tl_failsys(e, "%s: stat", r->name);
 	if (S_ISDIR(st.st_mode))
 		return tl_fail(e, "%s: is a directory", r->name);
+	if (isatty(r->fd))
+		return tl_fail(e, "%s: is a terminal; give a file or a pipe",
+		    r->name);
 	if ((r->npre = read_some(r->fd, r->pre, 8)) < 0)
 		return tl_failsys(e, "%s: read", r->name);
 	if (r->npre == 8 && memcmp(r->pre, rs_st_magic, 8) == 0)
@@ -463,9 +466,8 @@ rs_compression_parse(const char *s, enum rs_compression *c)
 	return -1;
 }
 
-/* What both forms can represent; checked before anything is created. */
-static int
-check_header(const rs_header *h, const char *name, tl_err *e)
+int
+rs_check_size(const rs_header *h, const char *name, tl_err *e)
 {
 	if (h->width < 1 || h->height < 1 || h->width > RS_MAXDIM ||
 	    h->height > RS_MAXDIM)
@@ -474,6 +476,18 @@ check_header(const rs_header *h, const char *name, tl_err *e)
 	if (h->nch < 1 || h->nch > RS_MAXCH)
 		return tl_fail(e, "%s: %d channels (1 to %d)", name, h->nch,
 		    RS_MAXCH);
+	if (4LL * h->nch * h->width > RS_MAXROW)
+		return tl_fail(e, "%s: rows of %lld bytes, more than %d",
+		    name, 4LL * h->nch * h->width, RS_MAXROW);
+	return 0;
+}
+
+/* What both forms can represent; checked before anything is created. */
+static int
+check_header(const rs_header *h, const char *name, tl_err *e)
+{
+	if (rs_check_size(h, name, e) < 0)
+		return -1;
 	for (int i = 1; i < h->nch; i++)
 		if (strcmp(h->ch[i - 1], h->ch[i]) >= 0)
 			return tl_fail(e, "%s: channels not sorted", name);

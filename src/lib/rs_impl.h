@@ -8,6 +8,7 @@
 /* Sanity caps shared by both forms, so that garbage cannot make a reader
  * allocate gigabytes before it notices. */
 #define RS_MAXDIM (1 << 26)
+#define RS_MAXROW (1 << 30) /* bytes: 4 x channels x width */
 #define RS_MAXSTR 65535
 
 struct rs_reader {
@@ -34,6 +35,9 @@ struct rs_writer {
 	void (*abort)(rs_writer *);
 	void *impl;
 };
+
+/* Size and channel count within the caps above; fills e ("name: ..."). */
+int rs_check_size(const rs_header *h, const char *name, tl_err *e);
 
 /* EXR: fd is a regular file (or scratch spool), read with pread from base. */
 int exr_open_read(rs_reader *r, long long base, tl_err *e);

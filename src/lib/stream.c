@@ -458,6 +458,8 @@ read_header(rs_reader *r, tl_err *e)
 		    strcmp(r->h.ch[i], name) != 0)
 			return bad(r, "channels not in ascending order", e);
 	}
+	if (rs_check_size(&r->h, r->name, e) < 0)
+		return -1;
 	for (uint32_t i = 0; i < v[4]; i++)
 		if (hget_attr(r, e) < 0)
 			return -1;

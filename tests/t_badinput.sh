@@ -1,0 +1,90 @@
+# t_badinput - bad input gets a clear message, exit status 1 (2 for bad
+# usage) and leaves no output file behind.
+. "$(dirname "$0")/lib.sh"
+
+/usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; done_testing; exit 1; }
+o=$T/out.exr
+
+# no_output: nothing named out.exr, nor a temporary beside it
+no_output() { [ ! -e "$o" ] && [ -z "$(ls -A "$T" | grep '^\.out\.exr')" ]; }
+
+# bad DESCRIPTION PATTERN CMD...: exit 1, message matching, no output left
+bad() {
+	_d=$1 _p=$2; shift 2
+	fails "$_d" 1 "$_p" "$@"
+	no_output; ok $? "$_d: no output file left"
+	rm -f "$o"
+}
+
+printf 'hello, world\n' >"$T/text.tif"
+bad "not a raster" "^dem2fqm: .*text.tif: not a" dem2fqm "$T/text.tif" "$o"
+bad "missing DEM" "^dem2fqm: .*nosuch.tif: " dem2fqm "$T/nosuch.tif" "$o"
+bad "1x1 DEM" "^dem2fqm: .*1x1 samples: a DEM needs at least 3x3" dem2fqm "$T/one.tif" "$o"
+bad "2x2 DEM" "^dem2fqm: .*2x2 samples: a DEM needs at least 3x3" dem2fqm "$T/two.tif" "$o"
+bad "all-void DEM" "^dem2fqm: .*allvoid.tif: .*no valid samples" dem2fqm "$T/allvoid.tif" "$o"
+bad "all-NaN DEM" "^dem2fqm: .*allnan.tif: .*no valid samples" dem2fqm "$T/allnan.tif" "$o"
+
+# NaN heights among valid ones are voids: filled, marked V = 0, excluded.
+run "NaN heights are voids, not errors" dem2fqm "$T/somenan.tif" "$T/nan.exr"
+fqmsolve "$T/nan.exr" "$T/nanv.exr" && set -- $(fqmeval "$T/somenan.tif" "$T/nanv.exr") x x
+[ "$1" = $((64 * 48 - 200)) ] && [ "$5" = 0.000000 ]
+ok $? "NaN voids excluded from errors: $1 valid samples, max error $5"
+rsinfo -c "$T/nan.exr" | grep -q '^range V 0 1$'
+ok $? "NaN voids marked V = 0"
+rsinfo -c "$T/nan.exr" | awk '$1 == "range" && $3 != $3 + 0 { exit 1 }
+    $1 == "range" && ($3 == "nan" || $4 == "nan" || $3 == "-nan") { exit 1 }'
+ok $? "no NaN reaches the quadric map"
+
+# A good FQM to damage.
+dem2fqm "$T/hills.tif" "$T/h0.exr" && dem2fqm "$T/hills.tif" - >"$T/h0.fqm" ||
+    ok 1 "fixture FQMs"
+sz=$(wc -c <"$T/h0.exr")
+head -c $((sz / 2)) "$T/h0.exr" >"$T/trunc.exr"
+bad "truncated EXR" "^fqmfilter: .*trunc.exr: " fqmfilter "$T/trunc.exr" "$o"
+sz=$(wc -c <"$T/h0.fqm")
+head -c $((sz - 100)) "$T/h0.fqm" >"$T/trunc.fqm"
+bad "truncated stream" "^fqmfilter: .*trunc.fqm: .*truncat" fqmfilter "$T/trunc.fqm" "$o"
+bad "truncated stream on a pipe" "^fqmsolve: stdin: .*truncat" sh -c "head -c $((sz / 3)) '$T/h0.fqm' | fqmsolve - '$o'"
+head -c 2000 /dev/urandom >"$T/garbage"
+bad "garbage" "^fqmfilter: .*garbage: not" fqmfilter "$T/garbage" "$o"
+cp "$T/h0.fqm" "$T/flip.fqm"
+printf '\377' | dd of="$T/flip.fqm" bs=1 seek=$((sz / 2)) conv=notrunc 2>/dev/null
+bad "corrupt stream row" "^fqmfilter: .*flip.fqm: .*(corrupt|CRC|checksum)" fqmfilter "$T/flip.fqm" "$o"
+
+# Wrong channels: a vertex map is not a quadric map, and vice versa.
+fqmsolve "$T/h0.exr" "$T/v0.exr"
+bad "vertex map into fqmfilter" "^fqmfilter: .*v0.exr: is a vertices map, expected fqm" fqmfilter "$T/v0.exr" "$o"
+bad "vertex map into fqmsolve" "^fqmsolve: .*v0.exr: is a vertices map" fqmsolve "$T/v0.exr" "$o"
+bad "a DEM into fqmfilter" "^fqmfilter: .*hills.tif: not an fqm" fqmfilter "$T/hills.tif" "$o"
+
+rsinfo -d Q.a33 -o "$T/noa33.exr" "$T/h0.exr"
+bad "FQM without channel Q.a33" "^fqmsolve: .*noa33.exr: no channel Q.a33" fqmsolve "$T/noa33.exr" "$o"
+bad "non-writable output directory" "^dem2fqm: .*: (Permission denied|No such file)" dem2fqm "$T/hills.tif" "$T/nodir/out.exr"
+if [ "$(id -u)" -ne 0 ]; then
+	mkdir "$T/ro" && chmod 555 "$T/ro"
+	fails "read-only directory" 1 "Permission denied" dem2fqm "$T/hills.tif" "$T/ro/out.exr"
+	[ -z "$(ls -A "$T/ro")" ]; ok $? "read-only directory: nothing left"
+fi
+fails "/dev/full as output stream" 1 "^dem2fqm: stdout: .*(No space|write)" sh -c "dem2fqm '$T/hills.tif' - >/dev/full"
+
+# A killed pipeline: the consumer sees truncation, writes nothing.
+sh -c "dem2fqm '$DATA/N44W072.hgt' - | head -c 300000 | fqmfilter - '$o'" 2>"$T/err"
+s=$?
+[ $s -ne 0 ] && grep -q "truncat" "$T/err" && no_output
+ok $? "a pipeline cut short leaves no output (exit $s: $(head -c 120 "$T/err"))"
+(dem2fqm "$DATA/N44W072.hgt" "$o" & pid=$!
+    sleep 0.3; kill -TERM $pid; wait $pid) 2>/dev/null
+no_output; ok $? "dem2fqm killed by SIGTERM leaves no output, no temporary"
+
+# Usage errors: exit 2.
+fails "unknown option" 2 "usage: fqmfilter" fqmfilter -Q
+fails "unknown kernel" 2 "^fqmfilter: -k lanczos: unknown kernel" fqmfilter -k lanczos
+fails "unknown mode" 2 "^fqmsolve: -m 2d: unknown mode" fqmsolve -m 2d
+fails "too many operands" 2 "usage: dem2fqm" dem2fqm a b c
+for p in dem2fqm fqmfilter fqmsolve; do
+	$p --help >"$T/help" && grep -q "^usage: $p" "$T/help"
+	ok $? "$p --help prints usage on stdout, exit 0"
+	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/util.h")" ]
+	ok $? "$p --version"
+done
+done_testing
