@@ -86,7 +86,7 @@ $(B)/tools/%: tests/tools/%.c $(B)/libtl.a
 check: all $(TESTBIN) $(TOOLBIN)
 	@sh tests/run
 
-example: all
+example: all $(TOOLBIN)
 	sh examples/run
 
 bench: all $(TOOLBIN)

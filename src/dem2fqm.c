@@ -39,10 +39,11 @@ typedef struct {
 	const char *in, *out;
 } options;
 
-/* Three DEM rows around j (a ring), NULL past the edges. */
+/* Two DEM rows (j and j+1) and the cell bands above and below row j. */
 typedef struct {
-	float *z[3];
-	unsigned char *valid[3];
+	float *z[2];
+	unsigned char *valid[2];
+	double *band[2];
 } window;
 
 static int
@@ -78,10 +79,13 @@ convert(const options *o, tl_err *e)
 	    fqm_header(&h, &fi, "none", e) < 0 ||
 	    fqm_layout_of(&h, &L, "dem2fqm", e) < 0)
 		goto done;
-	for (int k = 0; k < 3; k++) {
+	for (int k = 0; k < 2; k++) {
 		win.z[k] = tl_alloc(W, sizeof *win.z[k], e);
 		win.valid[k] = tl_alloc(W, 1, e);
-		if (win.z[k] == NULL || win.valid[k] == NULL)
+		win.band[k] = tl_alloc((size_t)(W - 1) * FQM_BAND0_DOUBLES,
+		    sizeof(double), e);
+		if (win.z[k] == NULL || win.valid[k] == NULL ||
+		    win.band[k] == NULL)
 			goto done;
 	}
 	fv = tl_alloc(W, sizeof *fv, e);
@@ -91,20 +95,21 @@ convert(const options *o, tl_err *e)
 	if ((out = rs_create(o->out, &h, o->comp, e)) == NULL)
 		goto done;
 	tl_progress_start(&pr, prog, H);
+	if (dem_read_row(d, 0, win.z[0], win.valid[0], e) < 0)
+		goto done;
 	for (int j = 0; j < H; j++) {
-		const float *z[3];
-		const unsigned char *v[3];
-		for (int k = 0; k < 3; k++) {
-			int jj = j - 1 + k, slot = (jj + 3) % 3;
-			z[k] = jj >= 0 && jj < H ? win.z[slot] : NULL;
-			v[k] = win.valid[slot];
+		int cur = j & 1, nxt = !cur;
+		/* band j (rows j, j+1) goes where band j-2 was */
+		if (j + 1 < H) {
+			if (dem_read_row(d, j + 1, win.z[nxt], win.valid[nxt],
+			    e) < 0)
+				goto done;
+			fqm_band0(win.z[cur], win.valid[cur], win.z[nxt],
+			    win.valid[nxt], W, j, &m, win.band[cur]);
 		}
-		if (j == 0 && dem_read_row(d, 0, win.z[0], win.valid[0], e) < 0)
-			goto done;
-		if (j + 1 < H && dem_read_row(d, j + 1, win.z[(j + 1) % 3],
-		    win.valid[(j + 1) % 3], e) < 0)
-			goto done;
-		fqm_row0(z, v, W, j, &m, fv);
+		fqm_row0(j > 0 ? win.band[nxt] : NULL,
+		    j + 1 < H ? win.band[cur] : NULL, win.z[cur],
+		    win.valid[cur], W, fv);
 		fqm_encode(&L, fv, W, row);
 		if (rs_write_row(out, row, e) < 0)
 			goto done;
@@ -118,8 +123,8 @@ done:
 	dem_close(d);
 	rs_header_free(&h);
 	geo_metric_free(&m);
-	for (int k = 0; k < 3; k++)
-		free(win.z[k]), free(win.valid[k]);
+	for (int k = 0; k < 2; k++)
+		free(win.z[k]), free(win.valid[k]), free(win.band[k]);
 	free(fv), free(row);
 	return r;
 }

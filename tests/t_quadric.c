@@ -169,20 +169,26 @@ plane_pyramid(const fk_kernel *k, int W, int H, double *worst3d)
 	lev = calloc((size_t)W * H, sizeof *lev);
 	/* level 0 */
 	{
-		float *z = malloc(3 * W * sizeof *z);
+		float *z = malloc(2 * W * sizeof *z);
 		unsigned char *v = malloc(W);
+		double *band[2] = { malloc((W - 1) * FQM_BAND0_DOUBLES *
+		    sizeof(double)), malloc((W - 1) * FQM_BAND0_DOUBLES *
+		    sizeof(double)) };
 		memset(v, 1, W);
+		for (int i = 0; i < W; i++)
+			z[i] = (float)plane(i, 0);
 		for (int j = 0; j < H; j++) {
-			const float *zr[3];
-			const unsigned char *vr[3] = { v, v, v };
-			for (int r = 0; r < 3; r++) {
-				int jj = j - 1 + r;
+			float *zc = z + (j & 1) * W, *zn = z + !(j & 1) * W;
+			if (j + 1 < H) {
 				for (int i = 0; i < W; i++)
-					z[r * W + i] = (float)plane(i, jj);
-				zr[r] = jj >= 0 && jj < H ? z + r * W : NULL;
+					zn[i] = (float)plane(i, j + 1);
+				fqm_band0(zc, v, zn, v, W, j, &m, band[j & 1]);
 			}
-			fqm_row0(zr, vr, W, j, &m, lev + (size_t)j * W);
+			fqm_row0(j > 0 ? band[!(j & 1)] : NULL,
+			    j + 1 < H ? band[j & 1] : NULL, zc, v, W,
+			    lev + (size_t)j * W);
 		}
+		free(z), free(v), free(band[0]), free(band[1]);
 		/* Move every frame off the plane (a consistent change of
 		 * frame): the quadrics, not the reference heights, must
 		 * find the plane. */
@@ -192,7 +198,6 @@ plane_pyramid(const fk_kernel *k, int W, int H, double *worst3d)
 			q_translate(&lev[i].q, d);
 			lev[i].z += d[2];
 		}
-		free(z), free(v);
 	}
 	for (int l = 0;; l++) {
 		for (int mode = SV_QEM1D; mode <= SV_QEM3D; mode++) {

@@ -142,61 +142,66 @@ fqm_y(const geo_metric *m, long J)
 	return m->y[last] + (double)(J - last) * step;
 }
 
-/* The four triangles of a cell, corners numbered 0 (i,j) 1 (i+1,j)
- * 2 (i+1,j+1) 3 (i,j+1): both diagonals. */
+/* The four triangles of a cell, both diagonals; the corner each one
+ * leaves out: a corner's sum is the cell's total minus that triangle. */
 static const int celltri[4][3] = {
 	{ 0, 1, 2 }, { 0, 2, 3 }, /* diagonal 0-2 */
 	{ 0, 1, 3 }, { 1, 2, 3 }, /* diagonal 1-3 */
 };
+static const int without[4] = { 3, 1, 2, 0 }; /* corner k: all but this */
 
-/* Adds the triangles of cell (ci, band) that touch corner `me` to q. */
-static void
-add_cell(quadric *q, const float *const z[3],
-    const unsigned char *const valid[3], int ci, int top, int me, int i,
-    int j, const geo_metric *m)
+void
+fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
+    const unsigned char *v1, int w, int J, const geo_metric *m,
+    double *band)
 {
-	double p[4][3];
+	double dy = m->y[J + 1] - m->y[J];
 
-	for (int k = 0; k < 4; k++) {
-		int di = k == 1 || k == 2, dj = k >= 2;
-		int ri = top + dj, col = ci + di; /* ri: index into z[] */
-		if (!valid[ri][col])
-			return;
-		p[k][0] = (col - i) * m->dx[j + ri - 1];
-		p[k][1] = m->y[j + ri - 1] - m->y[j];
-		p[k][2] = (double)z[ri][col] - z[1][i];
-	}
-	for (int t = 0; t < 4; t++) {
-		const int *c = celltri[t];
-		int a, b;
-		if (c[0] != me && c[1] != me && c[2] != me)
-			continue;
-		/* the vertex itself first: its plane offset is exactly 0 */
-		a = c[0] == me ? c[1] : c[0];
-		b = c[2] == me ? c[1] : c[2];
-		q_add_triangle(q, p[me], p[a], p[b], 0.5);
+	for (int i = 0; i + 1 < w; i++) {
+		double *out = band + (size_t)i * FQM_BAND0_DOUBLES;
+		double p[4][3] = {
+			{ -0.5 * m->dx[J], 0, z0[i] },
+			{ 0.5 * m->dx[J], 0, z0[i + 1] },
+			{ 0.5 * m->dx[J + 1], dy, z1[i + 1] },
+			{ -0.5 * m->dx[J + 1], dy, z1[i] },
+		};
+		int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
+		quadric t[4], total;
+
+		q_zero(&total);
+		for (int k = 0; k < 4; k++) {
+			const int *c = celltri[k];
+			q_zero(&t[k]);
+			if (ok[c[0]] && ok[c[1]] && ok[c[2]])
+				q_add_triangle(&t[k], p[c[0]], p[c[1]], p[c[2]],
+				    0.5);
+			q_add(&total, &t[k], 1);
+		}
+		for (int k = 0; k < 4; k++)
+			for (int a = 0; a < 6; a++)
+				out[k * 6 + a] = total.a[a] - t[without[k]].a[a];
 	}
 }
 
 void
-fqm_row0(const float *const z[3], const unsigned char *const valid[3],
-    int w, int j, const geo_metric *m, fqm_vertex *out)
+fqm_row0(const double *above, const double *below, const float *z,
+    const unsigned char *valid, int w, fqm_vertex *out)
 {
 	for (int i = 0; i < w; i++) {
 		fqm_vertex *o = &out[i];
+		/* (band, cell, corner) touching vertex i */
+		const double *c[4] = {
+			above && i > 0 ? above + (size_t)(i - 1) * 24 + 2 * 6 : NULL,
+			above && i + 1 < w ? above + (size_t)i * 24 + 3 * 6 : NULL,
+			below && i > 0 ? below + (size_t)(i - 1) * 24 + 1 * 6 : NULL,
+			below && i + 1 < w ? below + (size_t)i * 24 + 0 * 6 : NULL,
+		};
 		q_zero(&o->q);
-		o->z = o->s = z[1][i];
-		o->v = valid[1][i] ? 1 : 0;
-		for (int top = 0; top <= 1; top++) {
-			if (z[top] == NULL || z[top + 1] == NULL)
-				continue;
-			/* cell left of i (i is its corner 1 or 2), right (0 or 3) */
-			if (i > 0)
-				add_cell(&o->q, z, valid, i - 1, top,
-				    top == 0 ? 2 : 1, i, j, m);
-			if (i < w - 1)
-				add_cell(&o->q, z, valid, i, top,
-				    top == 0 ? 3 : 0, i, j, m);
-		}
+		for (int k = 0; k < 4; k++)
+			if (c[k] != NULL)
+				for (int a = 0; a < 6; a++)
+					o->q.a[a] += c[k][a];
+		o->z = o->s = z[i];
+		o->v = valid[i] ? 1 : 0;
 	}
 }

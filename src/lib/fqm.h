@@ -53,12 +53,25 @@ double fqm_dx(const geo_metric *m, long J);
 double fqm_y(const geo_metric *m, long J);
 
 
-/* Level-0 FQM row j from DEM rows j-1, j, j+1 (z[0] / z[2] NULL past the
- * edges; valid[k] 1 for real samples). Each grid cell contributes both of
- * its triangulations at half weight (the FQM does not depend on a choice
- * of diagonal); a triangle with a void corner contributes nothing. Every
- * plane passes through the vertex, so b = 0 and c = 0 exactly. */
-void fqm_row0(const float *const z[3], const unsigned char *const valid[3],
-    int w, int j, const geo_metric *m, fqm_vertex *out);
+/* Level 0, in two steps so that each triangle is computed once. Every
+ * level-0 plane passes through its vertex, so a triangle's quadric is the
+ * same A = w n n' (b = 0, c = 0 exactly) at each of its corners.
+ *
+ * fqm_band0: the cell band between DEM rows J and J+1 (valid[k] 1 for real
+ * samples): for each of the w-1 cells, the sums of A over the triangles at
+ * each of its 4 corners (0 (i,J) 1 (i+1,J) 2 (i+1,J+1) 3 (i,J+1)), band[]
+ * holding (w-1) x 4 x 6 doubles. Each cell contributes both of its
+ * triangulations at half weight (the FQM does not depend on a choice of
+ * diagonal); a triangle with a void corner contributes nothing. The cell
+ * is the symmetric trapezoid of the metric embedding at rows J, J+1.
+ *
+ * fqm_row0: level-0 FQM row J from the bands above and below it (NULL past
+ * the edges) and the DEM row itself. */
+#define FQM_BAND0_DOUBLES 24
+void fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
+    const unsigned char *v1, int w, int J, const geo_metric *m,
+    double *band);
+void fqm_row0(const double *above, const double *below, const float *z,
+    const unsigned char *valid, int w, fqm_vertex *out);
 
 #endif

@@ -5,8 +5,9 @@
  * displaced triangle containing it). A benchmark and test tool.
  *
  * usage: fqmeval [-s dx[,dy]] [-e encoding] dem vertexmap
- * prints: n rms mean p99 max uncovered   (metres; uncovered samples are
- * those no triangle contains, which a fold-free level never has) */
+ * prints: n rms mean p99 max uncovered maxcol maxrow   (metres; uncovered
+ * samples are those no triangle contains, which a fold-free level never
+ * has; maxcol maxrow: the level-0 sample with the largest error) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,18 +25,19 @@
 
 typedef struct {
 	double n, sum, sum2, max;
+	int maxi, maxj; /* where the max is */
 	long long uncovered;
 	long long *hist;
 } stats;
 
 static void
-add(stats *s, double e)
+add(stats *s, double e, int i, int j)
 {
 	int b = 0;
 
 	s->n++, s->sum += e, s->sum2 += e * e;
 	if (e > s->max)
-		s->max = e;
+		s->max = e, s->maxi = i, s->maxj = j;
 	if (e > HMIN)
 		b = (int)(log(e / HMIN) / log(HRATIO)) + 1;
 	s->hist[b < HBINS ? b : HBINS - 1]++;
@@ -167,7 +169,7 @@ eval(dem *d, rows *R, stats *s, tl_err *e)
 				s->uncovered++;
 				continue;
 			}
-			add(s, fabs(h - z[I]));
+			add(s, fabs(h - z[I]), I, J);
 		}
 	}
 	free(z), free(valid);
@@ -229,8 +231,9 @@ main(int argc, char **argv)
 	}
 	if (eval(d, &R, &s, &e) < 0)
 		goto fail;
-	printf("%.0f %.6f %.6f %.6f %.6f %lld\n", s.n, sqrt(s.sum2 / s.n),
-	    s.sum / s.n, percentile(&s, 0.99), s.max, s.uncovered);
+	printf("%.0f %.6f %.6f %.6f %.6f %lld %d %d\n", s.n, sqrt(s.sum2 / s.n),
+	    s.sum / s.n, percentile(&s, 0.99), s.max, s.uncovered, s.maxi,
+	    s.maxj);
 	return 0;
 fail:
 	fprintf(stderr, "fqmeval: %s\n", e.msg);
