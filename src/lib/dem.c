@@ -864,7 +864,8 @@ try_plugin(const char *path, char *why, size_t n)
 	return h;
 }
 
-/* $TL_OIIO_PLUGIN, else beside the executable, else TL_LIBDIR. The plugin
+/* $TL_OIIO_PLUGIN, else beside the executable, else in ../lib/terrain-lod
+ * from it, else TL_LIBDIR. The plugin
  * stays loaded: unloading OpenImageIO (static state, threads) is unsafe,
  * and dlopen counts references, so loading it again is cheap. */
 static const tl_oiio_api *
@@ -885,6 +886,12 @@ plugin(char *why, size_t n)
 			exe[len] = '\0';
 			if ((slash = strrchr(exe, '/')) != NULL) {
 				strcpy(slash + 1, "tl_oiio.so");
+				h = try_plugin(exe, why, n);
+			}
+			/* an installed tree moved as a whole: bin/../lib */
+			if (h == NULL && slash != NULL && (size_t)(slash - exe) +
+			    sizeof "/../lib/terrain-lod/tl_oiio.so" <= sizeof exe) {
+				strcpy(slash, "/../lib/terrain-lod/tl_oiio.so");
 				h = try_plugin(exe, why, n);
 			}
 		}

@@ -38,6 +38,7 @@ typedef struct {
 
 void rs_header_init(rs_header *h, int width, int height);
 void rs_header_free(rs_header *h); /* frees strings; h can be re-inited */
+/* dst is overwritten (not freed first). */
 int rs_header_copy(rs_header *dst, const rs_header *src, tl_err *e);
 
 /* Adds a channel keeping the list sorted; -1 if full, too long or present. */
@@ -90,7 +91,8 @@ typedef struct rs_writer rs_writer;
 rs_writer *rs_create(const char *path, const rs_header *h,
     enum rs_compression c, tl_err *e);
 int rs_write_row(rs_writer *w, const float *row, tl_err *e);
-/* All rows written: stream trailer, or EXR offsets + rename. */
+/* All rows written: stream trailer, or EXR offsets + rename. Always frees
+ * w; on failure the output is discarded as by rs_abort. */
 int rs_finish(rs_writer *w, tl_err *e);
 /* Discards: removes the temporary file; a stream gets no trailer, so its
  * reader reports truncation. Safe on NULL. */

@@ -1,0 +1,22 @@
+# t_docs - every program has a man page whose options are those --help
+# lists, and the man pages render without warnings.
+. "$(dirname "$0")/lib.sh"
+
+for p in $(sed -n 's/^PROGS *:= *//p' "$TOP/Makefile"); do
+	m=$TOP/man/$p.1
+	[ -f "$m" ]; ok $? "$p: man/$p.1 exists"
+	# option letters: "[-k kernel]" in usage, ".Fl k" in the SYNOPSIS
+	help=$($p --help | sed -n '1,/^  /p' | grep -o '\[-[a-zA-Z]' | tr -d '[-' | sort | tr -d '\n')
+	man=$(sed -n '/^\.Sh SYNOPSIS/,/^\.Sh DESCRIPTION/p' "$m" | grep -o '^\.Op Fl [a-zA-Z]' | sed 's/.* //' | sort | tr -d '\n')
+	[ -n "$help" ] && [ "$help" = "$man" ]
+	ok $? "$p: --help options ($help) = man SYNOPSIS options ($man)"
+	for o in $(echo "$help" | sed 's/./& /g'); do
+		grep -q "^\.It Fl $o" "$m"
+		ok $? "$p: man page describes -$o"
+	done
+done
+for m in "$TOP"/man/*.[1-9]; do
+	groff -mandoc -ww -Tutf8 "$m" >/dev/null 2>"$T/w"
+	[ ! -s "$T/w" ]; ok $? "$(basename "$m") renders without warnings"
+done
+done_testing
