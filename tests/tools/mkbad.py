@@ -12,10 +12,10 @@ gdal.UseExceptions()
 gdal.SetConfigOption("GDAL_PAM_ENABLED", "NO")
 
 
-def write(path, z, nodata=None):
+def write(path, z, nodata=None, dy=30):
     h, w = z.shape
     ds = gdal.GetDriverByName("GTiff").Create(path, w, h, 1, gdal.GDT_Float32)
-    ds.SetGeoTransform((500000, 30, 0, 5200000, 0, -30))
+    ds.SetGeoTransform((500000, 30, 0, 5200000, 0, -dy))
     s = osr.SpatialReference()
     s.ImportFromEPSG(32632)
     ds.SetProjection(s.ExportToWkt())
@@ -37,6 +37,10 @@ def main(d):
     nan[10:20, 30:50] = np.nan      # 200 NaN voids
     write(f"{d}/somenan.tif", nan)
     write(f"{d}/hills.tif", hills)
+    # A tilted plane, exact in float32, cells 30 m x 20 m, 301 x 203.
+    i, j = np.meshgrid(np.arange(301.0), np.arange(203.0))
+    write(f"{d}/plane.tif", (1000 + 0.375 * i - 1.25 * j).astype(np.float32),
+          dy=20)
 
 
 if __name__ == "__main__":
