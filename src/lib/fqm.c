@@ -205,3 +205,14 @@ fqm_row0(const double *above, const double *below, const float *z,
 		o->v = valid[i] ? 1 : 0;
 	}
 }
+
+void
+fqm_offset_to_grid(const geo_metric *m, long J, double X, double Y,
+    double *di, double *dj)
+{
+	double dy = J > 0 ? (fqm_y(m, J + 1) - fqm_y(m, J - 1)) / 2 :
+	    fqm_y(m, 1) - fqm_y(m, 0);
+
+	*di = X / fqm_dx(m, J);
+	*dj = Y / dy;
+}

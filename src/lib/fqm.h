@@ -51,6 +51,11 @@ void fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w,
  * DEM's last one (padding of coarse levels) continue its last spacing. */
 double fqm_dx(const geo_metric *m, long J);
 double fqm_y(const geo_metric *m, long J);
+/* A vertex at level-0 row J displaced by (X, Y) metres (a QEM-3D vertex
+ * map) sits di, dj level-0 columns and rows off its grid position:
+ * di = X / dx[J], dj = Y / (local row spacing at J). */
+void fqm_offset_to_grid(const geo_metric *m, long J, double X, double Y,
+    double *di, double *dj);
 
 
 /* Level 0, in two steps so that each triangle is computed once. Every

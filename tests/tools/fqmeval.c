@@ -71,7 +71,6 @@ load(rows *R, int j, tl_err *e)
 {
 	int s = j & 3, w = R->w;
 	long J = (long)j << R->level, step = 1L << R->level;
-	double dx = fqm_dx(R->m, J), dy;
 
 	if (R->tag[s] == j)
 		return 0;
@@ -80,14 +79,15 @@ load(rows *R, int j, tl_err *e)
 			return -1;
 		else if (R->next++ == j)
 			break;
-	dy = (fqm_y(R->m, J + step) - fqm_y(R->m, J)) / (double)step;
 	for (int i = 0; i < w; i++) {
 		R->z[s][i] = R->buf[(size_t)R->cz * w + i];
 		R->px[s][i] = (double)i * step;
 		R->py[s][i] = (double)J;
 		if (R->cx >= 0) {
-			R->px[s][i] += R->buf[(size_t)R->cx * w + i] / dx;
-			R->py[s][i] += R->buf[(size_t)R->cy * w + i] / dy;
+			double di, dj;
+			fqm_offset_to_grid(R->m, J, R->buf[(size_t)R->cx * w + i],
+			    R->buf[(size_t)R->cy * w + i], &di, &dj);
+			R->px[s][i] += di, R->py[s][i] += dj;
 		}
 	}
 	R->tag[s] = j;

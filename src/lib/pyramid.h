@@ -1,0 +1,72 @@
+/* pyramid.h - the VGIS block directory on disk (see vgis(5)): index.json
+ * and, per level, one 129x129 EXR per block:
+ *
+ *   DIR/index.json
+ *   DIR/<level>/<row>_<col>.exr     channels E Z (+ X Y when displaced)
+ *
+ * Blocks of a level share their border rows and columns; block (i, j)
+ * holds level vertices 128i .. 128i+128 by 128j .. 128j+128, vertices past
+ * the level's size being padding (copies of the nearest edge vertex). */
+#ifndef TL_PYRAMID_H
+#define TL_PYRAMID_H
+
+#include "bintree.h"
+#include "georef.h"
+#include "raster.h"
+
+#define PY_VERSION 1
+#define PY_N (BT_SIZE * BT_SIZE)
+
+typedef struct {
+	int level;
+	int size[2];    /* the level's vertices (before padding) */
+	int blocks[2];  /* block columns, rows */
+	int displaced;  /* X, Y channels (QEM-3D) */
+	char mode[16];  /* fqm:mode of its vertex map */
+	char kernel[16];
+	/* per block, row-major (j * blocks[0] + i): */
+	double *zmin, *zmax; /* range of Z over the block's vertices */
+	double *base;        /* base error: the finest triangles' deviation
+	                      * from the DEM over the block (0 on level 0) */
+	double *emax;        /* largest finite E in the block */
+} py_level;
+
+typedef struct {
+	int version;
+	int size0[2];
+	georef geo;
+	int nlevels;
+	py_level *lev;
+} py_index;
+
+/* Blocks along one axis for a level of n vertices: ceil((n-1)/128), >= 1. */
+int py_nblocks(int n);
+/* Level and block arrays for a level of the given size. */
+int py_level_init(py_level *L, int level, int w, int h, tl_err *e);
+void py_index_free(py_index *ix);
+
+int py_index_write(const char *dir, const py_index *ix, tl_err *e);
+int py_index_read(const char *dir, py_index *ix, tl_err *e);
+
+/* "DIR/<level>/<row>_<col>.exr" */
+void py_block_path(char *buf, size_t n, const char *dir, int level, int bi,
+    int bj);
+
+/* A block in memory: 129x129 floats per channel, row-major. */
+typedef struct {
+	int level, bi, bj, displaced;
+	double base, zmin, zmax;
+	float *z, *e, *x, *y; /* x, y NULL unless displaced */
+} py_block;
+
+int py_block_alloc(py_block *b, int displaced, tl_err *e);
+void py_block_free(py_block *b);
+/* Writes the block with the attributes of `attrs` (geo:*, fqm:*) and its
+ * own vgis:* attributes. */
+int py_block_write(const char *path, const py_block *b,
+    const rs_header *attrs, tl_err *e);
+/* Reads a block and checks its size, channels and vgis:* attributes
+ * against what b->level, bi, bj, displaced say it must be. */
+int py_block_read(const char *path, py_block *b, tl_err *e);
+
+#endif
