@@ -16,9 +16,11 @@ static const char *prog = "dem2fqm";
 static void
 usage(FILE *f)
 {
-	fprintf(f, "usage: %s [-e encoding] [-N nodata] [-n name] [-s dx[,dy]] "
-	    "[-z compression]\n"
-	    "               [dem [out]]\n"
+	fprintf(f, "usage: %s [-I] [-e encoding] [-N nodata] [-n name] "
+	    "[-s dx[,dy]]\n"
+	    "               [-z compression] [dem [out]]\n"
+	    "  -I              print the DEM's size, voids and georeferencing; "
+	    "no output\n"
 	    "  -e encoding     auto (default), grey, terrainrgb, terrarium\n"
 	    "  -N nodata       void value, overriding the file's\n"
 	    "  -n name         file name giving an .hgt on stdin its tile "
@@ -35,6 +37,7 @@ usage(FILE *f)
 
 typedef struct {
 	dem_opts dem;
+	int info;
 	enum rs_compression comp;
 	const char *in, *out;
 } options;
@@ -45,6 +48,31 @@ typedef struct {
 	unsigned char *valid[2];
 	double *band[2];
 } window;
+
+/* -I: what a script needs to plan a pyramid, as "key value" lines. */
+static int
+info(const options *o, tl_err *e)
+{
+	static const char *const models[] = { "none", "projected",
+		"geographic" };
+	dem *d;
+	const georef *g;
+
+	if ((d = dem_open(o->in, &o->dem, e)) == NULL)
+		return -1;
+	g = dem_georef(d);
+	printf("size %d %d\nvoids %lld\nmodel %s\ncrs %s\nraster %s\n"
+	    "origin %.17g %.17g\nstep %.17g %.17g\n", g->width, g->height,
+	    dem_voids(d), models[g->model], g->crs[0] ? g->crs : "-",
+	    g->point ? "point" : "area", g->origin[0], g->origin[1],
+	    g->step[0], g->step[1]);
+	if (g->vdatum[0] != '\0')
+		printf("vdatum %s\n", g->vdatum);
+	if (g->has_nodata)
+		printf("nodata %.17g\n", g->nodata);
+	dem_close(d);
+	return fflush(stdout) == 0 ? 0 : tl_failsys(e, "stdout");
+}
 
 static int
 convert(const options *o, tl_err *e)
@@ -160,9 +188,12 @@ main(int argc, char **argv)
 	tl_err e;
 	int c;
 
-	while ((c = getopt_long(argc, argv, "e:hN:n:s:Vz:", longopts, NULL)) !=
+	while ((c = getopt_long(argc, argv, "e:hIN:n:s:Vz:", longopts, NULL)) !=
 	    -1) {
 		switch (c) {
+		case 'I':
+			o.info = 1;
+			break;
 		case 'e':
 			if (strcmp(optarg, "auto") == 0)
 				o.dem.encoding = DEM_ENC_AUTO;
@@ -221,6 +252,17 @@ main(int argc, char **argv)
 		o.in = argv[0];
 	if (argc > 1)
 		o.out = argv[1];
+	if (o.info) {
+		if (argc > 1) {
+			usage(stderr);
+			return 2;
+		}
+		if (info(&o, &e) < 0) {
+			tl_warn(prog, "%s", e.msg);
+			return 1;
+		}
+		return 0;
+	}
 	if (strcmp(o.out, "-") == 0 && isatty(STDOUT_FILENO)) {
 		tl_warn(prog, "stdout: refusing to write a stream to a terminal");
 		return 1;

@@ -6,8 +6,9 @@ for p in $(sed -n 's/^PROGS *:= *//p' "$TOP/Makefile"); do
 	m=$TOP/man/$p.1
 	[ -f "$m" ]; ok $? "$p: man/$p.1 exists"
 	# option letters: "[-k kernel]" in usage, ".Fl k" in the SYNOPSIS
-	help=$($p --help | sed -n '1,/^  /p' | grep -o '\[-[a-zA-Z]' | tr -d '[-' | sort | tr -d '\n')
-	man=$(sed -n '/^\.Sh SYNOPSIS/,/^\.Sh DESCRIPTION/p' "$m" | grep -o '^\.Op Fl [a-zA-Z]' | sed 's/.* //' | sort | tr -d '\n')
+	# "[-fq]" and ".Op Fl fq" list two options each
+	help=$($p --help | sed -n '1,/^  /p' | grep -o '\[-[a-zA-Z]*' | tr -d '[-' | fold -w1 | sort | tr -d '\n')
+	man=$(sed -n '/^\.Sh SYNOPSIS/,/^\.Sh DESCRIPTION/p' "$m" | grep -o '^\.Op Fl [a-zA-Z]*' | sed 's/.* //' | fold -w1 | sort | tr -d '\n')
 	[ -n "$help" ] && [ "$help" = "$man" ]
 	ok $? "$p: --help options ($help) = man SYNOPSIS options ($man)"
 	for o in $(echo "$help" | sed 's/./& /g'); do

@@ -207,12 +207,20 @@ fqm_row0(const double *above, const double *below, const float *z,
 }
 
 void
+fqm_grid_scale(const geo_metric *m, long J, double *sx, double *sy)
+{
+	*sx = fqm_dx(m, J);
+	*sy = J > 0 ? (fqm_y(m, J + 1) - fqm_y(m, J - 1)) / 2 :
+	    fqm_y(m, 1) - fqm_y(m, 0);
+}
+
+void
 fqm_offset_to_grid(const geo_metric *m, long J, double X, double Y,
     double *di, double *dj)
 {
-	double dy = J > 0 ? (fqm_y(m, J + 1) - fqm_y(m, J - 1)) / 2 :
-	    fqm_y(m, 1) - fqm_y(m, 0);
+	double sx, sy;
 
-	*di = X / fqm_dx(m, J);
-	*dj = Y / dy;
+	fqm_grid_scale(m, J, &sx, &sy);
+	*di = X / sx;
+	*dj = Y / sy;
 }

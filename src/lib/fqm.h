@@ -56,6 +56,8 @@ double fqm_y(const geo_metric *m, long J);
  * di = X / dx[J], dj = Y / (local row spacing at J). */
 void fqm_offset_to_grid(const geo_metric *m, long J, double X, double Y,
     double *di, double *dj);
+/* The metres per level-0 column and row at row J that it divides by. */
+void fqm_grid_scale(const geo_metric *m, long J, double *sx, double *sy);
 
 
 /* Level 0, in two steps so that each triangle is computed once. Every

@@ -66,7 +66,8 @@ pair(double a, double b)
 static json_t *
 geo_json(const georef *g)
 {
-	json_t *o = json_pack("{sssisssso*so*sf}", "model", models[g->model],
+	json_t *o = json_pack("{s:s, s:i, s:s, s:s, s:o, s:o, s:f}", "model",
+	    models[g->model],
 	    "epsg", g->epsg, "crs", g->crs, "raster",
 	    g->point ? "point" : "area", "origin",
 	    pair(g->origin[0], g->origin[1]), "step",
@@ -94,7 +95,8 @@ level_json(const py_level *L)
 {
 	size_t nb = (size_t)L->blocks[0] * L->blocks[1];
 
-	return json_pack("{sis[ii]s[ii]sbsssssos*so*so*so*}", "level",
+	return json_pack("{s:i, s:[ii], s:[ii], s:b, s:s, s:s, s:o, s:o, s:o, "
+	    "s:o}", "level",
 	    L->level, "size", L->size[0], L->size[1], "blocks", L->blocks[0],
 	    L->blocks[1], "displaced", L->displaced, "mode", L->mode,
 	    "kernel", L->kernel, "zmin", doubles(L->zmin, nb), "zmax",
@@ -114,7 +116,8 @@ py_index_write(const char *dir, const py_index *ix, tl_err *e)
 	levels = json_array();
 	for (int l = 0; levels != NULL && l < ix->nlevels; l++)
 		json_array_append_new(levels, level_json(&ix->lev[l]));
-	root = json_pack("{sssisis[ii]sos*}", "format", "terrain-lod vgis",
+	root = json_pack("{s:s, s:i, s:i, s:[ii], s:o, s:o}", "format",
+	    "terrain-lod vgis",
 	    "version", PY_VERSION, "block", BT_SIZE, "size0", ix->size0[0],
 	    ix->size0[1], "georef", geo_json(&ix->geo), "levels", levels);
 	if (root == NULL)

@@ -104,20 +104,27 @@ rmtree_at(int parent, const char *name, int depth)
 	fd = openat(parent, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW);
 	if (fd < 0)
 		return;
-	while ((n = syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0) {
-		for (long off = 0; off < n;) {
-			struct {
-				uint64_t ino;
-				int64_t off;
-				unsigned short reclen;
-				unsigned char type;
-				char name[];
-			} *d = (void *)(buf + off);
-			if (strcmp(d->name, ".") != 0 && strcmp(d->name, "..") != 0)
-				rmtree_at(fd, d->name, depth + 1);
-			off += d->reclen;
-		}
-		lseek(fd, 0, SEEK_SET); /* entries moved under us: rescan */
+	/* Passes from the start until one finds nothing left to remove
+	 * (removal while reading may hide entries); a few at most. */
+	for (int pass = 0, found = 1; found && pass < 4; pass++) {
+		found = 0;
+		lseek(fd, 0, SEEK_SET);
+		while ((n = syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0)
+			for (long off = 0; off < n;) {
+				struct {
+					uint64_t ino;
+					int64_t off;
+					unsigned short reclen;
+					unsigned char type;
+					char name[];
+				} *d = (void *)(buf + off);
+				if (strcmp(d->name, ".") != 0 &&
+				    strcmp(d->name, "..") != 0) {
+					rmtree_at(fd, d->name, depth + 1);
+					found = 1;
+				}
+				off += d->reclen;
+			}
 	}
 	close(fd);
 	unlinkat(parent, name, AT_REMOVEDIR);
@@ -272,14 +279,18 @@ tl_outdir_commit(tl_outfile *o, tl_err *e)
 	struct stat st;
 	int r = 0;
 
-	/* Replace an earlier pyramid, never a directory that is not one. */
+	/* Replace an earlier directory by swapping the two atomically
+	 * (renameat2 RENAME_EXCHANGE), then remove the old one: readers
+	 * see the old tree or the new one, never a mix or nothing. */
 	if (lstat(o->path, &st) == 0) {
 		if (!S_ISDIR(st.st_mode))
 			r = tl_fail(e, "%s: exists and is not a directory", o->path);
+		else if (syscall(SYS_renameat2, AT_FDCWD, o->tmp, AT_FDCWD,
+		    o->path, 2 /* RENAME_EXCHANGE */) != 0)
+			r = tl_failsys(e, "%s: replace", o->path);
 		else
-			rmtree_at(AT_FDCWD, o->path, 0);
-	}
-	if (r == 0 && rename(o->tmp, o->path) != 0)
+			rmtree_at(AT_FDCWD, o->tmp, 0); /* now the old tree */
+	} else if (rename(o->tmp, o->path) != 0)
 		r = tl_failsys(e, "%s: rename", o->path);
 	if (r != 0)
 		rmtree_at(AT_FDCWD, o->tmp, 0);

@@ -44,7 +44,9 @@ int tl_out_commit(tl_outfile *o, tl_err *e); /* fsync-free close + rename */
 void tl_out_abort(tl_outfile *o);            /* close + unlink, never fails */
 
 /* A temporary directory tree built under a hidden name and renamed at the
- * end (tilepack); removed recursively by abort or by a signal. */
+ * end (tilepack), atomically replacing an earlier one; removed
+ * recursively by abort or by a signal. The caller decides whether an
+ * existing directory may be replaced. */
 int tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e);
 int tl_outdir_commit(tl_outfile *o, tl_err *e);
 void tl_outdir_abort(tl_outfile *o);

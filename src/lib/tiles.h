@@ -1,0 +1,53 @@
+/* tiles.h - the errors of a level's blocks: exact local errors against
+ * every valid DEM sample, saturated across block borders (SPEC: "The
+ * triangulation and the error"), streamed.
+ *
+ * One pass over the DEM's rows: each valid sample is located, for every
+ * scale and kind of the bintree, in the diamond(s) containing it (closed;
+ * in the displaced triangles for QEM-3D levels) and raises that diamond
+ * vertex's local error to the sample's vertical distance from the
+ * diamond's two triangles without the vertex; it also raises its block's
+ * base error (its distance from the finest triangles). Once no later DEM
+ * row can reach a block row's diamonds (64 level rows and a margin), the
+ * block row's errors are saturated, children before parents, over a band
+ * of 64 rows either side (a vertex's whole subtree lies in its diamond),
+ * and the blocks are handed out. Every local error is an exact maximum, so
+ * E is exact on every level, not a bound.
+ *
+ * Memory: a ring of 512 level rows (4 block rows) of Z, offsets and local
+ * errors, the saturation band (257 rows) and one DEM row. */
+#ifndef TL_TILES_H
+#define TL_TILES_H
+
+#include "dem.h"
+#include "pyramid.h"
+
+/* The level's real row r (r < size[1]) of heights and, displaced, the X
+ * and Y offsets in metres (x, y NULL for 1D levels). Rows are asked for in
+ * order, once each. */
+typedef int (*tp_row_fn)(void *ctx, int r, float *z, float *x, float *y,
+    tl_err *e);
+/* A finished block; the callee writes it (b is reused afterwards). */
+typedef int (*tp_block_fn)(void *ctx, const py_block *b, tl_err *e);
+
+typedef struct {
+	int level;
+	int size[2];     /* the level's vertices */
+	int displaced;
+	const geo_metric *m;
+	tp_row_fn row;
+	void *row_ctx;
+	tp_block_fn block;
+	void *block_ctx;
+	const char *label; /* progress on a terminal, or NULL */
+} tp_level;
+
+typedef struct {
+	double max_base;   /* largest base error of any block */
+	double max_e;      /* largest finite E */
+	long long samples; /* valid DEM samples measured */
+} tp_stats;
+
+int tp_run(const tp_level *L, dem *d, tp_stats *st, tl_err *e);
+
+#endif

@@ -1,0 +1,344 @@
+/* tilepack - the VGIS block pyramid: the vertex maps of levels 0..L and
+ * the original DEM in, a directory of 129x129 blocks per level out, each
+ * vertex with its height and its saturated error (see vgis(5)). */
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "dem.h"
+#include "fqm.h"
+#include "pyramid.h"
+#include "raster.h"
+#include "tiles.h"
+#include "util.h"
+
+static const char *prog = "tilepack";
+
+static void
+usage(FILE *f)
+{
+	fprintf(f, "usage: %s [-fq] [-e encoding] [-N nodata] [-n name] "
+	    "[-s dx[,dy]] dem dir\n"
+	    "                level0 [level1 ...]\n"
+	    "  -f              replace dir even if it is not a pyramid\n"
+	    "  -q              no report on stderr\n"
+	    "  -e, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+	    "  dem             the original DEM (errors are measured against "
+	    "it)\n"
+	    "  dir             the pyramid directory to make\n"
+	    "  level0 ...      vertex maps (fqmsolve(1)) of levels 0, 1, ... "
+	    "in order;\n"
+	    "                  EXR or fqm stream files, FIFOs, - for one of "
+	    "them\n", prog);
+}
+
+typedef struct {
+	dem_opts dem;
+	int force, quiet;
+	const char *dem_path, *dir;
+	char **levels;
+	int nlevels;
+} options;
+
+/* The vertex map being read, for the row callback. */
+typedef struct {
+	rs_reader *r;
+	const rs_header *h;
+	int cz, cx, cy;
+	float *row;
+	const char *name;
+} vmap;
+
+static int
+read_row(void *ctx, int r, float *z, float *x, float *y, tl_err *e)
+{
+	vmap *v = ctx;
+	int w = v->h->width;
+
+	(void)r;
+	if (rs_read_row(v->r, v->row, e) < 0)
+		return -1;
+	memcpy(z, v->row + (size_t)v->cz * w, (size_t)w * sizeof *z);
+	if (x != NULL) {
+		memcpy(x, v->row + (size_t)v->cx * w, (size_t)w * sizeof *x);
+		memcpy(y, v->row + (size_t)v->cy * w, (size_t)w * sizeof *y);
+	}
+	return 0;
+}
+
+/* Where finished blocks go, and what the index learns from them. */
+typedef struct {
+	const char *dir;
+	const rs_header *attrs;
+	py_level *L;
+} sink;
+
+static int
+write_block(void *ctx, const py_block *b, tl_err *e)
+{
+	sink *k = ctx;
+	char path[4096];
+	size_t i = (size_t)b->bj * k->L->blocks[0] + b->bi;
+	double emax = 0;
+
+	py_block_path(path, sizeof path, k->dir, b->level, b->bi, b->bj);
+	for (int n = 0; n < PY_N; n++)
+		if (b->e[n] < 3e38f && b->e[n] > emax)
+			emax = b->e[n];
+	k->L->zmin[i] = b->zmin, k->L->zmax[i] = b->zmax;
+	k->L->base[i] = b->base, k->L->emax[i] = emax;
+	return py_block_write(path, b, k->attrs, e);
+}
+
+/* Same DEM, same georeferencing, the right level. */
+static int
+check_level(const fqm_info *fi, const fqm_info *f0, int l, const georef *g,
+    const char *name, tl_err *e)
+{
+	if (fi->level != l)
+		return tl_fail(e, "%s: is level %d, expected level %d (levels "
+		    "go in order from 0)", name, fi->level, l);
+	if (fi->size0[0] != g->width || fi->size0[1] != g->height)
+		return tl_fail(e, "%s: made from a %dx%d DEM, the DEM is %dx%d",
+		    name, fi->size0[0], fi->size0[1], g->width, g->height);
+	if (f0 != NULL && (fi->geo.model != f0->geo.model ||
+	    fi->geo.epsg != f0->geo.epsg ||
+	    fi->geo.origin[0] != f0->geo.origin[0] ||
+	    fi->geo.origin[1] != f0->geo.origin[1] ||
+	    fi->geo.step[0] != f0->geo.step[0] ||
+	    fi->geo.step[1] != f0->geo.step[1]))
+		return tl_fail(e, "%s: georeferencing differs from level 0's",
+		    name);
+	return 0;
+}
+
+static int
+pack_level(const options *o, dem *d, const char *tmp, int l, py_index *ix,
+    fqm_info *f0, geo_metric *m, tl_err *e)
+{
+	const char *name = tl_name(o->levels[l], 0);
+	char label[64], path[4096];
+	vmap v = { 0 };
+	fqm_info fi;
+	tp_level L = { 0 };
+	tp_stats st;
+	sink k;
+	const char *s;
+	int r = -1;
+
+	v.name = name;
+	if ((v.r = rs_open(o->levels[l], e)) == NULL)
+		return -1;
+	v.h = rs_header_of(v.r);
+	if (fqm_info_of(v.h, "vertices", &fi, name, e) < 0 ||
+	    check_level(&fi, l > 0 ? f0 : NULL, l, dem_georef(d), name, e) < 0 ||
+	    (v.cz = rs_need_channel(v.h, "Z", name, e)) < 0)
+		goto done;
+	if (l == 0) {
+		*f0 = fi;
+		ix->geo = fi.geo;
+		if (geo_metric_init(m, &fi.geo, e) < 0)
+			goto done;
+	}
+	v.cx = rs_channel(v.h, "X"), v.cy = rs_channel(v.h, "Y");
+	if ((v.cx < 0) != (v.cy < 0)) {
+		tl_fail(e, "%s: has only one of channels X and Y", name);
+		goto done;
+	}
+	if ((v.row = tl_alloc((size_t)v.h->width * v.h->nch, sizeof(float),
+	    e)) == NULL)
+		goto done;
+	py_level *pl = &ix->lev[l];
+	if (py_level_init(pl, l, v.h->width, v.h->height, e) < 0)
+		goto done;
+	pl->displaced = v.cx >= 0;
+	snprintf(pl->mode, sizeof pl->mode, "%s",
+	    (s = rs_get_string(v.h, "fqm:mode")) ? s : "");
+	snprintf(pl->kernel, sizeof pl->kernel, "%s",
+	    (s = rs_get_string(v.h, "fqm:kernel")) ? s : "");
+	snprintf(path, sizeof path, "%s/%d", tmp, l);
+	if (mkdir(path, 0777) != 0) {
+		tl_failsys(e, "%s", path);
+		goto done;
+	}
+	k.dir = tmp, k.attrs = v.h, k.L = pl;
+	snprintf(label, sizeof label, "%s: level %d", prog, l);
+	L.level = l;
+	L.size[0] = v.h->width, L.size[1] = v.h->height;
+	L.displaced = pl->displaced;
+	L.m = m;
+	L.row = read_row, L.row_ctx = &v;
+	L.block = write_block, L.block_ctx = &k;
+	L.label = label;
+	if (tp_run(&L, d, &st, e) < 0)
+		goto done;
+	if (!o->quiet)
+		fprintf(stderr, "%s: level %d: %dx%d vertices, %dx%d blocks, "
+		    "%s, max E %.3f m, max base error %.3f m\n", prog, l,
+		    L.size[0], L.size[1], pl->blocks[0], pl->blocks[1],
+		    pl->displaced ? "3D" : "1D", st.max_e, st.max_base);
+	r = 0;
+done:
+	rs_close(v.r);
+	free(v.row);
+	return r;
+}
+
+/* Refuse to replace a directory that is not a pyramid, unless -f. */
+static int
+check_dir(const options *o, tl_err *e)
+{
+	char path[4096];
+	struct stat st;
+
+	if (stat(o->dir, &st) != 0)
+		return errno == ENOENT ? 0 : tl_failsys(e, "%s", o->dir);
+	if (!S_ISDIR(st.st_mode))
+		return tl_fail(e, "%s: exists and is not a directory", o->dir);
+	snprintf(path, sizeof path, "%s/index.json", o->dir);
+	if (!o->force && access(path, F_OK) != 0 && rmdir(o->dir) != 0)
+		return tl_fail(e, "%s: exists and is not a pyramid (no "
+		    "index.json); use -f to replace it", o->dir);
+	return 0;
+}
+
+static int
+pack(const options *o, tl_err *e)
+{
+	py_index ix = { 0 };
+	fqm_info f0;
+	geo_metric m = { 0 };
+	tl_outfile out = { 0 };
+	dem *d;
+	int r = -1;
+
+	if (check_dir(o, e) < 0 || (d = dem_open(o->dem_path, &o->dem, e)) == NULL)
+		return -1;
+	ix.version = PY_VERSION;
+	ix.size0[0] = dem_georef(d)->width, ix.size0[1] = dem_georef(d)->height;
+	ix.nlevels = o->nlevels;
+	if ((ix.lev = tl_alloc(o->nlevels, sizeof *ix.lev, e)) == NULL ||
+	    tl_outdir_begin(&out, o->dir, e) < 0)
+		goto done;
+	for (int l = 0; l < o->nlevels; l++)
+		if (pack_level(o, d, out.tmp, l, &ix, &f0, &m, e) < 0)
+			goto done;
+	ix.geo.width = ix.size0[0], ix.geo.height = ix.size0[1];
+	if (py_index_write(out.tmp, &ix, e) < 0)
+		goto done;
+	r = tl_outdir_commit(&out, e);
+done:
+	if (r < 0)
+		tl_outdir_abort(&out);
+	dem_close(d);
+	geo_metric_free(&m);
+	py_index_free(&ix);
+	return r;
+}
+
+static int
+parse_cell(const char *s, double cell[2])
+{
+	char buf[64], *comma;
+
+	if (strlen(s) >= sizeof buf)
+		return -1;
+	strcpy(buf, s);
+	if ((comma = strchr(buf, ',')) != NULL)
+		*comma++ = '\0';
+	if (tl_parse_double(buf, &cell[0]) < 0 || cell[0] <= 0)
+		return -1;
+	cell[1] = cell[0];
+	if (comma != NULL && (tl_parse_double(comma, &cell[1]) < 0 ||
+	    cell[1] <= 0))
+		return -1;
+	return 0;
+}
+
+int
+main(int argc, char **argv)
+{
+	static const struct option longopts[] = {
+		{ "help", no_argument, NULL, 'h' },
+		{ "version", no_argument, NULL, 'V' },
+		{ NULL, 0, NULL, 0 },
+	};
+	options o = { 0 };
+	tl_err e;
+	int c, stdin_uses = 0;
+
+	while ((c = getopt_long(argc, argv, "e:fhN:n:qs:V", longopts, NULL)) !=
+	    -1) {
+		switch (c) {
+		case 'e':
+			if (strcmp(optarg, "auto") == 0)
+				o.dem.encoding = DEM_ENC_AUTO;
+			else if (strcmp(optarg, "grey") == 0 ||
+			    strcmp(optarg, "gray") == 0)
+				o.dem.encoding = DEM_ENC_GREY;
+			else if (strcmp(optarg, "terrainrgb") == 0)
+				o.dem.encoding = DEM_ENC_TERRAINRGB;
+			else if (strcmp(optarg, "terrarium") == 0)
+				o.dem.encoding = DEM_ENC_TERRARIUM;
+			else {
+				tl_warn(prog, "-e %s: unknown encoding", optarg);
+				return 2;
+			}
+			break;
+		case 'f':
+			o.force = 1;
+			break;
+		case 'h':
+			usage(stdout);
+			return 0;
+		case 'N':
+			if (tl_parse_double(optarg, &o.dem.nodata) < 0) {
+				tl_warn(prog, "-N %s: not a number", optarg);
+				return 2;
+			}
+			o.dem.has_nodata = 1;
+			break;
+		case 'n':
+			o.dem.hgt_name = optarg;
+			break;
+		case 'q':
+			o.quiet = 1;
+			break;
+		case 's':
+			if (parse_cell(optarg, o.dem.cell) < 0) {
+				tl_warn(prog, "-s %s: expected dx or dx,dy in "
+				    "metres, > 0", optarg);
+				return 2;
+			}
+			break;
+		case 'V':
+			printf("%s %s\n", prog, TL_VERSION);
+			return 0;
+		default:
+			usage(stderr);
+			return 2;
+		}
+	}
+	argc -= optind, argv += optind;
+	if (argc < 3) {
+		usage(stderr);
+		return 2;
+	}
+	o.dem_path = argv[0], o.dir = argv[1];
+	o.levels = argv + 2, o.nlevels = argc - 2;
+	for (int k = 0; k < argc; k++)
+		stdin_uses += k != 1 && strcmp(argv[k], "-") == 0;
+	if (stdin_uses > 1) {
+		tl_warn(prog, "stdin can feed only one input");
+		return 2;
+	}
+	if (pack(&o, &e) < 0) {
+		tl_warn(prog, "%s", e.msg);
+		return 1;
+	}
+	return 0;
+}
