@@ -26,7 +26,7 @@ ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(PKGCF) -Isrc/lib \
 ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) $(PKGCF) -Isrc/lib
 LDLIBS   = -Wl,--as-needed $(PKGLIBS) -lz -lstdc++ -lm -lpthread -ldl
 
-PROGS   := dem2fqm fqmfilter fqmsolve
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack
 LIBC    := $(wildcard src/lib/*.c)
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin that dem.c loads only for formats libtiff cannot read.
@@ -37,7 +37,8 @@ TESTC   := $(wildcard tests/t_*.c)
 TESTBIN := $(TESTC:tests/%.c=$(B)/tests/%)
 TOOLC   := $(wildcard tests/tools/*.c)
 TOOLBIN := $(TOOLC:tests/tools/%.c=$(B)/tools/%)
-MAN1    := $(PROGS:%=man/%.1)
+SCRIPTS := dem2vgis
+MAN1    := $(PROGS:%=man/%.1) $(SCRIPTS:%=man/%.1)
 MAN5    := $(wildcard man/*.5)
 
 all: $(PROGS:%=$(B)/%) $(PLUGIN)
@@ -95,7 +96,7 @@ bench: all $(TOOLBIN)
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
 	install -m 644 $(PLUGIN) $(DESTDIR)$(LIBDIR)
-	install -m 755 $(PROGS:%=$(B)/%) $(DESTDIR)$(BINDIR)
+	install -m 755 $(PROGS:%=$(B)/%) $(SCRIPTS:%=scripts/%) $(DESTDIR)$(BINDIR)
 	install -m 644 $(MAN1) $(DESTDIR)$(MANDIR)/man1
 	install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5
 

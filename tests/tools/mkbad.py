@@ -41,6 +41,13 @@ def main(d):
     i, j = np.meshgrid(np.arange(301.0), np.arange(203.0))
     write(f"{d}/plane.tif", (1000 + 0.375 * i - 1.25 * j).astype(np.float32),
           dy=20)
+    # One block: zero but a 10 m spike at its centre (col 64, row 64);
+    # and a tilted plane.
+    spike = np.zeros((129, 129), np.float32)
+    spike[64, 64] = 10
+    write(f"{d}/spike.tif", spike)
+    i, j = np.meshgrid(np.arange(129.0), np.arange(129.0))
+    write(f"{d}/tilt.tif", (200 + 0.5 * i + 0.25 * j).astype(np.float32))
 
 
 if __name__ == "__main__":

@@ -1,0 +1,123 @@
+# t_tilepack - tilepack and dem2vgis: E values derived by hand, bad input,
+# interrupted runs, atomic replacement, the examples Makefile.
+. "$(dirname "$0")/lib.sh"
+
+/usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; done_testing; exit 1; }
+PATH=$TOP/scripts:$PATH
+
+# e DIR L GI GJ: the E values stored for a vertex, one per block holding it
+e() { pyget "$@" | awk '{ print $4 }' | sort -u | tr '\n' ' ' | sed 's/ $//'; }
+
+# --- by hand --------------------------------------------------------------
+# spike.tif: one 129x129 block (level 0), height 0 except 10 m at the
+# centre s = (64,64). At level 0 every sample is a vertex, so an error
+# comes only from s or from a triangle having s as a corner:
+# - (64,64): its diamond is the block's two roots, whose corners are all 0:
+#   at s the error is 10; its children score less (below): E = 10.
+# - (64,0) (hypotenuse (0,0)-(128,0), apex s): in that triangle the weight
+#   of s is y/64, so at the samples (63..65, 63) the plane is 10*63/64
+#   above the DEM's 0: local 9.84375, and no triangle in its subtree has a
+#   vertex closer to s with a larger weight: E = 9.84375. Likewise (0,64),
+#   (128,64), (64,128) and the square (96,96) (hypotenuse s-(128,128):
+#   at (65,65) the weight of s is 63/64).
+# - (65,64) (a leaf: hypotenuse (64,64)-(66,64)): at itself the plane is
+#   (10 + 0)/2 = 5 over the DEM's 0, its other samples are its corners: 5.
+# - (1,0) and (127,127): every sample of their subtrees and every corner
+#   is 0: E = 0. Corners: FLT_MAX.
+dem2fqm "$T/spike.tif" - | fqmsolve - "$T/spike-v0.exr" &&
+    tilepack -q "$T/spike.tif" "$T/spike" "$T/spike-v0.exr"
+ok $? "tilepack on the 129x129 spike"
+for v in "64 64 10" "64 0 9.84375" "0 64 9.84375" "128 64 9.84375" \
+    "64 128 9.84375" "96 96 9.84375" "65 64 5" "1 0 0" "127 127 0" \
+    "0 0 3.40282347e+38" "128 128 3.40282347e+38"; do
+	set -- $v
+	[ "$(e "$T/spike" 0 "$1" "$2")" = "$3" ]
+	ok $? "spike: E($1,$2) = $3 as derived by hand (got $(e "$T/spike" 0 "$1" "$2"))"
+done
+# A plane: every triangle interpolates it exactly, all E are 0.
+dem2fqm "$T/tilt.tif" - | fqmsolve - "$T/tilt-v0.exr" &&
+    tilepack -q "$T/tilt.tif" "$T/tilt" "$T/tilt-v0.exr"
+n=0
+for j in 0 1 2 31 32 33 63 64 65 96 127 128; do
+	for i in 0 1 2 31 32 33 63 64 65 96 127 128; do
+		case "$i $j" in "0 0"|"128 0"|"0 128"|"128 128") continue ;; esac
+		[ "$(e "$T/tilt" 0 "$i" "$j")" = 0 ] || n=$((n + 1))
+	done
+done
+ok $n "tilted plane: E = 0 at every probed vertex ($n not)"
+
+# --- a real pyramid: structure, borders, reruns ---------------------------
+run "dem2vgis bigtujunga.tif" dem2vgis -q "$DATA/bigtujunga.tif" "$T/bt"
+[ -f "$T/bt/index.json" ] && [ "$(ls "$T/bt" | tr '\n' ' ')" = "0 1 2 3 4 index.json " ]
+ok $? "bigtujunga: levels 0..4 (the first fitting one block) and an index"
+[ "$(ls "$T/bt/0" | wc -l)" = 60 ] && [ "$(ls "$T/bt/4")" = "0_0.exr" ]
+ok $? "bigtujunga: 10x6 blocks at level 0, one at level 4"
+# a border vertex of level 0 shared by four blocks: one Z, one E
+[ "$(pyget "$T/bt" 0 128 128 | wc -l)" = 4 ] &&
+    [ "$(pyget "$T/bt" 0 128 128 | awk '{ print $3, $4 }' | sort -u | wc -l)" = 1 ] &&
+    [ "$(pyget "$T/bt" 1 200 128 | awk '{ print $3, $4 }' | sort -u | wc -l)" = 1 ]
+ok $? "bigtujunga: border vertices identical in every block holding them"
+dem2vgis -q "$DATA/bigtujunga.tif" "$T/bt2" && diff -r "$T/bt" "$T/bt2" >/dev/null
+ok $? "bigtujunga: a rerun is byte-identical"
+dem2vgis -q -3 "$DATA/bigtujunga.tif" "$T/bt3"
+grep -q '"displaced": true' "$T/bt3/index.json" && [ "$(pyget "$T/bt3" 1 100 100 | wc -w)" = 6 ]
+ok $? "bigtujunga -3: displaced levels with X and Y"
+
+# --- bad input, interrupted runs, replacement -----------------------------
+nothing_left() { [ -z "$(ls -A "$1" | grep -v '^keep$')" ]; }
+mkdir "$T/o" "$T/scratch"
+dem2fqm "$T/hills.tif" "$T/h0.exr" && fqmfilter "$T/h0.exr" "$T/h1.exr" &&
+    fqmsolve "$T/h0.exr" "$T/hv0.exr" && fqmsolve "$T/h1.exr" "$T/hv1.exr"
+fails "levels out of order" 1 "^tilepack: .*hv1.exr: is level 1, expected level 0" \
+    tilepack "$T/hills.tif" "$T/o/p" "$T/hv1.exr" "$T/hv0.exr"
+nothing_left "$T/o"; ok $? "levels out of order: nothing left"
+fails "a level of another DEM" 1 "^tilepack: .*made from a 64x48 DEM, the DEM is 129x129" \
+    tilepack "$T/spike.tif" "$T/o/p" "$T/hv0.exr"
+fails "an FQM instead of a vertex map" 1 "is a fqm map, expected vertices" \
+    tilepack "$T/hills.tif" "$T/o/p" "$T/h0.exr"
+fails "a missing level file" 1 "^tilepack: .*nosuch.exr" \
+    tilepack "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/nosuch.exr"
+fqmsolve "$T/h1.exr" - | head -c 5000 >"$T/cut.fqm"
+fails "a truncated vertex map" 1 "^tilepack: .*cut.fqm: .*truncat" \
+    tilepack "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/cut.fqm"
+nothing_left "$T/o"; ok $? "failed runs leave nothing in the output directory"
+fails "too few operands" 2 "usage: tilepack" tilepack "$T/hills.tif" "$T/o/p"
+
+mkdir "$T/o/keep" && touch "$T/o/keep/precious"
+fails "a directory that is not a pyramid is not replaced" 1 "not a pyramid" \
+    tilepack "$T/hills.tif" "$T/o/keep" "$T/hv0.exr" "$T/hv1.exr"
+[ -f "$T/o/keep/precious" ]; ok $? "... and keeps its files"
+tilepack -q "$T/hills.tif" "$T/o/p" "$T/hv0.exr" &&
+    tilepack -q "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/hv1.exr" &&
+    [ -d "$T/o/p/1" ] && [ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ]
+ok $? "a pyramid is replaced by a newer one, atomically, nothing else left"
+
+# killed in the middle: no pyramid, no temporary directory
+(tilepack -q "$DATA/N44W072.hgt" "$T/o/k" "$T/dummy" 2>/dev/null; true)
+dem2fqm "$DATA/N44W072.hgt" - | fqmsolve - "$T/nv0.exr"
+(tilepack -q "$DATA/N44W072.hgt" "$T/o/k" "$T/nv0.exr" & p=$!
+    sleep 0.5; kill -TERM $p; wait $p) 2>/dev/null
+[ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ]
+ok $? "tilepack killed by SIGTERM leaves no directory, no temporary"
+for t in 0.3 1.2; do
+	(TMPDIR=$T/scratch dem2vgis -q "$DATA/N44W072.hgt" "$T/o/k2" & p=$!
+	    sleep $t; kill -TERM $p; wait $p) 2>/dev/null
+	sleep 0.3
+	[ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ] && nothing_left "$T/scratch"
+	ok $? "dem2vgis killed by SIGTERM after $t s leaves no directory, no scratch"
+done
+printf 'not a raster\n' >"$T/garbage.txt"
+fails "dem2vgis on a non-raster" 1 "not a" dem2vgis "$T/garbage.txt" "$T/o/g"
+
+# --- the examples Makefile: parallel and incremental ----------------------
+mkdir "$T/dems" && cp "$T/hills.tif" "$T/spike.tif" "$T/dems/"
+make -s -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" >/dev/null 2>&1 &&
+    [ -f "$T/pyrs/hills.tif/index.json" ] && [ -f "$T/pyrs/spike.tif/index.json" ]
+ok $? "examples/Makefile builds a pyramid per DEM with -j2"
+before=$(ls -l --time-style=+%s.%N "$T/pyrs/hills.tif/index.json")
+sleep 1; touch "$T/dems/spike.tif"
+make -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" >"$T/mk" 2>&1
+[ "$(grep -c dem2vgis "$T/mk")" = 1 ] && grep -q spike.tif "$T/mk" &&
+    [ "$(ls -l --time-style=+%s.%N "$T/pyrs/hills.tif/index.json")" = "$before" ]
+ok $? "examples/Makefile redoes only the changed DEM"
+done_testing
