@@ -3,6 +3,7 @@
  * vertex with its height and its saturated error (see vgis(5)). */
 #include <errno.h>
 #include <getopt.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,10 +22,10 @@ static const char *prog = "tilepack";
 static void
 usage(FILE *f)
 {
-	fprintf(f, "usage: %s [-fq] [-e encoding] [-N nodata] [-n name] "
-	    "[-s dx[,dy]] dem dir\n"
-	    "                level0 [level1 ...]\n"
+	fprintf(f, "usage: %s [-fq] [-e encoding] [-j jobs] [-N nodata] [-n name]\n"
+	    "                [-s dx[,dy]] dem dir level0 [level1 ...]\n"
 	    "  -f              replace dir even if it is not a pyramid\n"
+	    "  -j jobs         levels done at once (default: the CPUs)\n"
 	    "  -q              no report on stderr\n"
 	    "  -e, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
 	    "  dem             the original DEM (errors are measured against "
@@ -38,7 +39,7 @@ usage(FILE *f)
 
 typedef struct {
 	dem_opts dem;
-	int force, quiet;
+	int force, quiet, jobs;
 	const char *dem_path, *dir;
 	char **levels;
 	int nlevels;
@@ -96,8 +97,8 @@ write_block(void *ctx, const py_block *b, tl_err *e)
 
 /* Same DEM, same georeferencing, the right level. */
 static int
-check_level(const fqm_info *fi, const fqm_info *f0, int l, const georef *g,
-    const char *name, tl_err *e)
+check_level(const fqm_info *fi, int l, const georef *g, const char *name,
+    tl_err *e)
 {
 	if (fi->level != l)
 		return tl_fail(e, "%s: is level %d, expected level %d (levels "
@@ -105,27 +106,39 @@ check_level(const fqm_info *fi, const fqm_info *f0, int l, const georef *g,
 	if (fi->size0[0] != g->width || fi->size0[1] != g->height)
 		return tl_fail(e, "%s: made from a %dx%d DEM, the DEM is %dx%d",
 		    name, fi->size0[0], fi->size0[1], g->width, g->height);
-	if (f0 != NULL && (fi->geo.model != f0->geo.model ||
-	    fi->geo.epsg != f0->geo.epsg ||
-	    fi->geo.origin[0] != f0->geo.origin[0] ||
-	    fi->geo.origin[1] != f0->geo.origin[1] ||
-	    fi->geo.step[0] != f0->geo.step[0] ||
-	    fi->geo.step[1] != f0->geo.step[1]))
-		return tl_fail(e, "%s: georeferencing differs from level 0's",
+	if (fi->geo.model != g->model || fi->geo.epsg != g->epsg ||
+	    fi->geo.origin[0] != g->origin[0] ||
+	    fi->geo.origin[1] != g->origin[1] ||
+	    fi->geo.step[0] != g->step[0] || fi->geo.step[1] != g->step[1])
+		return tl_fail(e, "%s: georeferencing differs from the DEM's",
 		    name);
 	return 0;
 }
 
+/* One level: what every worker shares, read-only but for the next level
+ * to take and the first failure. */
+typedef struct {
+	const options *o;
+	dem *d;
+	const char *tmp;
+	py_index *ix;
+	const geo_metric *m;
+	tp_stats *st;
+	pthread_mutex_t lock;
+	int next, failed;
+	tl_err err;
+} work;
+
 static int
-pack_level(const options *o, dem *d, const char *tmp, int l, py_index *ix,
-    fqm_info *f0, geo_metric *m, tl_err *e)
+pack_level(work *w, int l, tl_err *e)
 {
+	const options *o = w->o;
 	const char *name = tl_name(o->levels[l], 0);
 	char label[64], path[4096];
 	vmap v = { 0 };
 	fqm_info fi;
 	tp_level L = { 0 };
-	tp_stats st;
+	py_level *pl = &w->ix->lev[l];
 	sink k;
 	const char *s;
 	int r = -1;
@@ -135,57 +148,92 @@ pack_level(const options *o, dem *d, const char *tmp, int l, py_index *ix,
 		return -1;
 	v.h = rs_header_of(v.r);
 	if (fqm_info_of(v.h, "vertices", &fi, name, e) < 0 ||
-	    check_level(&fi, l > 0 ? f0 : NULL, l, dem_georef(d), name, e) < 0 ||
+	    check_level(&fi, l, dem_georef(w->d), name, e) < 0 ||
 	    (v.cz = rs_need_channel(v.h, "Z", name, e)) < 0)
 		goto done;
-	if (l == 0) {
-		*f0 = fi;
-		ix->geo = fi.geo;
-		if (geo_metric_init(m, &fi.geo, e) < 0)
-			goto done;
-	}
 	v.cx = rs_channel(v.h, "X"), v.cy = rs_channel(v.h, "Y");
 	if ((v.cx < 0) != (v.cy < 0)) {
 		tl_fail(e, "%s: has only one of channels X and Y", name);
 		goto done;
 	}
 	if ((v.row = tl_alloc((size_t)v.h->width * v.h->nch, sizeof(float),
-	    e)) == NULL)
-		goto done;
-	py_level *pl = &ix->lev[l];
-	if (py_level_init(pl, l, v.h->width, v.h->height, e) < 0)
+	    e)) == NULL || py_level_init(pl, l, v.h->width, v.h->height, e) < 0)
 		goto done;
 	pl->displaced = v.cx >= 0;
 	snprintf(pl->mode, sizeof pl->mode, "%s",
 	    (s = rs_get_string(v.h, "fqm:mode")) ? s : "");
 	snprintf(pl->kernel, sizeof pl->kernel, "%s",
 	    (s = rs_get_string(v.h, "fqm:kernel")) ? s : "");
-	snprintf(path, sizeof path, "%s/%d", tmp, l);
+	snprintf(path, sizeof path, "%s/%d", w->tmp, l);
 	if (mkdir(path, 0777) != 0) {
 		tl_failsys(e, "%s", path);
 		goto done;
 	}
-	k.dir = tmp, k.attrs = v.h, k.L = pl;
+	k.dir = w->tmp, k.attrs = v.h, k.L = pl;
 	snprintf(label, sizeof label, "%s: level %d", prog, l);
 	L.level = l;
 	L.size[0] = v.h->width, L.size[1] = v.h->height;
 	L.displaced = pl->displaced;
-	L.m = m;
+	L.m = w->m;
 	L.row = read_row, L.row_ctx = &v;
 	L.block = write_block, L.block_ctx = &k;
-	L.label = label;
-	if (tp_run(&L, d, &st, e) < 0)
-		goto done;
-	if (!o->quiet)
-		fprintf(stderr, "%s: level %d: %dx%d vertices, %dx%d blocks, "
-		    "%s, max E %.3f m, max base error %.3f m\n", prog, l,
-		    L.size[0], L.size[1], pl->blocks[0], pl->blocks[1],
-		    pl->displaced ? "3D" : "1D", st.max_e, st.max_base);
-	r = 0;
+	/* one progress line at a time: only when working alone */
+	L.label = o->jobs == 1 ? label : NULL;
+	r = tp_run(&L, w->d, &w->st[l], e);
 done:
 	rs_close(v.r);
 	free(v.row);
 	return r;
+}
+
+/* A worker takes levels in order (level 0, the largest, first) until
+ * none is left or one failed. */
+static void *
+worker(void *arg)
+{
+	work *w = arg;
+	tl_err e;
+
+	for (;;) {
+		int l;
+		pthread_mutex_lock(&w->lock);
+		l = w->failed ? w->o->nlevels : w->next++;
+		pthread_mutex_unlock(&w->lock);
+		if (l >= w->o->nlevels)
+			return NULL;
+		if (pack_level(w, l, &e) < 0) {
+			pthread_mutex_lock(&w->lock);
+			if (!w->failed)
+				w->err = e;
+			w->failed = 1;
+			pthread_mutex_unlock(&w->lock);
+			return NULL;
+		}
+	}
+}
+
+static int
+run_levels(work *w, tl_err *e)
+{
+	int n = w->o->jobs < w->o->nlevels ? w->o->jobs : w->o->nlevels;
+	pthread_t t[64];
+	int started = 0;
+
+	if (n > 64)
+		n = 64;
+	pthread_mutex_init(&w->lock, NULL);
+	for (int k = 1; k < n; k++)
+		if (pthread_create(&t[started], NULL, worker, w) == 0)
+			started++;
+	worker(w); /* this thread works too */
+	for (int k = 0; k < started; k++)
+		pthread_join(t[k], NULL);
+	pthread_mutex_destroy(&w->lock);
+	if (w->failed) {
+		*e = w->err;
+		return -1;
+	}
+	return 0;
 }
 
 /* Refuse to replace a directory that is not a pyramid, unless -f. */
@@ -210,33 +258,43 @@ static int
 pack(const options *o, tl_err *e)
 {
 	py_index ix = { 0 };
-	fqm_info f0;
 	geo_metric m = { 0 };
 	tl_outfile out = { 0 };
+	work w = { 0 };
 	dem *d;
 	int r = -1;
 
 	if (check_dir(o, e) < 0 || (d = dem_open(o->dem_path, &o->dem, e)) == NULL)
 		return -1;
 	ix.version = PY_VERSION;
-	ix.size0[0] = dem_georef(d)->width, ix.size0[1] = dem_georef(d)->height;
+	ix.geo = *dem_georef(d);
+	ix.size0[0] = ix.geo.width, ix.size0[1] = ix.geo.height;
 	ix.nlevels = o->nlevels;
+	w.o = o, w.d = d, w.ix = &ix, w.m = &m;
 	if ((ix.lev = tl_alloc(o->nlevels, sizeof *ix.lev, e)) == NULL ||
+	    (w.st = tl_alloc(o->nlevels, sizeof *w.st, e)) == NULL ||
+	    geo_metric_init(&m, &ix.geo, e) < 0 ||
 	    tl_outdir_begin(&out, o->dir, e) < 0)
 		goto done;
-	for (int l = 0; l < o->nlevels; l++)
-		if (pack_level(o, d, out.tmp, l, &ix, &f0, &m, e) < 0)
-			goto done;
-	ix.geo.width = ix.size0[0], ix.geo.height = ix.size0[1];
-	if (py_index_write(out.tmp, &ix, e) < 0)
+	w.tmp = out.tmp;
+	if (run_levels(&w, e) < 0 || py_index_write(out.tmp, &ix, e) < 0)
 		goto done;
 	r = tl_outdir_commit(&out, e);
+	for (int l = 0; r == 0 && !o->quiet && l < o->nlevels; l++) {
+		py_level *pl = &ix.lev[l];
+		fprintf(stderr, "%s: level %d: %dx%d vertices, %dx%d blocks, "
+		    "%s, max E %.3f m, max base error %.3f m\n", prog, l,
+		    pl->size[0], pl->size[1], pl->blocks[0], pl->blocks[1],
+		    pl->displaced ? "3D" : "1D", w.st[l].max_e,
+		    w.st[l].max_base);
+	}
 done:
 	if (r < 0)
 		tl_outdir_abort(&out);
 	dem_close(d);
 	geo_metric_free(&m);
 	py_index_free(&ix);
+	free(w.st);
 	return r;
 }
 
@@ -270,10 +328,19 @@ main(int argc, char **argv)
 	options o = { 0 };
 	tl_err e;
 	int c, stdin_uses = 0;
+	long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
 
-	while ((c = getopt_long(argc, argv, "e:fhN:n:qs:V", longopts, NULL)) !=
-	    -1) {
+	o.jobs = ncpu > 0 ? (int)ncpu : 1;
+	while ((c = getopt_long(argc, argv, "e:fhj:N:n:qs:V", longopts,
+	    NULL)) != -1) {
 		switch (c) {
+		case 'j':
+			if (tl_parse_int(optarg, &o.jobs) < 0 || o.jobs < 1) {
+				tl_warn(prog, "-j %s: expected a number >= 1",
+				    optarg);
+				return 2;
+			}
+			break;
 		case 'e':
 			if (strcmp(optarg, "auto") == 0)
 				o.dem.encoding = DEM_ENC_AUTO;

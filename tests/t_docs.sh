@@ -2,7 +2,8 @@
 # lists, and the man pages render without warnings.
 . "$(dirname "$0")/lib.sh"
 
-for p in $(sed -n 's/^PROGS *:= *//p' "$TOP/Makefile"); do
+PATH=$TOP/scripts:$PATH
+for p in $(sed -n 's/^\(PROGS\|SCRIPTS\) *:= *//p' "$TOP/Makefile"); do
 	m=$TOP/man/$p.1
 	[ -f "$m" ]; ok $? "$p: man/$p.1 exists"
 	# option letters: "[-k kernel]" in usage, ".Fl k" in the SYNOPSIS
@@ -12,7 +13,7 @@ for p in $(sed -n 's/^PROGS *:= *//p' "$TOP/Makefile"); do
 	[ -n "$help" ] && [ "$help" = "$man" ]
 	ok $? "$p: --help options ($help) = man SYNOPSIS options ($man)"
 	for o in $(echo "$help" | sed 's/./& /g'); do
-		grep -q "^\.It Fl $o" "$m"
+		grep -qE "^\.It (.* )?Fl $o( |$)" "$m"
 		ok $? "$p: man page describes -$o"
 	done
 done
