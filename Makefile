@@ -26,7 +26,7 @@ ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(PKGCF) -Isrc/lib \
 ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) $(PKGCF) -Isrc/lib
 LDLIBS   = -Wl,--as-needed $(PKGLIBS) -lz -lstdc++ -lm -lpthread -ldl
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay
 LIBC    := $(wildcard src/lib/*.c)
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin that dem.c loads only for formats libtiff cannot read.

@@ -288,6 +288,38 @@ test_folds(int level, int W, int H, double reach)
 			    ((i == 0 || i == W - 1) && v->x != 0) ||
 			    ((j == 0 || j == H - 1) && v->y != 0))
 				outside++;
+			/* the two-cell triangles of a scale-1 edge vertex */
+			int kind = (i & 1) && !(j & 1) ? 0 : !(i & 1) && (j & 1) ?
+			    1 : -1;
+			static const int et[2][2][3][2] = {
+				{ { { -1, 0 }, { 1, 0 }, { 0, -1 } },
+				  { { -1, 0 }, { 1, 0 }, { 0, 1 } } },
+				{ { { 0, -1 }, { 0, 1 }, { -1, 0 } },
+				  { { 0, -1 }, { 0, 1 }, { 1, 0 } } },
+			};
+			for (int t = 0; kind >= 0 && t < 2; t++) {
+				double g3[3][2], p3[3][2], ga, pa;
+				int inside = 1;
+				for (int k = 0; k < 3; k++) {
+					int ii = i + et[kind][t][k][0];
+					int jj = j + et[kind][t][k][1];
+					if (ii < 0 || jj < 0 || ii >= W || jj >= H)
+						inside = 0;
+					else {
+						sv_vertex *u = &lev[(size_t)jj * W + ii];
+						g3[k][0] = ii * sx, g3[k][1] = jj * sy;
+						p3[k][0] = g3[k][0] + u->x;
+						p3[k][1] = g3[k][1] + u->y;
+					}
+				}
+				if (!inside)
+					continue;
+				ga = (g3[1][0] - g3[0][0]) * (g3[2][1] - g3[0][1]) -
+				    (g3[1][1] - g3[0][1]) * (g3[2][0] - g3[0][0]);
+				pa = (p3[1][0] - p3[0][0]) * (p3[2][1] - p3[0][1]) -
+				    (p3[1][1] - p3[0][1]) * (p3[2][0] - p3[0][0]);
+				bad += ga > 0 ? pa < s.shrink * ga : pa > s.shrink * ga;
+			}
 			if (i + 1 == W || j + 1 == H)
 				continue;
 			double g[4][2] = { { 0, 0 }, { sx, 0 }, { sx, sy },
@@ -300,7 +332,8 @@ test_folds(int level, int W, int H, double reach)
 		}
 	ok(bad == 0 && outside == 0 && moved > W * H / 2,
 	    "QEM-3D %dx%d level %d, targets up to %.1f cell away: %ld "
-	    "folded cells, %ld offsets out of bounds, %ld of %d vertices "
+	    "folded cell or two-cell triangles, %ld offsets out of bounds, "
+	    "%ld of %d vertices "
 	    "moved, fold fix reduced %lld (zeroed %lld)", W, H, level, reach,
 	    bad, outside, moved, W * H, s.reduced, s.zeroed);
 	sv_free(&s);

@@ -41,8 +41,11 @@ bt_diamond(int gi, int gj, int tri[2][3][2])
 	case BT_CORNER:
 		return 0;
 	case BT_SQUARE:
-		/* the hypotenuse joins the corners (x/2h + y/2h even) */
-		if ((((gi - h) / (2 * h)) + ((gj - h) / (2 * h))) % 2 == 0) {
+		/* the hypotenuse joins the corners with x/2h + y/2h even,
+		 * in block coordinates: every block's roots split on its
+		 * own (0,0)-(128,128) diagonal */
+		if (((((gi % BT_CELLS) - h) / (2 * h)) +
+		    (((gj % BT_CELLS) - h) / (2 * h))) % 2 == 0) {
 			set(tri[0][0], gi - h, gj - h), set(tri[0][1], gi + h, gj + h);
 			set(tri[0][2], gi + h, gj - h);
 			set(tri[1][0], gi + h, gj + h), set(tri[1][1], gi - h, gj - h);

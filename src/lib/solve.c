@@ -41,9 +41,10 @@ sv_init(sv_solver *s, enum sv_mode mode, int level, int w, int h,
 	s->m = m;
 	if (mode != SV_QEM3D)
 		return 0;
-	s->prev = tl_alloc(w, sizeof *s->prev, e);
+	s->hist[0] = tl_alloc(w, sizeof *s->hist[0], e);
+	s->hist[1] = tl_alloc(w, sizeof *s->hist[1], e);
 	s->mark = tl_alloc(w, 1, e);
-	if (s->prev == NULL || s->mark == NULL) {
+	if (s->hist[0] == NULL || s->hist[1] == NULL || s->mark == NULL) {
 		sv_free(s);
 		return -1;
 	}
@@ -53,8 +54,8 @@ sv_init(sv_solver *s, enum sv_mode mode, int level, int w, int h,
 void
 sv_free(sv_solver *s)
 {
-	free(s->prev), free(s->mark);
-	s->prev = NULL, s->mark = NULL;
+	free(s->hist[0]), free(s->hist[1]), free(s->mark);
+	s->hist[0] = s->hist[1] = NULL, s->mark = NULL;
 }
 
 static double
@@ -86,47 +87,103 @@ row0(const sv_solver *s, int j)
 	return (long)j << s->level;
 }
 
-/* Corners of cell (i, top .. top+1) on the grid and displaced. Rows hold
- * the offsets of the top and bottom rows (NULL: on the grid). */
-static int
-cell_ok(const sv_solver *s, int i, int top, const sv_vertex *a,
-    const sv_vertex *b)
-{
-	const sv_vertex *row[2] = { a, b };
-	double g[4][2], p[4][2];
-	static const int di[4] = { 0, 1, 1, 0 }, dj[4] = { 0, 0, 1, 1 };
-	double y0 = fqm_y(s->m, row0(s, top));
+/* The triangles the fold fix keeps positive: those of the bintree that
+ * vertices moving up to half a cell can fold, i.e. the four of each cell
+ * (both diagonals) and the two-cell triangles of scale-1 edge diamonds
+ * (height one cell); larger ones need moves of over half a cell. As
+ * (di, dj) offsets from an anchor vertex. */
+static const int celltri[4][3][2] = {
+	{ { 0, 0 }, { 1, 0 }, { 1, 1 } }, { { 0, 0 }, { 1, 1 }, { 0, 1 } },
+	{ { 0, 0 }, { 1, 0 }, { 0, 1 } }, { { 1, 0 }, { 1, 1 }, { 0, 1 } },
+};
+/* around an edge vertex (c, r) of scale 1: hypotenuse horizontal (c odd,
+ * r even) or vertical (c even, r odd) */
+static const int edgetri[2][2][3][2] = {
+	{ { { -1, 0 }, { 1, 0 }, { 0, -1 } }, { { -1, 0 }, { 1, 0 }, { 0, 1 } } },
+	{ { { 0, -1 }, { 0, 1 }, { -1, 0 } }, { { 0, -1 }, { 0, 1 }, { 1, 0 } } },
+};
 
-	for (int k = 0; k < 4; k++) {
-		long J = row0(s, top + dj[k]);
-		const sv_vertex *v = row[dj[k]] ? &row[dj[k]][i + di[k]] : NULL;
-		g[k][0] = di[k] * (double)(1L << s->level) * fqm_dx(s->m, J);
-		g[k][1] = fqm_y(s->m, J) - y0;
-		p[k][0] = g[k][0] + (v ? v->x : 0);
-		p[k][1] = g[k][1] + (v ? v->y : 0);
-	}
-	return sv_cell_ok(p, g, s->shrink);
+/* The offsets of vertex (i, r) while row j is being fixed: earlier rows
+ * as final, row j as now, later rows on the grid. */
+static const sv_vertex *
+at(const sv_solver *s, int j, const sv_vertex *cur, int i, int r)
+{
+	if (r == j)
+		return &cur[i];
+	if (r < j && j - r <= 2)
+		return &s->hist[j - r - 1][i];
+	return NULL;
 }
 
-/* Marks the vertices of row j whose cells break the invariant; returns
- * how many cells did. */
+/* 1 when triangle v[] (level vertices) keeps at least `shrink` of its
+ * grid area with the same orientation. */
+static int
+tri_ok(const sv_solver *s, int j, const sv_vertex *cur, const int v[3][2])
+{
+	double g[3][2], p[3][2], ga, pa;
+	double y0 = fqm_y(s->m, row0(s, v[0][1]));
+
+	for (int k = 0; k < 3; k++) {
+		long J = row0(s, v[k][1]);
+		const sv_vertex *o = at(s, j, cur, v[k][0], v[k][1]);
+		g[k][0] = (v[k][0] - v[0][0]) * (double)(1L << s->level) *
+		    fqm_dx(s->m, J);
+		g[k][1] = fqm_y(s->m, J) - y0;
+		p[k][0] = g[k][0] + (o ? o->x : 0);
+		p[k][1] = g[k][1] + (o ? o->y : 0);
+	}
+	ga = cross(g[0], g[1], g[2]);
+	pa = cross(p[0], p[1], p[2]);
+	return ga > 0 ? pa >= s->shrink * ga : pa <= s->shrink * ga;
+}
+
+/* Checks one triangle (anchor + offsets) touching row j; marks its row-j
+ * vertices when it breaks the invariant. */
+static int
+check(sv_solver *s, int j, const sv_vertex *cur, int ci, int cj,
+    const int (*t)[2])
+{
+	int v[3][2], touches = 0;
+
+	for (int k = 0; k < 3; k++) {
+		v[k][0] = ci + t[k][0], v[k][1] = cj + t[k][1];
+		if (v[k][0] < 0 || v[k][0] >= s->w || v[k][1] < 0 ||
+		    v[k][1] >= s->h)
+			return 0;
+		touches |= v[k][1] == j;
+	}
+	if (!touches || tri_ok(s, j, cur, v))
+		return 0;
+	for (int k = 0; k < 3; k++)
+		if (v[k][1] == j)
+			s->mark[v[k][0]] = 1;
+	return 1;
+}
+
+/* Marks the vertices of row j in triangles that break the invariant:
+ * every checked triangle with a vertex in row j is positive with earlier
+ * rows final and later rows on the grid. Then the next row can always be
+ * fixed by moving only itself (on the grid, it meets this very test), so
+ * rows are final as soon as they are fixed. Returns the failures. */
 static int
 mark_bad(sv_solver *s, int j, const sv_vertex *cur)
 {
 	int bad = 0;
 
 	memset(s->mark, 0, s->w);
-	for (int i = 0; i + 1 < s->w; i++) {
-		int ok = 1;
-		if (j > 0 && !cell_ok(s, i, j - 1, s->prev, cur))
-			ok = 0;
-		if (j + 1 < s->h && !cell_ok(s, i, j, cur, NULL))
-			ok = 0;
-		if (!ok) {
-			s->mark[i] = s->mark[i + 1] = 1;
-			bad++;
+	for (int cj = j - 1; cj <= j; cj++)
+		for (int ci = 0; ci + 1 < s->w; ci++)
+			for (int t = 0; t < 4; t++)
+				bad += check(s, j, cur, ci, cj, celltri[t]);
+	for (int r = j - 1; r <= j + 1; r++)
+		for (int c = 0; c < s->w; c++) {
+			int kind = (c & 1) && !(r & 1) ? 0 :
+			    !(c & 1) && (r & 1) ? 1 : -1;
+			if (kind < 0)
+				continue;
+			for (int t = 0; t < 2; t++)
+				bad += check(s, j, cur, c, r, edgetri[kind][t]);
 		}
-	}
 	return bad;
 }
 
@@ -203,6 +260,10 @@ sv_row(sv_solver *s, const fqm_vertex *in, sv_vertex *out)
 				z = 0;
 			out[i].z = in[i].z + z;
 		}
-	if (s->mode == SV_QEM3D)
-		memcpy(s->prev, out, (size_t)s->w * sizeof *out);
+	if (s->mode == SV_QEM3D) {
+		sv_vertex *t = s->hist[1]; /* j-2 goes, j becomes j-1 */
+		s->hist[1] = s->hist[0];
+		s->hist[0] = t;
+		memcpy(s->hist[0], out, (size_t)s->w * sizeof *out);
+	}
 }

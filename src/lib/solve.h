@@ -21,7 +21,7 @@ typedef struct {
 	                * of their grid area (no fold-over, no slivers) */
 	int level, w, h;
 	const geo_metric *m;
-	sv_vertex *prev; /* 3D: previous row, final */
+	sv_vertex *hist[2]; /* 3D: the two previous rows (j-1, j-2), final */
 	unsigned char *mark;
 	int row;         /* next row expected */
 	long long reduced; /* 3D: vertices whose offset the fold fix reduced */
@@ -34,9 +34,11 @@ const char *sv_mode_name(enum sv_mode m);
 int sv_init(sv_solver *s, enum sv_mode mode, int level, int w, int h,
     const geo_metric *m, tl_err *e);
 /* Solves the next row (rows in order). 3D rows are final when returned:
- * each row is fixed so that its cells with the row above are convex and
- * so that its cells with ANY next row can be made convex by moving only
- * that next row (which is what makes a one-pass fix possible). */
+ * each row is fixed so that every foldable triangle touching it (the four
+ * of each cell, and the two-cell triangles of scale-1 edge diamonds) keeps
+ * `shrink` of its grid area with earlier rows as they are and later rows
+ * on the grid; so the next row can always be fixed by moving only itself,
+ * which is what makes a one-pass, streaming fix possible. */
 void sv_row(sv_solver *s, const fqm_vertex *in, sv_vertex *out);
 void sv_free(sv_solver *s);
 

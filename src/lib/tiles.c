@@ -9,9 +9,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define RING 512                        /* level rows held; a power of 2 */
-#define BAND (BT_CELLS + 2 * BT_MAXH + 1) /* rows saturated per block row */
-#define EPS 1e-9                        /* closed containment, level units */
+/* A vertex's descendants lie within 126 rows of it (a scale-64 edge
+ * vertex: 32+32+16+16+...+1+1), a block centre's within 190: saturating a
+ * block row reads local errors 128 rows either side of it. */
+#define REACH BT_CELLS
+#define BAND (BT_CELLS + 2 * REACH + 1) /* rows saturated per block row */
+#define RINGV 512   /* level rows of heights and offsets held; a power of 2 */
+#define RINGE 1024  /* level rows of local errors held; a power of 2 */
+/* Closed containment, level units: 3D positions come from float32
+ * offsets, so a sample on a shared edge must count on both sides; in 1D
+ * samples are exactly on edges or a grid step away. */
+#define EPS 1e-6
 
 typedef struct {
 	const tp_level *L;
@@ -21,9 +29,9 @@ typedef struct {
 	int bx, by;
 	double step;        /* 2^level: level-0 samples per level cell */
 	double margin;      /* how far a displaced vertex may stray */
-	float *z, *ox, *oy; /* RING x P: heights, offsets in metres */
-	double *sx, *sy;    /* RING: metres per level unit at that row */
-	float *acc;         /* RING x P: local errors */
+	float *z, *ox, *oy; /* RINGV x P: heights, offsets in metres */
+	double *sx, *sy;    /* RINGV: metres per level unit at that row */
+	float *acc;         /* RINGE x P: local errors */
 	int loaded;         /* level rows [0, loaded) have been loaded */
 	int next_bj;        /* next block row to hand out */
 	double *base;       /* by x bx base errors */
@@ -51,7 +59,13 @@ dmax(double a, double b)
 static size_t
 slot(const state *s, int gj)
 {
-	return (size_t)(gj & (RING - 1)) * s->P;
+	return (size_t)(gj & (RINGV - 1)) * s->P;
+}
+
+static size_t
+eslot(const state *s, int gj)
+{
+	return (size_t)(gj & (RINGE - 1)) * s->P;
 }
 
 /* Loads level row r: a real row, or past the last one a copy of it;
@@ -64,7 +78,8 @@ load_row(state *s, int r, tl_err *e)
 	size_t o = slot(s, r);
 	long J = (long)r << L->level;
 
-	if (r >= RING && r - RING >= s->next_bj * BT_CELLS - BT_MAXH)
+	if ((r >= RINGV && r - RINGV >= s->next_bj * BT_CELLS) ||
+	    (r >= RINGE && r - RINGE >= s->next_bj * BT_CELLS - REACH))
 		return tl_fail(e, "level %d: internal error: ring overrun at "
 		    "row %d", L->level, r);
 	if (r < m) {
@@ -88,8 +103,8 @@ load_row(state *s, int r, tl_err *e)
 		if (L->displaced)
 			s->ox[o + i] = s->oy[o + i] = 0;
 	}
-	memset(s->acc + o, 0, (size_t)s->P * sizeof *s->acc);
-	fqm_grid_scale(L->m, J, &s->sx[r & (RING - 1)], &s->sy[r & (RING - 1)]);
+	memset(s->acc + eslot(s, r), 0, (size_t)s->P * sizeof *s->acc);
+	fqm_grid_scale(L->m, J, &s->sx[r & (RINGV - 1)], &s->sy[r & (RINGV - 1)]);
 	return 0;
 }
 
@@ -112,7 +127,7 @@ vertex(const state *s, int gi, int gj, double p[3])
 
 	p[0] = gi, p[1] = gj, p[2] = s->z[o];
 	if (s->L->displaced) {
-		int k = gj & (RING - 1);
+		int k = gj & (RINGV - 1);
 		p[0] += s->ox[o] / s->sx[k] / s->step;
 		p[1] += s->oy[o] / s->sy[k] / s->step;
 	}
@@ -210,7 +225,7 @@ row_diamonds(state *s, double y, int h, int edge)
 		x0 = edge && (c & 1) ? 0 : h;
 		for (long cx = x0; cx < s->P; cx += 2 * h) {
 			int tri[2][3][2], nt = bt_diamond((int)cx, (int)cy, tri);
-			float *acc = &s->acc[slot(s, (int)cy) + cx];
+			float *acc = &s->acc[eslot(s, (int)cy) + cx];
 			for (int k = 0; k < nt; k++) {
 				double err = tri_row(s, tri[k], y);
 				if (err > *acc)
@@ -284,11 +299,11 @@ raise(state *s, int g0, int lo, int hi, float *e, int ci, int cj)
 static void
 saturate(state *s, int bj)
 {
-	int g0 = bj * BT_CELLS - BT_MAXH, P = s->P;
+	int g0 = bj * BT_CELLS - REACH, P = s->P;
 	int lo = g0 > 0 ? g0 : 0, hi = g0 + BAND < s->Q ? g0 + BAND : s->Q;
 
 	for (int gj = lo; gj < hi; gj++)
-		memcpy(s->band + (size_t)(gj - g0) * P, s->acc + slot(s, gj),
+		memcpy(s->band + (size_t)(gj - g0) * P, s->acc + eslot(s, gj),
 		    (size_t)P * sizeof *s->band);
 	for (int h = 1; h <= BT_MAXH; h *= 2) {
 		int g = h / 2;
@@ -327,7 +342,7 @@ static int
 emit_row(state *s, int bj, tl_err *e)
 {
 	py_block *b = &s->blk;
-	int g0 = bj * BT_CELLS - BT_MAXH;
+	int g0 = bj * BT_CELLS - REACH;
 
 	saturate(s, bj);
 	for (int bi = 0; bi < s->bx; bi++) {
@@ -388,11 +403,11 @@ state_init(state *s, const tp_level *L, dem *d, tl_err *e)
 	s->step = (double)(1L << L->level);
 	/* QEM-3D offsets stay within half a cell (fqmsolve(1)) */
 	s->margin = L->displaced ? 0.5 + 1e-6 : EPS;
-	ring = (size_t)RING * s->P;
+	ring = (size_t)RINGV * s->P;
 	s->z = tl_alloc(ring, sizeof *s->z, e);
-	s->acc = tl_alloc(ring, sizeof *s->acc, e);
-	s->sx = tl_alloc(RING, sizeof *s->sx, e);
-	s->sy = tl_alloc(RING, sizeof *s->sy, e);
+	s->acc = tl_alloc((size_t)RINGE * s->P, sizeof *s->acc, e);
+	s->sx = tl_alloc(RINGV, sizeof *s->sx, e);
+	s->sy = tl_alloc(RINGV, sizeof *s->sy, e);
 	s->base = tl_alloc((size_t)s->bx * s->by, sizeof *s->base, e);
 	s->band = tl_alloc((size_t)BAND * s->P, sizeof *s->band, e);
 	s->rz = tl_alloc(L->size[0], sizeof *s->rz, e);
@@ -419,7 +434,7 @@ state_init(state *s, const tp_level *L, dem *d, tl_err *e)
 static int
 ready(const state *s, int bj, double y)
 {
-	return y >= bj * BT_CELLS + BT_CELLS + 2 * BT_MAXH + 2;
+	return y >= bj * BT_CELLS + BT_CELLS + REACH + BT_MAXH + 2;
 }
 
 int

@@ -8,14 +8,14 @@
  * vertex's local error to the sample's vertical distance from the
  * diamond's two triangles without the vertex; it also raises its block's
  * base error (its distance from the finest triangles). Once no later DEM
- * row can reach a block row's diamonds (64 level rows and a margin), the
- * block row's errors are saturated, children before parents, over a band
- * of 64 rows either side (a vertex's whole subtree lies in its diamond),
- * and the blocks are handed out. Every local error is an exact maximum, so
- * E is exact on every level, not a bound.
+ * row can reach the local errors a block row's saturation needs, its
+ * errors are saturated, children before parents, over a band of 128 rows
+ * either side (a vertex's descendants lie within 126 rows of it, a block
+ * centre's within 190), and the blocks are handed out. Every local error
+ * is an exact maximum, so E is exact on every level, not a bound.
  *
- * Memory: a ring of 512 level rows (4 block rows) of Z, offsets and local
- * errors, the saturation band (257 rows) and one DEM row. */
+ * Memory: rings of 512 level rows of Z and offsets and of 1024 rows of
+ * local errors, the saturation band (385 rows) and one DEM row. */
 #ifndef TL_TILES_H
 #define TL_TILES_H
 

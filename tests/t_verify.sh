@@ -1,0 +1,50 @@
+# t_verify - tileplay --verify as a program: usage, and real pyramids made
+# by dem2vgis (1D and QEM-3D, projected and geographic with voids) that
+# must pass every check against their DEM. (t_verify.c tests the checker
+# itself on hand-built and corrupted pyramids.)
+. "$(dirname "$0")/lib.sh"
+
+run "--help exits 0" tileplay --help
+grep -q '^usage: tileplay --verify dir' "$T/out"; ok $? "--help prints the usage"
+run "--version exits 0" tileplay --version
+grep -q '^tileplay [0-9]' "$T/out"; ok $? "--version prints the version"
+fails "no --verify: exit 2 (no viewer yet)" 2 \
+    '^tileplay: the viewer is not built yet; use --verify$' tileplay
+fails "unknown option: exit 2" 2 'usage: tileplay' tileplay --verify x -Q
+fails "an operand: exit 2" 2 'usage: tileplay' tileplay --verify x y
+fails "--tau not numbers: exit 2" 2 '^tileplay: --tau 1,x: ' \
+    tileplay --verify x --tau 1,x
+fails "--tau negative: exit 2" 2 '^tileplay: --tau -1: ' \
+    tileplay --verify x --tau -1
+fails "no pyramid: exit 1" 1 "^tileplay: $T/none/index.json: " \
+    tileplay --verify "$T/none"
+
+if [ ! -x "$B/tilepack" ] || [ ! -x "$TOP/scripts/dem2vgis" ]; then
+	echo "ok $((_n + 1)) - # SKIP tilepack or scripts/dem2vgis not built"
+	_n=$((_n + 1))
+	done_testing
+	exit
+fi
+
+# verify NAME DEM [dem2vgis options]: make the pyramid, check it
+verify() {
+	_name=$1 _dem=$2; shift 2
+	if ! "$TOP/scripts/dem2vgis" -q "$@" "$_dem" "$T/$_name" \
+	    >"$T/mk.out" 2>&1; then
+		sed 's/^/#   /' "$T/mk.out" | head -5
+		ok 1 "$_name: dem2vgis $*"
+		return
+	fi
+	_t0=$(date +%s)
+	tileplay --verify "$T/$_name" --dem "$_dem" >"$T/$_name.txt" 2>&1
+	_s=$?
+	[ $_s -eq 0 ] && : || { grep '^result' "$T/$_name.txt"
+	    grep '^  level' "$T/$_name.txt" | head -8; } | sed 's/^/#   /'
+	ok $_s "$_name: every check passes against the DEM ($(grep -c \
+	    '^level' "$T/$_name.txt") levels, $(( $(date +%s) - _t0 )) s)"
+}
+
+verify tujunga-1d "$DATA/bigtujunga.tif"
+verify tujunga-3d "$DATA/bigtujunga.tif" -3
+verify N42E001-3d "$DATA/N42E001.hgt" -3
+done_testing
