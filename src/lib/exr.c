@@ -147,7 +147,35 @@ struct exr_wr {
 	int job_y0, job_n, job_buf; /* job_n > 0: a chunk is queued or busy */
 	int quit, failed; /* failed: the encoder's error is in err */
 	tl_err err;
+	int zipped;       /* ZIP or ZIPS: compress through zip_fixed */
+	exr_result_t (*zip)(exr_encode_pipeline_t *); /* the library's */
+	uint8_t *raw;     /* zip_fixed's copy of a chunk's packed bytes */
+	size_t rawsz;
 };
+
+/* OpenEXRCore 3.1.5 stores a ZIP chunk that does not compress with its
+ * bytes still reordered and delta-coded, instead of raw as the format
+ * says: every reader then gets garbage (seen on a lone last row of 129
+ * noisy floats; ZIPS too). Keep the packed bytes and, in that case, put
+ * them back. */
+static exr_result_t
+zip_fixed(exr_encode_pipeline_t *enc)
+{
+	struct exr_wr *x = enc->encoding_user_data;
+	exr_result_t rv;
+
+	if (x->rawsz < enc->packed_bytes) {
+		uint8_t *p = realloc(x->raw, enc->packed_bytes);
+		if (p == NULL)
+			return EXR_ERR_OUT_OF_MEMORY;
+		x->raw = p, x->rawsz = enc->packed_bytes;
+	}
+	memcpy(x->raw, enc->packed_buffer, enc->packed_bytes);
+	rv = x->zip(enc);
+	if (rv == EXR_ERR_SUCCESS && enc->compressed_bytes >= enc->packed_bytes)
+		memcpy(enc->compressed_buffer, x->raw, enc->packed_bytes);
+	return rv;
+}
 
 static int
 set_attr(rs_writer *w, const rs_attr *a)
@@ -227,6 +255,11 @@ put_chunk(rs_writer *w, const float *chunk, int y0, tl_err *e)
 		if ((rv = exr_encoding_choose_default_routines(x->ctx, 0,
 		    &x->enc)))
 			return exr_fail(e, &x->io, rv, w->name, "encoder");
+		if (x->zipped) {
+			x->zip = x->enc.compress_fn;
+			x->enc.compress_fn = zip_fixed;
+			x->enc.encoding_user_data = x;
+		}
 		x->enc_init = 2;
 	}
 	if ((rv = exr_encoding_run(x->ctx, 0, &x->enc)))
@@ -328,6 +361,7 @@ wr_end(struct exr_wr *x)
 	x->ctx = NULL;
 	free(x->buf[0]);
 	free(x->buf[1]);
+	free(x->raw);
 	x->buf[0] = x->buf[1] = NULL;
 	return rv;
 }
@@ -397,6 +431,7 @@ exr_create(rs_writer *w, const char *path, enum rs_compression c,
 	if ((x = tl_alloc(1, sizeof *x, e)) == NULL)
 		return -1;
 	w->impl = x;
+	x->zipped = c == RS_ZIP || c == RS_ZIPS;
 	if (tl_out_begin(&x->o, path, e) < 0)
 		return -1;
 	x->io.fd = x->o.fd;
