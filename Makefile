@@ -3,6 +3,8 @@
 # make check      build and run every test
 # make example    build a pyramid from the default example DEM
 # make bench      measure errors, speed and memory on ../shared/data
+#                 (scripts/bench: the filters; scripts/bench-pyramid: DEM to
+#                 pyramid, triangle counts and real errors)
 # make install    PREFIX=/usr/local DESTDIR=
 
 PREFIX  ?= /usr/local
@@ -92,6 +94,7 @@ example: all $(TOOLBIN)
 
 bench: all $(TOOLBIN)
 	sh scripts/bench
+	sh scripts/bench-pyramid
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
