@@ -20,7 +20,7 @@ CXXFLAGS ?= -O2 -g
 WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 
 # Resolved when a recipe runs, i.e. after $(B)/.deps has installed them.
-PKGS    := OpenEXR libtiff-4 geographiclib OpenImageIO jansson proj
+PKGS    := OpenEXR libtiff-4 geographiclib OpenImageIO jansson proj egl epoxy glfw3 stb
 PKGCF    = $(shell pkg-config --cflags $(PKGS))
 PKGLIBS  = $(shell pkg-config --libs $(PKGS)) -lOpenEXRCore-3_1 -lgeotiff
 ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(PKGCF) -Isrc/lib \

@@ -157,25 +157,6 @@ done:
 	return r;
 }
 
-static int
-parse_cell(const char *s, double cell[2])
-{
-	char buf[64], *comma;
-
-	if (strlen(s) >= sizeof buf)
-		return -1;
-	strcpy(buf, s);
-	if ((comma = strchr(buf, ',')) != NULL)
-		*comma++ = '\0';
-	if (tl_parse_double(buf, &cell[0]) < 0 || cell[0] <= 0)
-		return -1;
-	cell[1] = cell[0];
-	if (comma != NULL && (tl_parse_double(comma, &cell[1]) < 0 ||
-	    cell[1] <= 0))
-		return -1;
-	return 0;
-}
-
 int
 main(int argc, char **argv)
 {
@@ -188,47 +169,15 @@ main(int argc, char **argv)
 	tl_err e;
 	int c;
 
-	while ((c = getopt_long(argc, argv, "e:hIN:n:s:Vz:", longopts, NULL)) !=
+	while ((c = getopt_long(argc, argv, DEM_OPTS "hIVz:", longopts, NULL)) !=
 	    -1) {
 		switch (c) {
 		case 'I':
 			o.info = 1;
 			break;
-		case 'e':
-			if (strcmp(optarg, "auto") == 0)
-				o.dem.encoding = DEM_ENC_AUTO;
-			else if (strcmp(optarg, "grey") == 0 ||
-			    strcmp(optarg, "gray") == 0)
-				o.dem.encoding = DEM_ENC_GREY;
-			else if (strcmp(optarg, "terrainrgb") == 0)
-				o.dem.encoding = DEM_ENC_TERRAINRGB;
-			else if (strcmp(optarg, "terrarium") == 0)
-				o.dem.encoding = DEM_ENC_TERRARIUM;
-			else {
-				tl_warn(prog, "-e %s: unknown encoding", optarg);
-				return 2;
-			}
-			break;
 		case 'h':
 			usage(stdout);
 			return 0;
-		case 'N':
-			if (tl_parse_double(optarg, &o.dem.nodata) < 0) {
-				tl_warn(prog, "-N %s: not a number", optarg);
-				return 2;
-			}
-			o.dem.has_nodata = 1;
-			break;
-		case 'n':
-			o.dem.hgt_name = optarg;
-			break;
-		case 's':
-			if (parse_cell(optarg, o.dem.cell) < 0) {
-				tl_warn(prog, "-s %s: expected dx or dx,dy in "
-				    "metres, > 0", optarg);
-				return 2;
-			}
-			break;
 		case 'V':
 			printf("%s %s\n", prog, TL_VERSION);
 			return 0;
@@ -239,6 +188,13 @@ main(int argc, char **argv)
 			}
 			break;
 		default:
+			switch (dem_option(&o.dem, c, optarg, &e)) {
+			case 1:
+				continue;
+			case -1:
+				tl_warn(prog, "%s", e.msg);
+				return 2;
+			}
 			usage(stderr);
 			return 2;
 		}

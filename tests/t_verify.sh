@@ -8,8 +8,7 @@ run "--help exits 0" tileplay --help
 grep -q '^usage: tileplay --verify dir' "$T/out"; ok $? "--help prints the usage"
 run "--version exits 0" tileplay --version
 grep -q '^tileplay [0-9]' "$T/out"; ok $? "--version prints the version"
-fails "no --verify: exit 2 (no viewer yet)" 2 \
-    '^tileplay: the viewer is not built yet; use --verify$' tileplay
+fails "no --verify and no pyramid: exit 2" 2 'usage: tileplay' tileplay
 fails "unknown option: exit 2" 2 'usage: tileplay' tileplay --verify x -Q
 fails "an operand: exit 2" 2 'usage: tileplay' tileplay --verify x y
 fails "--tau not numbers: exit 2" 2 '^tileplay: --tau 1,x: ' \

@@ -34,6 +34,7 @@ struct cache {
 	key queue[QMAX];
 	int qhead, qlen;
 	int busy, quit;
+	key loading;    /* the block the loader reads while busy */
 	cblock *done;   /* loaded, not yet in the table */
 	key failed[FMAX];
 	int nfailed;
@@ -152,7 +153,7 @@ loader(void *arg)
 				pthread_cond_broadcast(&c->idle);
 			continue;
 		}
-		c->reserved += need, c->busy = 1;
+		c->reserved += need, c->busy = 1, c->loading = k;
 		pthread_mutex_unlock(&c->mu);
 		b = load(c->w, k, err, sizeof err);
 		pthread_mutex_lock(&c->mu);
@@ -318,10 +319,19 @@ cache_frame(cache *c)
 	c->short_of = 0;
 	pthread_mutex_unlock(&c->mu);
 	for (; b != NULL; b = n) {
+		cblock **at;
 		n = b->next;
 		grow(c);
+		at = find(c, b->level, b->bi, b->bj);
+		if (*at != NULL) { /* cannot happen (cache_get checks); no leak */
+			pthread_mutex_lock(&c->mu);
+			c->bytes -= b->bytes;
+			pthread_mutex_unlock(&c->mu);
+			block_free(b);
+			continue;
+		}
 		b->used = c->frame;
-		*find(c, b->level, b->bi, b->bj) = b;
+		*at = b;
 		c->count++;
 	}
 	/* the loader waits for room: make it from blocks the last frame
@@ -344,6 +354,9 @@ cache_get(cache *c, int level, int bi, int bj)
 		if (c->failed[q].level == level && c->failed[q].bi == bi &&
 		    c->failed[q].bj == bj)
 			goto queued; /* a broken block: not again */
+	if (c->busy && c->loading.level == level && c->loading.bi == bi &&
+	    c->loading.bj == bj)
+		goto queued; /* being read right now */
 	for (int q = 0; q < c->qlen; q++) {
 		key *k = &c->queue[(c->qhead + q) % QMAX];
 		if (k->level == level && k->bi == bi && k->bj == bj)

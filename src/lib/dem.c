@@ -970,6 +970,14 @@ out:
 	return r;
 }
 
+const tl_oiio_api *
+dem_oiio_plugin(char *why, size_t n)
+{
+	if (n > 0)
+		why[0] = '\0';
+	return plugin(why, n);
+}
+
 /* --- void filling ----------------------------------------------------------- */
 
 /* Nearest valid sample below, per column, for one row with voids. */
@@ -1361,4 +1369,63 @@ dem_close(dem *d)
 		close(d->fd);
 	free(d->rowvoid);
 	free(d);
+}
+
+/* --- options --------------------------------------------------------- */
+
+static int
+parse_cell(const char *s, double cell[2])
+{
+	char buf[64], *comma;
+
+	if (strlen(s) >= sizeof buf)
+		return -1;
+	strcpy(buf, s);
+	if ((comma = strchr(buf, ',')) != NULL)
+		*comma++ = '\0';
+	if (tl_parse_double(buf, &cell[0]) < 0 || cell[0] <= 0)
+		return -1;
+	cell[1] = cell[0];
+	if (comma != NULL && (tl_parse_double(comma, &cell[1]) < 0 ||
+	    cell[1] <= 0))
+		return -1;
+	return 0;
+}
+
+int
+dem_option(dem_opts *o, int c, const char *arg, tl_err *e)
+{
+	static const struct {
+		const char *name;
+		enum dem_encoding enc;
+	} encs[] = {
+		{ "auto", DEM_ENC_AUTO }, { "grey", DEM_ENC_GREY },
+		{ "gray", DEM_ENC_GREY }, { "terrainrgb", DEM_ENC_TERRAINRGB },
+		{ "terrarium", DEM_ENC_TERRARIUM },
+	};
+
+	switch (c) {
+	case 'e':
+		for (size_t k = 0; k < sizeof encs / sizeof encs[0]; k++)
+			if (strcmp(arg, encs[k].name) == 0) {
+				o->encoding = encs[k].enc;
+				return 1;
+			}
+		return tl_fail(e, "-e %s: unknown encoding (auto, grey, "
+		    "terrainrgb, terrarium)", arg);
+	case 'N':
+		if (tl_parse_double(arg, &o->nodata) < 0)
+			return tl_fail(e, "-N %s: not a number", arg);
+		o->has_nodata = 1;
+		return 1;
+	case 'n':
+		o->hgt_name = arg;
+		return 1;
+	case 's':
+		if (parse_cell(arg, o->cell) < 0)
+			return tl_fail(e, "-s %s: expected dx or dx,dy in "
+			    "metres, > 0", arg);
+		return 1;
+	}
+	return 0;
 }

@@ -15,6 +15,7 @@
 #define TL_DEM_H
 
 #include "georef.h"
+#include "oiio_plugin.h"
 #include "util.h"
 
 enum dem_encoding {
@@ -37,6 +38,13 @@ typedef struct {
 
 typedef struct dem dem;
 
+/* For programs reading a DEM: applies its option c, one of -e encoding,
+ * -N nodata, -n name, -s dx[,dy] (optstring DEM_OPTS), with argument arg.
+ * Returns 1 when c is one of them, 0 when it is not, -1 when arg is bad
+ * (e says why, as "-e x: unknown encoding"). */
+#define DEM_OPTS "e:N:n:s:"
+int dem_option(dem_opts *o, int c, const char *arg, tl_err *e);
+
 dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
 const georef *dem_georef(const dem *d); /* width, height inside */
 long long dem_voids(const dem *d);      /* void samples */
@@ -44,5 +52,11 @@ long long dem_voids(const dem *d);      /* void samples */
  * gets 1 for a real sample and 0 for a void. Both have width entries. */
 int dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e);
 void dem_close(dem *d);
+
+/* The OpenImageIO plugin that reads the other formats, for other users
+ * (tileplay writes its PNGs through it): $TL_OIIO_PLUGIN, else beside the
+ * program, else ../lib/terrain-lod from it, else TL_LIBDIR; loaded once
+ * and kept. NULL with the reason in why. */
+const tl_oiio_api *dem_oiio_plugin(char *why, size_t n);
 
 #endif

@@ -151,8 +151,35 @@ img_close(tl_oiio_img *img)
 	delete img;
 }
 
+static int
+img_write_u8(const char *path, const char *format, int w, int h, int nch,
+    const unsigned char *px, char *err, size_t errlen)
+{
+	try {
+		OIIO::attribute("threads", 1);
+		auto out = OIIO::ImageOutput::create(format);
+		if (!out) {
+			seterr(err, errlen, OIIO::geterror());
+			return -1;
+		}
+		OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::UINT8);
+		if (!out->open(path, spec) ||
+		    !out->write_image(OIIO::TypeDesc::UINT8, px) ||
+		    !out->close()) {
+			seterr(err, errlen, out->geterror());
+			return -1;
+		}
+		return 0;
+	} catch (const std::exception &x) {
+		seterr(err, errlen, x.what());
+	} catch (...) {
+		seterr(err, errlen, "unknown C++ exception in OpenImageIO");
+	}
+	return -1;
+}
+
 static const tl_oiio_api api = {
-	TL_OIIO_ABI, img_open, img_read_rows, img_close
+	TL_OIIO_ABI, img_open, img_read_rows, img_close, img_write_u8
 };
 
 extern "C" __attribute__((visibility("default"))) const tl_oiio_api *

@@ -3,7 +3,7 @@
  * EXR, ...). Linking OpenImageIO costs ~130 MB of RSS, hence the plugin.
  *
  * The plugin exports one C function, TL_OIIO_ENTRY, returning a table of
- * function pointers. Errors come back as strings in the caller's buffer;
+ * function pointers (ABI 2 added write_u8, for tileplay's screenshots). Errors come back as strings in the caller's buffer;
  * no C++ exception crosses the interface. Pixels are delivered in their
  * native type (OpenImageIO would normalise integers), half as float. */
 #ifndef TL_OIIO_PLUGIN_H
@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-#define TL_OIIO_ABI 1
+#define TL_OIIO_ABI 2
 #define TL_OIIO_ENTRY "tl_oiio_plugin"
 
 enum tl_px {
@@ -45,6 +45,11 @@ typedef struct {
 	int (*read_rows)(tl_oiio_img *img, int y0, int y1, int nch, void *buf,
 	    char *err, size_t errlen);
 	void (*close)(tl_oiio_img *img);
+	/* Writes w x h pixels of nch 8-bit channels, top-down rows, to path,
+	 * in the format OpenImageIO names by `format` (a format name, an
+	 * extension or a file name: "png", "out.png"). 0, or -1 + err. */
+	int (*write_u8)(const char *path, const char *format, int w, int h,
+	    int nch, const unsigned char *px, char *err, size_t errlen);
 } tl_oiio_api;
 
 typedef const tl_oiio_api *(*tl_oiio_entry_fn)(void);

@@ -252,9 +252,8 @@ world_box(const world *w, double lo[3], double hi[3])
 	lo[2] = w->zmin, hi[2] = w->zmax;
 }
 
-/* Depth range covering the world from where the camera is. */
-static void
-fit_depth(camera *c, const world *w)
+void
+cam_fit_depth(camera *c, const world *w)
 {
 	double lo[3], hi[3], far = 0;
 
@@ -299,7 +298,7 @@ cam_named(camera *c, const world *w, const char *name)
 		c->up[0] = 0, c->up[1] = 0, c->up[2] = 1;
 	} else
 		return -1;
-	fit_depth(c, w);
+	cam_fit_depth(c, w);
 	return 0;
 }
 

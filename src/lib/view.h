@@ -52,6 +52,8 @@ double cam_pixels_per_metre(const camera *c, double d);
 /* Nearest distance from the eye to a box (0 inside). */
 double cam_box_distance(const camera *c, const double lo[3],
     const double hi[3]);
+/* znear and zfar covering the whole world from where the eye is. */
+void cam_fit_depth(camera *c, const world *w);
 /* Named views: "overview" (straight down, the whole DEM in frame),
  * "oblique" (from the south-west, 30 degrees down). */
 int cam_named(camera *c, const world *w, const char *name);
