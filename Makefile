@@ -95,6 +95,7 @@ example: all $(TOOLBIN)
 bench: all $(TOOLBIN)
 	sh scripts/bench
 	sh scripts/bench-pyramid
+	sh scripts/bench-play
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
