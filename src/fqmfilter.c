@@ -144,17 +144,10 @@ main(int argc, char **argv)
 		}
 	}
 	argc -= optind, argv += optind;
-	if (argc > 2) {
-		usage(stderr);
-		return 2;
-	}
-	if (argc > 0)
-		o.in = argv[0];
-	if (argc > 1)
-		o.out = argv[1];
-	if (strcmp(o.out, "-") == 0 && isatty(STDOUT_FILENO)) {
-		tl_warn(prog, "stdout: refusing to write a stream to a terminal");
-		return 1;
+	if ((c = tl_operands(prog, argc, argv, &o.in, &o.out)) != 0) {
+		if (c == 2)
+			usage(stderr);
+		return c;
 	}
 	if (filter(&o, &e) < 0) {
 		tl_warn(prog, "%s", e.msg);

@@ -60,6 +60,21 @@ tl_warn(const char *prog, const char *fmt, ...)
 	fputc('\n', stderr);
 }
 
+int
+tl_operands(const char *prog, int argc, char **argv, const char **in,
+    const char **out)
+{
+	if (argc > 2)
+		return 2;
+	*in = argc > 0 ? argv[0] : "-";
+	*out = argc > 1 ? argv[1] : "-";
+	if (strcmp(*out, "-") == 0 && isatty(STDOUT_FILENO)) {
+		tl_warn(prog, "stdout: refusing to write a stream to a terminal");
+		return 1;
+	}
+	return 0;
+}
+
 const char *
 tl_name(const char *path, int output)
 {

@@ -23,6 +23,12 @@ int tl_failsys(tl_err *e, const char *fmt, ...)
 void tl_warn(const char *prog, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 
+/* For the filters' "prog [in [out]]": the operands left after the
+ * options, "-" by default. Returns 0, 2 (bad usage: more than two) or 1
+ * (a stream to a terminal, refused with a message). */
+int tl_operands(const char *prog, int argc, char **argv, const char **in,
+    const char **out);
+
 /* For programs: "-" names stdin or stdout in messages. */
 const char *tl_name(const char *path, int output);
 
