@@ -84,14 +84,10 @@ write_block(void *ctx, const py_block *b, tl_err *e)
 	sink *k = ctx;
 	char path[4096];
 	size_t i = (size_t)b->bj * k->L->blocks[0] + b->bi;
-	double emax = 0;
 
 	py_block_path(path, sizeof path, k->dir, b->level, b->bi, b->bj);
-	for (int n = 0; n < PY_N; n++)
-		if (b->e[n] < 3e38f && b->e[n] > emax)
-			emax = b->e[n];
 	k->L->zmin[i] = b->zmin, k->L->zmax[i] = b->zmax;
-	k->L->base[i] = b->base, k->L->emax[i] = emax;
+	k->L->base[i] = b->base, k->L->emax[i] = b->emax;
 	return py_block_write(path, b, k->attrs, e);
 }
 

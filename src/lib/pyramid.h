@@ -56,6 +56,7 @@ void py_block_path(char *buf, size_t n, const char *dir, int level, int bi,
 typedef struct {
 	int level, bi, bj, displaced;
 	double base, zmin, zmax;
+	double emax;    /* largest E below FLT_MAX (set by its producer) */
 	float *z, *e, *x, *y; /* x, y NULL unless displaced */
 } py_block;
 

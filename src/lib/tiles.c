@@ -370,6 +370,7 @@ emit_row(state *s, int bj, tl_err *e)
 				b->zmax = fmax(b->zmax, b->z[k]);
 			}
 		}
+		b->emax = emax;
 		if (emax > s->st->max_e)
 			s->st->max_e = emax;
 		if (b->base > s->st->max_base)
