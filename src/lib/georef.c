@@ -44,6 +44,10 @@ geo_to_header(const georef *g, rs_header *h, tl_err *e)
 	if (g->vdatum[0] != '\0' &&
 	    rs_set_string(h, "geo:vdatum", g->vdatum, e) < 0)
 		return -1;
+	rs_unset(h, "geo:cell");
+	if (g->cell[0] > 0 &&
+	    rs_set_v2d(h, "geo:cell", g->cell[0], g->cell[1], e) < 0)
+		return -1;
 	rs_unset(h, "geo:nodata");
 	if (g->has_nodata && rs_set_double(h, "geo:nodata", g->nodata, e) < 0)
 		return -1;
@@ -85,6 +89,11 @@ geo_from_header(georef *g, const rs_header *h, tl_err *e)
 	rs_get_v2d(h, "geo:origin", g->origin);
 	rs_get_v2d(h, "geo:step", g->step);
 	rs_get_double(h, "geo:unit", &g->unit);
+	if (rs_get_v2d(h, "geo:cell", g->cell) == 0 &&
+	    !(g->cell[0] > 0 && g->cell[1] > 0 && isfinite(g->cell[0]) &&
+	    isfinite(g->cell[1])))
+		return tl_fail(e, "geo:cell: invalid cell size %g x %g",
+		    g->cell[0], g->cell[1]);
 	if (copy_string(g->crs, sizeof g->crs, rs_get_string(h, "geo:crs"),
 	    "geo:crs", e) < 0 ||
 	    copy_string(g->vdatum, sizeof g->vdatum,

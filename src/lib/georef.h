@@ -11,7 +11,8 @@ enum geo_model { GEO_NONE, GEO_PROJECTED, GEO_GEOGRAPHIC };
 typedef struct {
 	enum geo_model model;
 	int epsg;        /* horizontal CRS EPSG code, 0 if none or unknown */
-	char crs[512];   /* "EPSG:32611", else a PROJ string, else "" */
+	char crs[4096];  /* "EPSG:32611" when the CRS is one EPSG code, else
+	                  * its WKT2 (one line), "" for GEO_NONE */
 	int point;       /* 1 PixelIsPoint, 0 PixelIsArea */
 	double origin[2]; /* CRS coords of raster point (0,0): the corner of
 	                   * pixel (0,0) (area) or its centre (point), exactly
@@ -22,8 +23,11 @@ typedef struct {
 	                  * in metres), 0 for GEO_GEOGRAPHIC (degrees) */
 	char vdatum[256]; /* vertical datum as declared ("EPSG:5773", a
 	                   * citation, "EGM96 (SRTM)"), "" when not declared */
+	double cell[2];  /* metres per column and per row step given by the
+	                  * user (-s) on a georeferenced DEM, overriding the
+	                  * CRS's metric; 0 0 = the metric comes from the CRS */
 	int has_nodata;
-	double nodata;   /* as declared by the file */
+	double nodata;   /* as declared by the file (may be NaN) */
 	int width, height; /* level-0 size */
 } georef;
 

@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <jansson.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -75,8 +76,12 @@ geo_json(const georef *g)
 
 	if (o != NULL && g->vdatum[0] != '\0')
 		json_object_set_new(o, "vdatum", json_string(g->vdatum));
+	if (o != NULL && g->cell[0] > 0)
+		json_object_set_new(o, "cell", pair(g->cell[0], g->cell[1]));
+	/* JSON has no NaN: a NaN nodata is the string "nan" */
 	if (o != NULL && g->has_nodata)
-		json_object_set_new(o, "nodata", json_real(g->nodata));
+		json_object_set_new(o, "nodata", isnan(g->nodata) ?
+		    json_string("nan") : json_real(g->nodata));
 	return o;
 }
 
@@ -176,7 +181,15 @@ geo_from_json(json_t *o, georef *g)
 	if (json_is_number(nodata)) {
 		g->has_nodata = 1;
 		g->nodata = json_number_value(nodata);
+	} else if (json_is_string(nodata) &&
+	    strcmp(json_string_value(nodata), "nan") == 0) {
+		g->has_nodata = 1;
+		g->nodata = NAN;
 	}
+	if (json_object_get(o, "cell") != NULL &&
+	    (get_pair(o, "cell", g->cell) < 0 || !(g->cell[0] > 0) ||
+	    !(g->cell[1] > 0)))
+		return -1;
 	return 0;
 }
 

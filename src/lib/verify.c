@@ -334,8 +334,11 @@ geo_diff(const georef *a, const georef *b)
 		return "unit";
 	if (strcmp(a->vdatum, b->vdatum) != 0)
 		return "vdatum";
-	if (a->has_nodata != b->has_nodata ||
-	    (a->has_nodata && a->nodata != b->nodata))
+	if (a->cell[0] != b->cell[0] || a->cell[1] != b->cell[1])
+		return "cell";
+	/* NaN == NaN here: a NaN nodata is the same declaration */
+	if (a->has_nodata != b->has_nodata || (a->has_nodata &&
+	    a->nodata != b->nodata && !(isnan(a->nodata) && isnan(b->nodata))))
 		return "nodata";
 	return NULL;
 }
