@@ -20,9 +20,9 @@ CXXFLAGS ?= -O2 -g
 WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 
 # Resolved when a recipe runs, i.e. after $(B)/.deps has installed them.
-PKGS    := OpenEXR libtiff-4 geographiclib OpenImageIO jansson proj egl epoxy glfw3 stb
+PKGS    := OpenEXR gdal libtiff-4 geographiclib OpenImageIO jansson proj egl epoxy glfw3 stb
 PKGCF    = $(shell pkg-config --cflags $(PKGS))
-PKGLIBS  = $(shell pkg-config --libs $(PKGS)) -lOpenEXRCore-3_1 -lgeotiff
+PKGLIBS  = $(shell pkg-config --libs $(PKGS)) -lOpenEXRCore-3_1
 ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(PKGCF) -Isrc/lib \
             -DTL_LIBDIR='"$(LIBDIR)"'
 ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) $(PKGCF) -Isrc/lib
@@ -31,7 +31,7 @@ LDLIBS   = -Wl,--as-needed $(PKGLIBS) -lz -lstdc++ -lm -lpthread -ldl
 PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay
 LIBC    := $(wildcard src/lib/*.c)
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
-# it lives in a plugin that dem.c loads only for formats libtiff cannot read.
+# it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
 LIBCXX  := $(filter-out src/lib/oiio_plugin.cpp,$(wildcard src/lib/*.cpp))
 LIBOBJ  := $(LIBC:src/lib/%.c=$(B)/lib/%.o) $(LIBCXX:src/lib/%.cpp=$(B)/lib/%.o)
@@ -50,7 +50,7 @@ $(B)/.deps:
 	@mkdir -p $(B)
 	@if ! command -v pkg-config >/dev/null || \
 	    ! pkg-config --exists $(PKGS) egl epoxy glfw3 libpng || \
-	    ! test -f /usr/include/geotiff/geotiff.h; then \
+	    ! test -f /usr/share/proj/egm96_15.gtx; then \
 		echo "make: missing build dependencies; running scripts/install-deps"; \
 		sh scripts/install-deps; \
 	fi

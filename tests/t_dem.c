@@ -303,8 +303,10 @@ check_pairs(void)
 		if (k == 0 && under_valgrind())
 			ok(1, "# SKIP peak RSS under valgrind");
 		else if (k == 0)
-			ok(peak_rss_kib() < 32 * 1024, "peak RSS after reading "
-			    "N48W125 .hgt and .tif: %ld KiB < 32 MiB",
+			/* GDAL costs ~44 MiB by being linked and registered
+			 * (measured: 35 + 9); its block cache is 4 MiB */
+			ok(peak_rss_kib() < 72 * 1024, "peak RSS after reading "
+			    "N48W125 .hgt and .tif: %ld KiB < 72 MiB",
 			    peak_rss_kib());
 		free(hgt.rowhash);
 		free(tif.rowhash);
@@ -361,9 +363,12 @@ check_metric(void)
 	d = dem_open(dpath("bigtujunga.tif"), NULL, &e);
 	if (ok(d != NULL && geo_metric_init(&m, dem_georef(d), &e) == 0,
 	    "bigtujunga.tif: metric")) {
-		ok(m.dx[0] == 30 && m.dx[642] == 30 && m.y[642] == 642 * 30.0,
-		    "bigtujunga.tif: projected: dx 30 m, y[642] = %g m",
-		    m.y[642]);
+		/* ground metres: the 30 m grid step over UTM's scale factor
+		 * (t_metric checks them against geodesics) */
+		double sx = geo_sx(&m, 600, 642), y = geo_y(&m, 600, 642);
+		ok(sx != 30 && fabs(sx / 30 - 1) < 1e-3 &&
+		    fabs(y / (642 * 30.0) - 1) < 1e-3, "bigtujunga.tif: "
+		    "projected: a 30 m step is %.6f m, y[642] = %.3f m", sx, y);
 		geo_metric_free(&m);
 	}
 	dem_close(d);
@@ -480,9 +485,8 @@ check_stdin(void)
 	    "its name: same rows and georef %s", e.msg);
 	dem_close(db), free(b.rowhash);
 	db = open_stdin(dpath("N42E001.hgt"), NULL, &b, &e);
-	ok(db != NULL && same_rows(&a, &b) &&
-	    dem_georef(db)->model == GEO_NONE, "N42E001.hgt on stdin without a "
-	    "name: same rows, no georeferencing");
+	ok(db == NULL && strstr(e.msg, "-n NAME") != NULL, "N42E001.hgt on "
+	    "stdin without a name: refused, pointing at -n: %s", e.msg);
 	dem_close(da), dem_close(db), free(a.rowhash), free(b.rowhash);
 
 	da = scan(dpath("bigtujunga.tif"), NULL, &a, &e);
@@ -646,12 +650,9 @@ check_formats(void)
 	ok(matches("i8.tif", NULL, f_i8, 33, 21, &e), "signed 8-bit %s", e.msg);
 	write_file(fpath("S01W001.hgt"), "\0\1\xff\xfe\x80\0\0\4", 8);
 	d = scan(fpath("S01W001.hgt"), NULL, &s, &e);
-	ok(d != NULL && s.w == 2 && s.h == 2 && s.vmin == -2 && s.vmax == 4 &&
-	    s.voids == 1 && dem_georef(d)->origin[0] == -1 &&
-	    dem_georef(d)->origin[1] == 0 && dem_georef(d)->step[0] == 1,
-	    "a 2 x 2 .hgt S01W001: big-endian values, -32768 void, tile "
-	    "corner (-1, 0), 1 degree steps %s", e.msg);
-	dem_close(d), free(s.rowhash);
+	ok(d == NULL && strstr(e.msg, "tile name") != NULL, "a 2 x 2 .hgt "
+	    "(no SRTM size) is refused with a message: %s", e.msg);
+	dem_close(d);
 	d = scan(fpath("one.tif"), NULL, &s, &e);
 	ok(d != NULL && s.w == 1 && s.h == 1 && s.vmax == 42.5 && s.voids == 0,
 	    "1 x 1 DEM reads 42.5");
@@ -686,9 +687,10 @@ check_fixture_georef(void)
 	d = dem_open(fpath("userdef.tif"), NULL, &e);
 	g = dem_georef(d);
 	ok(g->model == GEO_PROJECTED && g->epsg == 0 &&
-	    strncmp(g->crs, "+proj=tmerc ", 12) == 0 &&
-	    strstr(g->crs, "+lon_0=13.5") != NULL, "user-defined CRS: %s",
-	    g->crs);
+	    strncmp(g->crs, "PROJCRS[", 8) == 0 &&
+	    strstr(g->crs, "Transverse Mercator") != NULL &&
+	    strstr(g->crs, "13.5") != NULL && strchr(g->crs, '\n') == NULL,
+	    "user-defined CRS: one-line WKT2 %.60s...", g->crs);
 	dem_close(d);
 	d = dem_open(fpath("grey16.png"), &(dem_opts){ .cell = { 2.5, 0 } },
 	    &e);

@@ -17,7 +17,7 @@
 #include <stb_easy_font.h>
 #pragma GCC diagnostic pop
 
-#include "dem.h"
+#include "oiio_plugin.h"
 
 /* --- contexts ---------------------------------------------------------- */
 
@@ -798,7 +798,7 @@ gl_write_image(const char *path, int w, int h, const unsigned char *rgb,
     tl_err *e)
 {
 	char why[512];
-	const tl_oiio_api *api = dem_oiio_plugin(why, sizeof why);
+	const tl_oiio_api *api = tl_oiio_load(why, sizeof why);
 	tl_outfile o;
 
 	if (api == NULL)

@@ -1,6 +1,6 @@
 /* oiio_plugin.h - the C interface of tl_oiio.so, the OpenImageIO reader
- * that dem.c loads with dlopen only for formats libtiff cannot read (PNG,
- * EXR, ...). Linking OpenImageIO costs ~130 MB of RSS, hence the plugin.
+ * that the DEM reader loads with dlopen only for what GDAL does not read
+ * (EXR) and the viewer for writing PNGs. Linking OpenImageIO costs ~130 MB of RSS, hence the plugin.
  *
  * The plugin exports one C function, TL_OIIO_ENTRY, returning a table of
  * function pointers (ABI 2 added write_u8, for tileplay's screenshots). Errors come back as strings in the caller's buffer;
@@ -55,6 +55,13 @@ typedef struct {
 typedef const tl_oiio_api *(*tl_oiio_entry_fn)(void);
 
 const tl_oiio_api *tl_oiio_plugin(void);
+
+#ifndef __cplusplus
+/* The plugin: $TL_OIIO_PLUGIN, else beside the program, else
+ * ../lib/terrain-lod from it, else TL_LIBDIR; loaded once and kept
+ * (oiio_load.c). NULL with the reason in why. */
+const tl_oiio_api *tl_oiio_load(char *why, size_t n);
+#endif
 
 #ifdef __cplusplus
 }
