@@ -161,11 +161,7 @@ plane_pyramid(const fk_kernel *k, int W, int H, double *worst3d)
 	int w = W, h = H;
 
 	*worst3d = 0;
-	m.height = n;
-	m.dx = malloc(n * sizeof *m.dx);
-	m.y = malloc(n * sizeof *m.y);
-	for (int j = 0; j < n; j++)
-		m.dx[j] = DX, m.y[j] = j * DY;
+	geo_metric_const(&m, n, DX, DY, NULL);
 	lev = calloc((size_t)W * H, sizeof *lev);
 	/* level 0 */
 	{
@@ -234,7 +230,8 @@ plane_pyramid(const fk_kernel *k, int W, int H, double *worst3d)
 		free(lev);
 		lev = next;
 	}
-	free(lev), free(m.dx), free(m.y);
+	free(lev);
+	geo_metric_free(&m);
 	return worst;
 }
 
@@ -254,11 +251,7 @@ test_folds(int level, int W, int H, double reach)
 	long bad = 0, moved = 0, outside = 0;
 	double sx, sy;
 
-	m.height = n;
-	m.dx = malloc(n * sizeof *m.dx);
-	m.y = malloc(n * sizeof *m.y);
-	for (int j = 0; j < n; j++)
-		m.dx[j] = DX, m.y[j] = j * DY;
+	geo_metric_const(&m, n, DX, DY, NULL);
 	sx = DX * (1 << level), sy = DY * (1 << level);
 	sv_init(&s, SV_QEM3D, level, W, H, &m, NULL);
 	for (int j = 0; j < H; j++) {
@@ -337,7 +330,8 @@ test_folds(int level, int W, int H, double reach)
 	    "moved, fold fix reduced %lld (zeroed %lld)", W, H, level, reach,
 	    bad, outside, moved, W * H, s.reduced, s.zeroed);
 	sv_free(&s);
-	free(in), free(lev), free(m.dx), free(m.y);
+	free(in), free(lev);
+	geo_metric_free(&m);
 }
 
 int

@@ -388,12 +388,9 @@ fill_grid(const world *w, grid *g)
 				di = (unit_rand(&s) - 0.5) * 0.3 * g->s;
 			if (j > 0 && j < g->h - 1)
 				dj = (unit_rand(&s) - 0.5) * 0.3 * g->s;
-			sx = fqm_dx(&w->m, (long)j * g->s);
-			sy = (long)j * g->s > 0 ? (fqm_y(&w->m, (long)j * g->s + 1) -
-			    fqm_y(&w->m, (long)j * g->s - 1)) / 2 :
-			    fqm_y(&w->m, 1) - fqm_y(&w->m, 0);
+			geo_scale(&w->m, g->px[k], g->py[k], &sx, &sy);
 			g->x[k] = (float)(di * sx), g->y[k] = (float)(dj * sy);
-			fqm_offset_to_grid(&w->m, (long)j * g->s, g->x[k],
+			geo_offset_to_grid(&w->m, g->px[k], g->py[k], g->x[k],
 			    g->y[k], &di, &dj);
 			g->px[k] += di, g->py[k] += dj;
 		}

@@ -189,11 +189,11 @@ test_metres(void)
 			world_pos(&w, I + 1, J, 0, 0, 0, b);
 			world_pos(&w, I, J + 1, 0, 0, 0, c);
 			worst = fmax(worst, fabs(hypot(b[0] - a[0], b[1] - a[1]) -
-			    fqm_dx(&w.m, J)));
+			    geo_sx(&w.m, I, J)));
 			/* rows: the meridian spacing, up to the shear of a
 			 * sinusoidal map away from its middle meridian */
 			worst = fmax(worst, fabs(fabs(c[1] - a[1]) -
-			    (fqm_y(&w.m, J + 1) - fqm_y(&w.m, J))));
+			    (geo_y(&w.m, I, J + 1) - geo_y(&w.m, I, J))));
 		}
 	ok(worst < 1e-6, "geographic world: cell sides in metres as the "
 	    "geodesic metric gives them (max dev %.2g m)", worst);

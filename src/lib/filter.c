@@ -102,14 +102,18 @@ fk_push(fk_filter *f, const fqm_vertex *fine)
 	const fk_kernel *k = f->k;
 	int j = f->next++, slot = j % f->nring;
 	fqm_vertex *out = f->ring + (size_t)slot * f->cw;
-	/* metres between fine columns along this row */
-	double s = (double)(1L << f->level) * fqm_dx(f->m, (long)j << f->level);
+	double step = (double)(1L << f->level), sx[GEO_MAX_NODES];
 	size_t st = sizeof *fine / sizeof(double);
 	double vw;
 
 	f->tag[slot] = j;
+	geo_row_sx(f->m, (double)((long)j << f->level), sx);
 	for (int c = 0; c < f->cw; c++) {
 		fqm_vertex *o = &out[c];
+		/* metres between fine columns along this row, at the coarse
+		 * vertex whose frame the taps move into (georef.h) */
+		double s = step * geo_on_row(f->m, sx,
+		    (double)((long)c << (f->level + 1)));
 		double zh = 0;
 		memset(o, 0, sizeof *o);
 		for (int a = -k->radius; a <= k->radius; a++)
@@ -177,10 +181,20 @@ fk_pull(fk_filter *f, fqm_vertex *coarse)
 {
 	const fk_kernel *k = f->k;
 	int m = f->out++, j0 = 2 * m;
-	double y0 = fqm_y(f->m, (long)j0 << f->level), vw;
+	double vw, y0[GEO_MAX_NODES], y[2 * FK_MAX_RADIUS + 1][GEO_MAX_NODES];
 
+	/* geo_y of the coarse row and of each tap's fine row (rows are
+	 * measured along the coarse vertex's column) */
+	geo_row_y(f->m, (double)((long)j0 << f->level), y0);
+	for (int b = -k->radius; b <= k->radius; b++) {
+		int i = j0 + b < f->fh ? j0 + b : f->fh - 1;
+		if (i >= 0)
+			geo_row_y(f->m, (double)((long)i << f->level),
+			    y[b + k->radius]);
+	}
 	for (int c = 0; c < f->cw; c++) {
 		fqm_vertex *o = &coarse[c];
+		double I = (double)((long)c << (f->level + 1));
 		double zc = 0;
 		memset(o, 0, sizeof *o);
 		for (int b = -k->radius; b <= k->radius; b++)
@@ -200,8 +214,9 @@ fk_pull(fk_filter *f, fqm_vertex *coarse)
 			if (i < 0)
 				continue;
 			h = &held(f, i)[c];
-			add_moved(&o->q, &h->q, 0,
-			    y0 - fqm_y(f->m, (long)i << f->level), zc - h->z, w);
+			add_moved(&o->q, &h->q, 0, geo_on_row(f->m, y0, I) -
+			    geo_on_row(f->m, y[b + k->radius], I), zc - h->z,
+			    w);
 			if (i == j0 + b)
 				o->v += w * h->v, vw += w;
 		}

@@ -8,10 +8,11 @@
 
 /* A symmetric, non-negative kernel (a negative tap would make the filtered
  * quadric indefinite): w[0] centre, w[k] at +-k, taps sum to 1. */
+#define FK_MAX_RADIUS 2
 typedef struct {
 	const char *name;
 	int radius;
-	double w[3];
+	double w[FK_MAX_RADIUS + 1];
 } fk_kernel;
 
 extern const fk_kernel fk_kernels[]; /* terminated by name == NULL */

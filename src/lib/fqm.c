@@ -124,24 +124,6 @@ fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w, float *row)
 	}
 }
 
-double
-fqm_dx(const geo_metric *m, long J)
-{
-	return m->dx[J < m->height ? J : m->height - 1];
-}
-
-double
-fqm_y(const geo_metric *m, long J)
-{
-	long last = m->height - 1;
-	double step;
-
-	if (J <= last)
-		return m->y[J];
-	step = last > 0 ? m->y[last] - m->y[last - 1] : m->dx[0];
-	return m->y[last] + (double)(J - last) * step;
-}
-
 /* The four triangles of a cell, both diagonals; the corner each one
  * leaves out: a corner's sum is the cell's total minus that triangle. */
 static const int celltri[4][3] = {
@@ -155,15 +137,22 @@ fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
     const unsigned char *v1, int w, int J, const geo_metric *m,
     double *band)
 {
-	double dy = m->y[J + 1] - m->y[J];
+	/* the metric along rows J and J + 1, taken at each cell's middle
+	 * column (one value per row for per-row metrics) */
+	double sx0[GEO_MAX_NODES], sx1[GEO_MAX_NODES];
+	double y0[GEO_MAX_NODES], y1[GEO_MAX_NODES];
 
+	geo_row_sx(m, J, sx0), geo_row_sx(m, J + 1, sx1);
+	geo_row_y(m, J, y0), geo_row_y(m, J + 1, y1);
 	for (int i = 0; i + 1 < w; i++) {
-		double *out = band + (size_t)i * FQM_BAND0_DOUBLES;
+		double *out = band + (size_t)i * FQM_BAND0_DOUBLES, I = i + 0.5;
+		double a = geo_on_row(m, sx0, I), b = geo_on_row(m, sx1, I);
+		double dy = geo_on_row(m, y1, I) - geo_on_row(m, y0, I);
 		double p[4][3] = {
-			{ -0.5 * m->dx[J], 0, z0[i] },
-			{ 0.5 * m->dx[J], 0, z0[i + 1] },
-			{ 0.5 * m->dx[J + 1], dy, z1[i + 1] },
-			{ -0.5 * m->dx[J + 1], dy, z1[i] },
+			{ -0.5 * a, 0, z0[i] },
+			{ 0.5 * a, 0, z0[i + 1] },
+			{ 0.5 * b, dy, z1[i + 1] },
+			{ -0.5 * b, dy, z1[i] },
 		};
 		int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
 		quadric t[4], total;
@@ -178,8 +167,8 @@ fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
 			q_add(&total, &t[k], 1);
 		}
 		for (int k = 0; k < 4; k++)
-			for (int a = 0; a < 6; a++)
-				out[k * 6 + a] = total.a[a] - t[without[k]].a[a];
+			for (int c = 0; c < 6; c++)
+				out[k * 6 + c] = total.a[c] - t[without[k]].a[c];
 	}
 }
 
@@ -204,23 +193,4 @@ fqm_row0(const double *above, const double *below, const float *z,
 		o->z = o->s = z[i];
 		o->v = valid[i] ? 1 : 0;
 	}
-}
-
-void
-fqm_grid_scale(const geo_metric *m, long J, double *sx, double *sy)
-{
-	*sx = fqm_dx(m, J);
-	*sy = J > 0 ? (fqm_y(m, J + 1) - fqm_y(m, J - 1)) / 2 :
-	    fqm_y(m, 1) - fqm_y(m, 0);
-}
-
-void
-fqm_offset_to_grid(const geo_metric *m, long J, double X, double Y,
-    double *di, double *dj)
-{
-	double sx, sy;
-
-	fqm_grid_scale(m, J, &sx, &sy);
-	*di = X / sx;
-	*dj = Y / sy;
 }

@@ -47,19 +47,6 @@ void fqm_decode(const fqm_layout *L, const float *row, int w,
 void fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w,
     float *row);
 
-/* The metric embedding (georef.h) at any level-0 row J >= 0: rows past the
- * DEM's last one (padding of coarse levels) continue its last spacing. */
-double fqm_dx(const geo_metric *m, long J);
-double fqm_y(const geo_metric *m, long J);
-/* A vertex at level-0 row J displaced by (X, Y) metres (a QEM-3D vertex
- * map) sits di, dj level-0 columns and rows off its grid position:
- * di = X / dx[J], dj = Y / (local row spacing at J). */
-void fqm_offset_to_grid(const geo_metric *m, long J, double X, double Y,
-    double *di, double *dj);
-/* The metres per level-0 column and row at row J that it divides by. */
-void fqm_grid_scale(const geo_metric *m, long J, double *sx, double *sy);
-
-
 /* Level 0, in two steps so that each triangle is computed once. Every
  * level-0 plane passes through its vertex, so a triangle's quadric is the
  * same A = w n n' (b = 0, c = 0 exactly) at each of its corners.
@@ -70,7 +57,8 @@ void fqm_grid_scale(const geo_metric *m, long J, double *sx, double *sy);
  * holding (w-1) x 4 x 6 doubles. Each cell contributes both of its
  * triangulations at half weight (the FQM does not depend on a choice of
  * diagonal); a triangle with a void corner contributes nothing. The cell
- * is the symmetric trapezoid of the metric embedding at rows J, J+1.
+ * is the symmetric trapezoid of the metric embedding (georef.h) at rows
+ * J, J+1, its widths and height taken at its middle column.
  *
  * fqm_row0: level-0 FQM row J from the bands above and below it (NULL past
  * the edges) and the DEM row itself. */

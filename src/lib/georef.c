@@ -1,8 +1,6 @@
 /* georef.c - georeferencing to and from the geo:* header attributes, and
- * the metric embedding of the grid (GeographicLib through geodesy.h).
- * Reading it from GeoTIFF keys and SRTM names is dem.c's job, so that
- * programs that only carry georeferencing never load libtiff, libgeotiff
- * and PROJ. */
+ * grid positions in CRS coordinates. Reading it from the DEM is dem.c's
+ * job; the metric embedding of the grid is metric.c's. */
 #include "georef.h"
 
 #include <math.h>
@@ -10,7 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geodesy.h"
 
 void
 geo_init_none(georef *g, double cx, double cy)
@@ -121,75 +118,4 @@ geo_vertex_crs(const georef *g, int level, double i, double j, double *x,
 
 	*x = g->origin[0] + (i * s + c) * g->step[0];
 	*y = g->origin[1] + (j * s + c) * g->step[1];
-}
-
-static double
-row_lat(const georef *g, int j)
-{
-	return g->origin[1] + (j + (g->point ? 0 : 0.5)) * g->step[1];
-}
-
-static int
-metric_geographic(geo_metric *m, const georef *g, tl_err *e)
-{
-	double sx = fabs(g->step[0]), lat, next, d;
-
-	for (int j = 0; j < m->height; j++) {
-		lat = row_lat(g, j);
-		if (tl_geod_inverse(lat, 0, lat, sx, &m->dx[j]) < 0)
-			return tl_fail(e, "row %d: latitude %.9g outside "
-			    "-90..90 or pixel size %g invalid", j, lat, sx);
-		if (j + 1 == m->height)
-			break;
-		next = row_lat(g, j + 1);
-		if (tl_geod_inverse(lat, 0, next, 0, &d) < 0)
-			return tl_fail(e, "row %d: latitude %.9g outside "
-			    "-90..90", j + 1, next);
-		m->y[j + 1] = m->y[j] + d;
-	}
-	return 0;
-}
-
-int
-geo_metric_init(geo_metric *m, const georef *g, tl_err *e)
-{
-	double u = g->model == GEO_GEOGRAPHIC ? 0 : g->unit;
-
-	memset(m, 0, sizeof *m);
-	if (g->height < 1)
-		return tl_fail(e, "georeferencing: no grid height");
-	if (!isfinite(g->step[0]) || !isfinite(g->step[1]) ||
-	    g->step[0] == 0 || g->step[1] == 0)
-		return tl_fail(e, "georeferencing: invalid pixel size %g x %g",
-		    g->step[0], g->step[1]);
-	if (g->model != GEO_GEOGRAPHIC && !(u > 0 && isfinite(u)))
-		return tl_fail(e, "georeferencing: invalid unit %g", u);
-	m->height = g->height;
-	m->dx = tl_alloc((size_t)g->height, sizeof *m->dx, e);
-	m->y = tl_alloc((size_t)g->height, sizeof *m->y, e);
-	if (m->dx == NULL || m->y == NULL) {
-		geo_metric_free(m);
-		return -1;
-	}
-	if (g->model == GEO_GEOGRAPHIC) {
-		if (metric_geographic(m, g, e) < 0) {
-			geo_metric_free(m);
-			return -1;
-		}
-		return 0;
-	}
-	for (int j = 0; j < m->height; j++) {
-		m->dx[j] = fabs(g->step[0]) * u;
-		m->y[j] = j * fabs(g->step[1]) * u;
-	}
-	return 0;
-}
-
-void
-geo_metric_free(geo_metric *m)
-{
-	free(m->dx);
-	free(m->y);
-	m->dx = m->y = NULL;
-	m->height = 0;
 }

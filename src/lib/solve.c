@@ -44,7 +44,13 @@ sv_init(sv_solver *s, enum sv_mode mode, int level, int w, int h,
 	s->hist[0] = tl_alloc(w, sizeof *s->hist[0], e);
 	s->hist[1] = tl_alloc(w, sizeof *s->hist[1], e);
 	s->mark = tl_alloc(w, 1, e);
-	if (s->hist[0] == NULL || s->hist[1] == NULL || s->mark == NULL) {
+	s->msx[0] = tl_alloc((size_t)10 * w, sizeof *s->msx[0], e);
+	for (int r = 0; s->msx[0] != NULL && r < 5; r++) {
+		s->msx[r] = s->msx[0] + (size_t)r * w;
+		s->my[r] = s->msx[0] + (size_t)(5 + r) * w;
+	}
+	if (s->hist[0] == NULL || s->hist[1] == NULL || s->mark == NULL ||
+	    s->msx[0] == NULL) {
 		sv_free(s);
 		return -1;
 	}
@@ -54,8 +60,8 @@ sv_init(sv_solver *s, enum sv_mode mode, int level, int w, int h,
 void
 sv_free(sv_solver *s)
 {
-	free(s->hist[0]), free(s->hist[1]), free(s->mark);
-	s->hist[0] = s->hist[1] = NULL, s->mark = NULL;
+	free(s->hist[0]), free(s->hist[1]), free(s->mark), free(s->msx[0]);
+	s->hist[0] = s->hist[1] = NULL, s->mark = NULL, s->msx[0] = NULL;
 }
 
 static double
@@ -80,11 +86,25 @@ sv_cell_ok(const double p[4][2], const double g[4][2], double min)
 	return 1;
 }
 
-/* Level-0 row of level row j (rows past the DEM continue its spacing). */
-static long
+/* Level-0 row (or column) of level row (column) j. */
+static double
 row0(const sv_solver *s, int j)
 {
-	return (long)j << s->level;
+	return (double)j * (double)(1L << s->level);
+}
+
+/* The metric at the vertices of rows j-2 .. j+2, once per row: the fold
+ * fix asks for it a hundred times per vertex. */
+static void
+cache_metric(sv_solver *s, int j)
+{
+	for (int r = 0; r < 5; r++) {
+		double J = row0(s, j - 2 + r);
+		for (int i = 0; i < s->w; i++) {
+			s->msx[r][i] = geo_sx(s->m, row0(s, i), J);
+			s->my[r][i] = geo_y(s->m, row0(s, i), J);
+		}
+	}
 }
 
 /* The triangles the fold fix keeps positive: those of the bintree that
@@ -121,14 +141,14 @@ static int
 tri_ok(const sv_solver *s, int j, const sv_vertex *cur, const int v[3][2])
 {
 	double g[3][2], p[3][2], ga, pa;
-	double y0 = fqm_y(s->m, row0(s, v[0][1]));
+	int i0 = v[0][0], r0 = v[0][1] - j + 2;
 
 	for (int k = 0; k < 3; k++) {
-		long J = row0(s, v[k][1]);
 		const sv_vertex *o = at(s, j, cur, v[k][0], v[k][1]);
-		g[k][0] = (v[k][0] - v[0][0]) * (double)(1L << s->level) *
-		    fqm_dx(s->m, J);
-		g[k][1] = fqm_y(s->m, J) - y0;
+		int r = v[k][1] - j + 2;
+		/* in the frame of v[0], as geo_local puts it (georef.h) */
+		g[k][0] = (row0(s, v[k][0]) - row0(s, i0)) * s->msx[r][i0];
+		g[k][1] = s->my[r][i0] - s->my[r0][i0];
 		p[k][0] = g[k][0] + (o ? o->x : 0);
 		p[k][1] = g[k][1] + (o ? o->y : 0);
 	}
@@ -194,12 +214,12 @@ place3d(const sv_solver *s, int i, int j, const fqm_vertex *in,
     sv_vertex *o)
 {
 	double v[3], hx, hy, up, down;
-	long J = row0(s, j), step = 1L << s->level;
+	long step = 1L << s->level;
 
 	q_min_3d(&in->q, s->rel, v);
-	hx = 0.5 * (double)step * fqm_dx(s->m, J);
-	up = j > 0 ? fqm_y(s->m, J) - fqm_y(s->m, J - step) : INFINITY;
-	down = fqm_y(s->m, J + step) - fqm_y(s->m, J);
+	hx = 0.5 * (double)step * s->msx[2][i];
+	up = j > 0 ? s->my[2][i] - s->my[1][i] : INFINITY;
+	down = s->my[3][i] - s->my[2][i];
 	hy = 0.5 * (up < down ? up : down);
 	o->x = i == 0 || i == s->w - 1 ? 0 : fmax(-hx, fmin(hx, v[0]));
 	o->y = j == 0 || j == s->h - 1 ? 0 : fmax(-hy, fmin(hy, v[1]));
@@ -233,6 +253,8 @@ sv_row(sv_solver *s, const fqm_vertex *in, sv_vertex *out)
 {
 	int j = s->row++;
 
+	if (s->mode == SV_QEM3D)
+		cache_metric(s, j);
 	for (int i = 0; i < s->w; i++) {
 		out[i].v = in[i].v;
 		out[i].x = out[i].y = 0;

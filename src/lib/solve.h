@@ -22,6 +22,8 @@ typedef struct {
 	int level, w, h;
 	const geo_metric *m;
 	sv_vertex *hist[2]; /* 3D: the two previous rows (j-1, j-2), final */
+	double *msx[5], *my[5]; /* 3D: geo_sx and geo_y at the vertices of
+	                         * rows j-2 .. j+2 (the fold fix's reach) */
 	unsigned char *mark;
 	int row;         /* next row expected */
 	long long reduced; /* 3D: vertices whose offset the fold fix reduced */

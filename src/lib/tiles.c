@@ -30,7 +30,11 @@ typedef struct {
 	double step;        /* 2^level: level-0 samples per level cell */
 	double margin;      /* how far a displaced vertex may stray */
 	float *z, *ox, *oy; /* RINGV x P: heights, offsets in metres */
-	double *sx, *sy;    /* RINGV: metres per level unit at that row */
+	int nn;             /* scales per row: geo_row_nodes */
+	int *nk;            /* P, displaced levels of a lattice metric: the */
+	double *nu;         /* node piece of each column, where in it */
+	double *sx, *sy;    /* RINGV x nn: metres per level-0 step along the
+	                     * row (geo_row_sx, geo_row_sy) */
 	float *acc;         /* RINGE x P: local errors */
 	int loaded;         /* level rows [0, loaded) have been loaded */
 	int next_bj;        /* next block row to hand out */
@@ -104,7 +108,9 @@ load_row(state *s, int r, tl_err *e)
 			s->ox[o + i] = s->oy[o + i] = 0;
 	}
 	memset(s->acc + eslot(s, r), 0, (size_t)s->P * sizeof *s->acc);
-	fqm_grid_scale(L->m, J, &s->sx[r & (RINGV - 1)], &s->sy[r & (RINGV - 1)]);
+	o = (size_t)(r & (RINGV - 1)) * s->nn; /* this row's scales */
+	geo_row_sx(L->m, (double)J, s->sx + o);
+	geo_row_sy(L->m, (double)J, s->sy + o);
 	return 0;
 }
 
@@ -119,6 +125,44 @@ ensure(state *s, int r, tl_err *e)
 	return 0;
 }
 
+/* Metres per level-0 column and row step at grid vertex (gi, gj):
+ * geo_on_row of the row's scales, bit for bit, with the column's place
+ * among the nodes computed once per level (this is the innermost loop). */
+static inline void
+scales(const state *s, int gi, int gj, double *sx, double *sy)
+{
+	size_t o = (size_t)(gj & (RINGV - 1)) * s->nn;
+	const double *x = s->sx + o, *y = s->sy + o;
+	double u;
+	int k;
+
+	if (s->nn == 1) {
+		*sx = x[0], *sy = y[0];
+		return;
+	}
+	k = s->nk[gi], u = s->nu[gi];
+	*sx = x[k] + u * (x[k + 1] - x[k]);
+	*sy = y[k] + u * (y[k + 1] - y[k]);
+}
+
+/* Where each column falls among the lattice's node columns, as
+ * geo_on_row finds it. */
+static void
+node_columns(state *s)
+{
+	const geo_metric *m = s->L->m;
+
+	for (int gi = 0; gi < s->P; gi++) {
+		double t = gi * s->step * m->inv;
+		if (!(t > 0))
+			s->nk[gi] = 0, s->nu[gi] = 0;
+		else if (t >= m->nx - 1)
+			s->nk[gi] = m->nx - 2, s->nu[gi] = 1;
+		else
+			s->nk[gi] = (int)t, s->nu[gi] = t - s->nk[gi];
+	}
+}
+
 /* Position (level units) and height of grid vertex (gi, gj). */
 static inline void
 vertex(const state *s, int gi, int gj, double p[3])
@@ -127,9 +171,10 @@ vertex(const state *s, int gi, int gj, double p[3])
 
 	p[0] = gi, p[1] = gj, p[2] = s->z[o];
 	if (s->L->displaced) {
-		int k = gj & (RINGV - 1);
-		p[0] += s->ox[o] / s->sx[k] / s->step;
-		p[1] += s->oy[o] / s->sy[k] / s->step;
+		double sx, sy;
+		scales(s, gi, gj, &sx, &sy);
+		p[0] += s->ox[o] / sx / s->step;
+		p[1] += s->oy[o] / sy / s->step;
 	}
 }
 
@@ -385,6 +430,7 @@ static void
 state_free(state *s)
 {
 	free(s->z), free(s->ox), free(s->oy), free(s->sx), free(s->sy);
+	free(s->nk), free(s->nu);
 	free(s->acc), free(s->base), free(s->band);
 	free(s->rz), free(s->rx), free(s->ry), free(s->dz), free(s->dv);
 	py_block_free(&s->blk);
@@ -407,8 +453,13 @@ state_init(state *s, const tp_level *L, dem *d, tl_err *e)
 	ring = (size_t)RINGV * s->P;
 	s->z = tl_alloc(ring, sizeof *s->z, e);
 	s->acc = tl_alloc((size_t)RINGE * s->P, sizeof *s->acc, e);
-	s->sx = tl_alloc(RINGV, sizeof *s->sx, e);
-	s->sy = tl_alloc(RINGV, sizeof *s->sy, e);
+	s->nn = geo_row_nodes(L->m);
+	if (L->displaced && s->nn > 1) {
+		s->nk = tl_alloc(s->P, sizeof *s->nk, e);
+		s->nu = tl_alloc(s->P, sizeof *s->nu, e);
+	}
+	s->sx = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sx, e);
+	s->sy = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sy, e);
 	s->base = tl_alloc((size_t)s->bx * s->by, sizeof *s->base, e);
 	s->band = tl_alloc((size_t)BAND * s->P, sizeof *s->band, e);
 	s->rz = tl_alloc(L->size[0], sizeof *s->rz, e);
@@ -421,12 +472,15 @@ state_init(state *s, const tp_level *L, dem *d, tl_err *e)
 		s->ry = tl_alloc(L->size[0], sizeof *s->ry, e);
 	}
 	if (!s->z || !s->acc || !s->sx || !s->sy || !s->base || !s->band ||
+	    (L->displaced && s->nn > 1 && (!s->nk || !s->nu)) ||
 	    !s->rz || !s->dz || !s->dv || (L->displaced && (!s->ox ||
 	    !s->oy || !s->rx || !s->ry)) ||
 	    py_block_alloc(&s->blk, L->displaced, e) < 0) {
 		state_free(s);
 		return -1;
 	}
+	if (s->nk != NULL)
+		node_columns(s);
 	return 0;
 }
 

@@ -417,8 +417,8 @@ positions(lv *v, blk *b, int bi, int bj)
 		long gj = (long)bj * BT_CELLS + k / BT_SIZE;
 		double di = 0, dj = 0;
 		if (v->disp && isfinite(b->x[k]) && isfinite(b->y[k]))
-			fqm_offset_to_grid(&v->c->metric, gj * v->s, b->x[k],
-			    b->y[k], &di, &dj);
+			geo_offset_to_grid(&v->c->metric, (double)(gi * v->s),
+			    (double)(gj * v->s), b->x[k], b->y[k], &di, &dj);
 		b->px[k] = (double)(gi * v->s) + di;
 		b->py[k] = (double)(gj * v->s) + dj;
 	}

@@ -28,7 +28,7 @@
  * eps = 1e-3 m + 1e-6 |z| (float32 storage). A sample is in a triangle
  * when its barycentric coordinates are >= -1e-9 (closed), positions
  * being level-0 grid columns and rows (QEM-3D offsets through
- * fqm_offset_to_grid at the vertex's level-0 row); heights interpolate
+ * geo_offset_to_grid at the vertex's level-0 position); heights interpolate
  * linearly in that grid space.
  *
  * Memory: two block rows of a level, and the DEM rows one block row

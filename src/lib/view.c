@@ -44,33 +44,15 @@ world_close(world *w)
 	geo_metric_free(&w->m);
 }
 
-/* dx and y of the metric embedding at a fractional level-0 row. */
-static void
-metric(const world *w, double J, double *dx, double *y)
-{
-	long j0 = (long)floor(J);
-	double f = J - j0;
-
-	if (j0 < 0) {
-		/* above row 0: continue the first spacing */
-		*dx = fqm_dx(&w->m, 0);
-		*y = J * (fqm_y(&w->m, 1) - fqm_y(&w->m, 0));
-		return;
-	}
-	*dx = (1 - f) * fqm_dx(&w->m, j0) + f * fqm_dx(&w->m, j0 + 1);
-	*y = (1 - f) * fqm_y(&w->m, j0) + f * fqm_y(&w->m, j0 + 1);
-}
-
+/* World x: metres along row J from the centre column (for a per-row
+ * metric (I - ci) * dx at the fractional row J); world y: metres along
+ * column I from the centre row, northward (rows run south). */
 void
 world_pos(const world *w, double I, double J, double X, double Y, double z,
     double out[3])
 {
-	double dx, y, dx0, y0;
-
-	metric(w, J, &dx, &y);
-	metric(w, w->cj, &dx0, &y0);
-	out[0] = (I - w->ci) * dx + X;
-	out[1] = -(y - y0) - Y; /* rows run south */
+	out[0] = geo_x(&w->m, w->ci, I, J) + X;
+	out[1] = -(geo_y(&w->m, I, J) - geo_y(&w->m, I, w->cj)) - Y;
 	out[2] = z;
 }
 

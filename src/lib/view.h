@@ -5,9 +5,11 @@
  *
  * World frame: metres, x east (along the DEM's columns), y north (against
  * its rows), z up; origin at the DEM's centre column and row, height 0.
- * Geographic DEMs use the metric embedding of fqm(5) (per-row geodesic
- * cell widths, centred on the DEM's middle meridian): equal-area, no
- * degrees anywhere. */
+ * Every DEM uses the metric embedding of georef.h: x is the distance
+ * along the row from the centre column, y along the column from the
+ * centre row (geographic DEMs: per-row geodesic cell widths, centred on
+ * the DEM's middle meridian, equal-area; projected ones: the CRS's true
+ * ground scale), no degrees or CRS units anywhere. */
 #ifndef TL_VIEW_H
 #define TL_VIEW_H
 

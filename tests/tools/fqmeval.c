@@ -85,7 +85,8 @@ load(rows *R, int j, tl_err *e)
 		R->py[s][i] = (double)J;
 		if (R->cx >= 0) {
 			double di, dj;
-			fqm_offset_to_grid(R->m, J, R->buf[(size_t)R->cx * w + i],
+			geo_offset_to_grid(R->m, (double)i * step, (double)J,
+			    R->buf[(size_t)R->cx * w + i],
 			    R->buf[(size_t)R->cy * w + i], &di, &dj);
 			R->px[s][i] += di, R->py[s][i] += dj;
 		}
