@@ -1,6 +1,7 @@
 /* dem2fqm - a DEM in, its level-0 fundamental quadric map out: per vertex
  * the area-weighted plane quadrics of its triangles, in its own frame. */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,20 +17,25 @@ static const char *prog = "dem2fqm";
 static void
 usage(FILE *f)
 {
-	fprintf(f, "usage: %s [-I] [-e encoding] [-N nodata] [-n name] "
-	    "[-s dx[,dy]]\n"
-	    "               [-z compression] [dem [out]]\n"
-	    "  -I              print the DEM's size, voids and georeferencing; "
-	    "no output\n"
+	fprintf(f, "usage: %s [-I] [-D datum] [-e encoding] [-H datum] "
+	    "[-N nodata] [-n name]\n"
+	    "               [-s dx[,dy]] [-z compression] [dem [out]]\n"
+	    "  -I              print the DEM's size, georeferencing, metric, "
+	    "datum, voids\n"
+	    "                  and level count; no output\n"
+	    "  -D datum        the DEM's vertical datum (EPSG:5773) when it "
+	    "declares none\n"
 	    "  -e encoding     auto (default), grey, terrainrgb, terrarium\n"
+	    "  -H datum        convert heights to datum: ellipsoid (WGS 84) "
+	    "or EPSG:n\n"
 	    "  -N nodata       void value, overriding the file's\n"
-	    "  -n name         file name giving an .hgt on stdin its tile "
+	    "  -n name         the file name of a DEM on stdin "
 	    "(N42E001.hgt)\n"
-	    "  -s dx[,dy]      cell size in metres of an ungeoreferenced DEM "
-	    "(default 1)\n"
+	    "  -s dx[,dy]      cell size in metres (overrides the CRS's "
+	    "metric)\n"
 	    "  -z compression  of an EXR output: zip (default), zips, rle, "
 	    "piz, none\n"
-	    "  dem             GeoTIFF, PNG, EXR, SRTM .hgt, or - (stdin, "
+	    "  dem             any raster GDAL reads, or EXR; - (stdin, "
 	    "default)\n"
 	    "  out             level-0 FQM: EXR file or - (stream, default)\n",
 	    prog);
@@ -49,18 +55,47 @@ typedef struct {
 	double *band[2];
 } window;
 
-/* -I: what a script needs to plan a pyramid, as "key value" lines. */
+/* Ground metres per cell over the grid, min and max along x and y,
+ * sampled on about 256 x 256 positions (the metric varies smoothly). */
+static int
+metric_range(const georef *g, double r[4], tl_err *e)
+{
+	int si = g->width > 256 ? g->width / 256 : 1;
+	int sj = g->height > 256 ? g->height / 256 : 1;
+	geo_metric m;
+
+	if (geo_metric_init(&m, g, e) < 0)
+		return -1;
+	r[0] = r[2] = INFINITY, r[1] = r[3] = 0;
+	for (int j = 0; j < g->height; j += sj)
+		for (int i = 0; i < g->width; i += si) {
+			double sx, sy;
+			geo_scale(&m, i, j, &sx, &sy);
+			r[0] = fmin(r[0], sx), r[1] = fmax(r[1], sx);
+			r[2] = fmin(r[2], sy), r[3] = fmax(r[3], sy);
+		}
+	geo_metric_free(&m);
+	return 0;
+}
+
+/* -I: what a user needs to trust the result and a script to plan a
+ * pyramid, as "key value" lines. */
 static int
 info(const options *o, tl_err *e)
 {
 	static const char *const models[] = { "none", "projected",
 		"geographic" };
-	dem *d;
 	const georef *g;
+	double r[4];
+	dem *d;
 
 	if ((d = dem_open(o->in, &o->dem, e)) == NULL)
 		return -1;
 	g = dem_georef(d);
+	if (metric_range(g, r, e) < 0) {
+		dem_close(d);
+		return -1;
+	}
 	printf("size %d %d\nvoids %lld\nmodel %s\ncrs %s\nraster %s\n"
 	    "origin %.17g %.17g\nstep %.17g %.17g\n", g->width, g->height,
 	    dem_voids(d), models[g->model], g->crs[0] ? g->crs : "-",
@@ -70,8 +105,30 @@ info(const options *o, tl_err *e)
 		printf("vdatum %s\n", g->vdatum);
 	if (g->has_nodata)
 		printf("nodata %.17g\n", g->nodata);
+	if (g->cell[0] > 0)
+		printf("cell %.17g %.17g\n", g->cell[0], g->cell[1]);
+	printf("metric %.6f %.6f %.6f %.6f\nzunit %.17g\nlevels %d\n", r[0],
+	    r[1], r[2], r[3], dem_zunit(d), fqm_levels(g->width, g->height));
 	dem_close(d);
 	return fflush(stdout) == 0 ? 0 : tl_failsys(e, "stdout");
+}
+
+/* A grid without a CRS has no known unit: say what was assumed. */
+static void
+warn_metric(const options *o, const georef *g)
+{
+	const char *n = tl_name(o->in, 0);
+
+	if (g->model != GEO_NONE || g->cell[0] > 0 || o->dem.cell[0] > 0)
+		return;
+	if (g->origin[0] == 0 && g->origin[1] == 0 && g->step[0] == 1 &&
+	    g->step[1] == -1)
+		tl_warn(prog, "%s: not georeferenced: cells taken as 1 m "
+		    "(set with -s)", n);
+	else
+		tl_warn(prog, "%s: a geotransform but no CRS: its pixel size "
+		    "%g x %g taken as metres (set with -s, or assign the CRS: "
+		    "gdal_edit.py -a_srs)", n, g->step[0], -g->step[1]);
 }
 
 static int
@@ -100,9 +157,7 @@ convert(const options *o, tl_err *e)
 		    tl_name(o->in, 0), W, H);
 		goto done;
 	}
-	if (fi.geo.model == GEO_NONE && o->dem.cell[0] == 0)
-		tl_warn(prog, "%s: not georeferenced: cells taken as 1 m "
-		    "(set with -s)", tl_name(o->in, 0));
+	warn_metric(o, &fi.geo);
 	if (geo_metric_init(&m, &fi.geo, e) < 0 ||
 	    fqm_header(&h, &fi, "none", e) < 0 ||
 	    fqm_layout_of(&h, &L, "dem2fqm", e) < 0)

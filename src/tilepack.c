@@ -22,12 +22,15 @@ static const char *prog = "tilepack";
 static void
 usage(FILE *f)
 {
-	fprintf(f, "usage: %s [-fq] [-e encoding] [-j jobs] [-N nodata] [-n name]\n"
-	    "                [-s dx[,dy]] dem dir level0 [level1 ...]\n"
+	fprintf(f, "usage: %s [-fq] [-D datum] [-e encoding] [-H datum] "
+	    "[-j jobs] [-N nodata]\n"
+	    "                [-n name] [-s dx[,dy]] dem dir level0 "
+	    "[level1 ...]\n"
 	    "  -f              replace dir even if it is not a pyramid\n"
 	    "  -j jobs         levels done at once (default: the CPUs)\n"
 	    "  -q              no report on stderr\n"
-	    "  -e, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+	    "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for "
+	    "dem2fqm(1)\n"
 	    "  dem             the original DEM (errors are measured against "
 	    "it)\n"
 	    "  dir             the pyramid directory to make\n"

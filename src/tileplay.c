@@ -26,8 +26,9 @@ static void
 usage(FILE *f)
 {
 	fprintf(f, "usage: %s --verify dir [--dem dem] [--tau t,...] "
-	    "[-e encoding] [-N nodata]\n"
-	    "                [-n name] [-s dx[,dy]]\n"
+	    "[-D datum] [-e encoding]\n"
+	    "                [-H datum] [-N nodata] [-n name] "
+	    "[-s dx[,dy]]\n"
 	    "       %s [view options] [--frames n] [--stats] dir\n"
 	    "       %s --shot out.png [view options] [--stats] "
 	    "[--probe i,j] dir\n"
@@ -39,7 +40,8 @@ usage(FILE *f)
 	    "too\n"
 	    "  --tau t,...     tolerances in metres instead of each level's "
 	    "sweep\n"
-	    "  -e, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+	    "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for "
+	    "dem2fqm(1)\n"
 	    "  dir             the pyramid to show in a window (keys: "
 	    "tileplay(1))\n"
 	    "  --shot file     render one picture headless (EGL) into a "

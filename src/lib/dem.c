@@ -26,6 +26,7 @@ struct dem {
 	georef g;
 	int fd;                  /* filled rows, then masks of void rows */
 	long long voids;
+	double zunit;            /* metres per height unit of the file */
 	unsigned char *rowvoid;  /* one bit per row: the row has voids */
 	char what[256];          /* the file, for messages */
 };
@@ -139,8 +140,11 @@ datum(dem_load *L, georef *g, const dem_opts *o, tl_err *e)
 	if (g->model == GEO_NONE)
 		return tl_fail(e, "%s: -H %s: the DEM has no CRS, so its "
 		    "heights cannot change datum", L->what, o->heights);
-	if ((L->vd = vd_open(g, from, o->heights, e)) == NULL)
-		return -1;
+	if ((L->vd = vd_open(g, from, o->heights, e)) == NULL) {
+		char why[sizeof e->msg];
+		snprintf(why, sizeof why, "%s", e->msg);
+		return tl_fail(e, "%s: %s", L->what, why);
+	}
 	snprintf(g->vdatum, sizeof g->vdatum, "%s", vd_target_name(L->vd));
 	return 0;
 }
@@ -333,6 +337,7 @@ dem_open(const char *path, const dem_opts *o, tl_err *e)
 	d->fd = L.fd;
 	d->rowvoid = L.rowvoid;
 	d->voids = L.voids;
+	d->zunit = L.zunit;
 	if (r == 0 && L.voids == (long long)L.w * L.h)
 		r = tl_fail(e, "%s: no valid samples (every sample is a void)",
 		    d->what);
@@ -355,6 +360,12 @@ long long
 dem_voids(const dem *d)
 {
 	return d->voids;
+}
+
+double
+dem_zunit(const dem *d)
+{
+	return d->zunit;
 }
 
 int

@@ -55,6 +55,7 @@ int dem_option(dem_opts *o, int c, const char *arg, tl_err *e);
 dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
 const georef *dem_georef(const dem *d); /* width, height inside */
 long long dem_voids(const dem *d);      /* void samples */
+double dem_zunit(const dem *d);         /* metres per unit of the file */
 /* Row j (any order): z gets heights with voids filled, valid (if not NULL)
  * gets 1 for a real sample and 0 for a void. Both have width entries. */
 int dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e);

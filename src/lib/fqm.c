@@ -16,6 +16,17 @@ fqm_level_size(int n0, int level)
 	return (int)((span + step - 1) / step) + 1;
 }
 
+int
+fqm_levels(int w0, int h0)
+{
+	int l = 0;
+
+	while (fqm_level_size(w0, l) > FQM_BLOCK || fqm_level_size(h0, l) >
+	    FQM_BLOCK)
+		l++;
+	return l + 1;
+}
+
 static int
 set_info(rs_header *h, const fqm_info *fi, const char *kind, tl_err *e)
 {

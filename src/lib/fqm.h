@@ -33,6 +33,11 @@ typedef struct {
 /* Columns (or rows) of level l for a level-0 extent of n0: ceil((n0-1)/2^l)+1. */
 int fqm_level_size(int n0, int level);
 
+/* The pyramid's level count: levels 0 .. the first that fits one block of
+ * FQM_BLOCK x FQM_BLOCK vertices (vgis(5)). */
+#define FQM_BLOCK 129
+int fqm_levels(int w0, int h0);
+
 /* A fresh FQM header for a level: channels, fqm:* and geo:* attributes. */
 int fqm_header(rs_header *h, const fqm_info *fi, const char *kernel,
     tl_err *e);
