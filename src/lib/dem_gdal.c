@@ -105,18 +105,39 @@ geotransform(const src *s, georef *g, dem_load *L, tl_err *e)
 	return 0;
 }
 
+/* The EPSG code of h: its own, else that of the one EPSG CRS PROJ finds
+ * equivalent with full confidence (an ESRI .prj names none); 0 if none. */
+static int
+epsg_of(OGRSpatialReferenceH h)
+{
+	const char *auth = OSRGetAuthorityName(h, NULL);
+	const char *code = OSRGetAuthorityCode(h, NULL);
+	OGRSpatialReferenceH *m;
+	int n = 0, *conf = NULL, r = 0;
+
+	if (auth != NULL && code != NULL)
+		return strcasecmp(auth, "EPSG") == 0 ? atoi(code) : 0;
+	m = OSRFindMatches(h, NULL, &n, &conf);
+	if (m != NULL && n >= 1 && conf[0] == 100 &&
+	    (n == 1 || conf[1] < 100) &&
+	    (auth = OSRGetAuthorityName(m[0], NULL)) != NULL &&
+	    strcasecmp(auth, "EPSG") == 0 &&
+	    (code = OSRGetAuthorityCode(m[0], NULL)) != NULL)
+		r = atoi(code);
+	OSRFreeSRSArray(m);
+	CPLFree(conf);
+	return r;
+}
+
 /* "EPSG:n" when the CRS is one EPSG code, else its WKT2 on one line. */
 static int
 crs_name(OGRSpatialReferenceH h, georef *g, const char *what, tl_err *e)
 {
-	const char *auth = OSRGetAuthorityName(h, NULL);
-	const char *code = OSRGetAuthorityCode(h, NULL);
 	const char *opts[] = { "FORMAT=WKT2_2019", "MULTILINE=NO", NULL };
 	char *wkt = NULL;
 
-	if (auth != NULL && code != NULL && strcasecmp(auth, "EPSG") == 0) {
-		g->epsg = atoi(code);
-		snprintf(g->crs, sizeof g->crs, "EPSG:%s", code);
+	if ((g->epsg = epsg_of(h)) > 0) {
+		snprintf(g->crs, sizeof g->crs, "EPSG:%d", g->epsg);
 		return 0;
 	}
 	if (OSRExportToWktEx(h, &wkt, opts) != OGRERR_NONE || wkt == NULL)
