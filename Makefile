@@ -56,13 +56,14 @@ $(B)/.deps:
 	fi
 	@touch $@
 
-$(B)/lib/%.o: src/lib/%.c src/lib/*.h | $(B)/.deps
+# Objects depend on the headers they include (-MMD -MP, build/**/*.d).
+$(B)/lib/%.o: src/lib/%.c | $(B)/.deps
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) -c $< -o $@
+	$(CC) $(ALLCFLAGS) -MMD -MP -c $< -o $@
 
-$(B)/lib/%.o: src/lib/%.cpp src/lib/*.h | $(B)/.deps
+$(B)/lib/%.o: src/lib/%.cpp | $(B)/.deps
 	@mkdir -p $(@D)
-	$(CXX) $(ALLCXXFLAGS) -c $< -o $@
+	$(CXX) $(ALLCXXFLAGS) -MMD -MP -c $< -o $@
 
 $(PLUGIN): src/lib/oiio_plugin.cpp src/lib/oiio_plugin.h | $(B)/.deps
 	$(CXX) -shared -fPIC $(ALLCXXFLAGS) -o $@ $< $(shell pkg-config --libs OpenImageIO)
@@ -71,20 +72,20 @@ $(B)/libtl.a: $(LIBOBJ)
 	rm -f $@
 	ar rcs $@ $^
 
-$(B)/%.o: src/%.c src/lib/*.h | $(B)/.deps
+$(B)/%.o: src/%.c | $(B)/.deps
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) -c $< -o $@
+	$(CC) $(ALLCFLAGS) -MMD -MP -c $< -o $@
 
 $(B)/%: $(B)/%.o $(B)/libtl.a
-	$(CC) $(CFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
 
 $(B)/tests/%: tests/%.c $(B)/libtl.a
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
 
 $(B)/tools/%: tests/tools/%.c $(B)/libtl.a
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
 
 check: all $(TESTBIN) $(TOOLBIN)
 	@sh tests/run
@@ -105,7 +106,16 @@ install: all
 	install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5
 
 clean:
-	rm -rf $(B)/lib $(B)/tests $(B)/tools $(B)/*.o $(B)/libtl.a $(PLUGIN) $(PROGS:%=$(B)/%)
+	rm -rf $(B)/lib $(B)/tests $(B)/tools $(B)/*.o $(B)/*.d $(B)/libtl.a $(PLUGIN) $(PROGS:%=$(B)/%)
 
-.PHONY: all check example bench install clean
+# tilepack and dem2vgis on a real DEM under ThreadSanitizer (a build of
+# their own in build-tsan/, the levels on parallel threads).
+check-tsan:
+	$(MAKE) B=build-tsan CFLAGS='-O1 -g -fsanitize=thread' \
+	    CXXFLAGS='-O1 -g -fsanitize=thread' LDFLAGS=-fsanitize=thread all
+	sh tests/tsan build-tsan
+
+-include $(shell find $(B) -name '*.d' 2>/dev/null)
+
+.PHONY: all check check-tsan example bench install clean
 .SECONDARY:

@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -100,11 +101,16 @@ tl_alloc(size_t n, size_t size, tl_err *e)
 
 /* --- temporaries removed on a fatal signal ---------------------------- */
 
-#define MAXTMP 16
+/* The registry the signal handler walks. Threads change it under a lock
+ * with signals blocked; a slot's path is published last with an atomic
+ * store and read with an atomic load, so the handler (which cannot lock)
+ * sees each slot empty or complete, never half-written. */
+#define MAXTMP 64
 static struct {
-	const char *path; /* owned by the tl_outfile */
+	const char *path; /* owned by the tl_outfile; atomic */
 	int dir;
 } tmps[MAXTMP];
+static pthread_mutex_t tmps_lock = PTHREAD_MUTEX_INITIALIZER;
 
 /* Remove a directory tree with system calls only (async-signal-safe). */
 static void
@@ -114,7 +120,8 @@ rmtree_at(int parent, const char *name, int depth)
 	int fd;
 	long n;
 
-	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR || depth > 8)
+	/* depth bounds the stack (4 KiB a level); pyramids are 3 deep */
+	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR || depth > 64)
 		return;
 	fd = openat(parent, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW);
 	if (fd < 0)
@@ -149,42 +156,73 @@ static void
 on_signal(int sig)
 {
 	for (int i = 0; i < MAXTMP; i++) {
-		if (tmps[i].path == NULL)
+		const char *p = __atomic_load_n(&tmps[i].path, __ATOMIC_ACQUIRE);
+		if (p == NULL)
 			continue;
 		if (tmps[i].dir)
-			rmtree_at(AT_FDCWD, tmps[i].path, 0);
+			rmtree_at(AT_FDCWD, p, 0);
 		else
-			unlink(tmps[i].path);
+			unlink(p);
 	}
 	signal(sig, SIG_DFL);
 	raise(sig);
 }
 
+/* Blocks the signals whose handler reads the registry, takes the lock. */
 static void
-tmp_register(const char *path, int dir)
+tmps_enter(sigset_t *old)
+{
+	sigset_t all;
+
+	sigfillset(&all);
+	pthread_sigmask(SIG_BLOCK, &all, old);
+	pthread_mutex_lock(&tmps_lock);
+}
+
+static void
+tmps_leave(const sigset_t *old)
+{
+	pthread_mutex_unlock(&tmps_lock);
+	pthread_sigmask(SIG_SETMASK, old, NULL);
+}
+
+/* -1 (e set) when the registry is full: an output that a signal could
+ * leave behind is refused rather than silently unguarded. */
+static int
+tmp_register(const char *path, int dir, tl_err *e)
 {
 	static const int sigs[] = { SIGINT, SIGTERM, SIGHUP, SIGPIPE };
 	struct sigaction sa;
+	sigset_t old;
+	int i;
 
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigfillset(&sa.sa_mask);
-	for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++)
-		sigaction(sigs[i], &sa, NULL);
-	for (int i = 0; i < MAXTMP; i++)
-		if (tmps[i].path == NULL) {
-			tmps[i].dir = dir;
-			tmps[i].path = path;
-			return;
-		}
+	tmps_enter(&old);
+	for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++)
+		sigaction(sigs[k], &sa, NULL);
+	for (i = 0; i < MAXTMP && tmps[i].path != NULL; i++)
+		;
+	if (i < MAXTMP) {
+		tmps[i].dir = dir;
+		__atomic_store_n(&tmps[i].path, path, __ATOMIC_RELEASE);
+	}
+	tmps_leave(&old);
+	return i < MAXTMP ? 0 : tl_fail(e, "%s: more than %d temporary "
+	    "outputs at once", path, MAXTMP);
 }
 
 static void
 tmp_unregister(const char *path)
 {
+	sigset_t old;
+
+	tmps_enter(&old);
 	for (int i = 0; i < MAXTMP; i++)
 		if (tmps[i].path == path)
-			tmps[i].path = NULL;
+			__atomic_store_n(&tmps[i].path, NULL, __ATOMIC_RELEASE);
+	tmps_leave(&old);
 }
 
 static mode_t
@@ -232,7 +270,14 @@ tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 		return -1;
 	}
 	fchmod(o->fd, 0666 & ~current_umask());
-	tmp_register(o->tmp, 0);
+	if (tmp_register(o->tmp, 0, e) < 0) {
+		close(o->fd);
+		unlink(o->tmp);
+		free(o->path), free(o->tmp);
+		o->path = o->tmp = NULL;
+		o->fd = -1;
+		return -1;
+	}
 	return 0;
 }
 
@@ -284,7 +329,12 @@ tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 		return -1;
 	}
 	chmod(o->tmp, 0777 & ~current_umask());
-	tmp_register(o->tmp, 1);
+	if (tmp_register(o->tmp, 1, e) < 0) {
+		rmdir(o->tmp);
+		free(o->path), free(o->tmp);
+		o->path = o->tmp = NULL;
+		return -1;
+	}
 	return 0;
 }
 
