@@ -99,18 +99,17 @@ static int
 check_level(const fqm_info *fi, int l, const georef *g, const char *name,
     tl_err *e)
 {
+	const char *what;
+
 	if (fi->level != l)
 		return tl_fail(e, "%s: is level %d, expected level %d (levels "
 		    "go in order from 0)", name, fi->level, l);
 	if (fi->size0[0] != g->width || fi->size0[1] != g->height)
 		return tl_fail(e, "%s: made from a %dx%d DEM, the DEM is %dx%d",
 		    name, fi->size0[0], fi->size0[1], g->width, g->height);
-	if (fi->geo.model != g->model || fi->geo.epsg != g->epsg ||
-	    fi->geo.origin[0] != g->origin[0] ||
-	    fi->geo.origin[1] != g->origin[1] ||
-	    fi->geo.step[0] != g->step[0] || fi->geo.step[1] != g->step[1])
-		return tl_fail(e, "%s: georeferencing differs from the DEM's",
-		    name);
+	if ((what = geo_differs(&fi->geo, g)) != NULL)
+		return tl_fail(e, "%s: georeferencing (%s) differs from the "
+		    "DEM's: made with other DEM options?", name, what);
 	return 0;
 }
 
@@ -253,6 +252,20 @@ check_dir(const options *o, tl_err *e)
 	return 0;
 }
 
+/* Levels 0 .. the first that fits one block, no fewer, no more: the
+ * rule viewers and the checker hold a pyramid to. */
+static int
+levels_complete(const py_index *ix, tl_err *e)
+{
+	int want = fqm_levels(ix->size0[0], ix->size0[1]);
+
+	if (ix->nlevels == want)
+		return 0;
+	return tl_fail(e, "%d levels given, a %dx%d DEM's pyramid has %d "
+	    "(0 .. the first that fits one %dx%d block)", ix->nlevels,
+	    ix->size0[0], ix->size0[1], want, FQM_BLOCK, FQM_BLOCK);
+}
+
 static int
 pack(const options *o, tl_err *e)
 {
@@ -276,7 +289,9 @@ pack(const options *o, tl_err *e)
 	    tl_outdir_begin(&out, o->dir, e) < 0)
 		goto done;
 	w.tmp = out.tmp;
-	if (run_levels(&w, e) < 0 || py_index_write(out.tmp, &ix, e) < 0)
+	/* the count after the levels, whose own faults say more */
+	if (run_levels(&w, e) < 0 || levels_complete(&ix, e) < 0 ||
+	    py_index_write(out.tmp, &ix, e) < 0)
 		goto done;
 	r = tl_outdir_commit(&out, e);
 	for (int l = 0; r == 0 && !o->quiet && l < o->nlevels; l++) {

@@ -75,6 +75,12 @@ fails "a level of another DEM" 1 "^tilepack: .*made from a 64x48 DEM, the DEM is
     tilepack "$T/spike.tif" "$T/o/p" "$T/hv0.exr"
 fails "an FQM instead of a vertex map" 1 "is a fqm map, expected vertices" \
     tilepack "$T/hills.tif" "$T/o/p" "$T/h0.exr"
+fails "a level too many" 1 "^tilepack: 2 levels given, a 64x48 DEM's pyramid has 1" \
+    tilepack "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/hv1.exr"
+gdal_translate -q -srcwin 0 0 200 150 "$DATA/bigtujunga.tif" "$T/crop.tif" &&
+    dem2fqm "$T/crop.tif" - | fqmsolve - "$T/cv0.exr"
+fails "a level too few" 1 "^tilepack: 1 levels given, a 200x150 DEM's pyramid has 2" \
+    tilepack "$T/crop.tif" "$T/o/p" "$T/cv0.exr"
 fails "a missing level file" 1 "^tilepack: .*nosuch.exr" \
     tilepack "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/nosuch.exr"
 fqmsolve "$T/h1.exr" - | head -c 5000 >"$T/cut.fqm"
@@ -87,9 +93,11 @@ mkdir "$T/o/keep" && touch "$T/o/keep/precious"
 fails "a directory that is not a pyramid is not replaced" 1 "not a pyramid" \
     tilepack "$T/hills.tif" "$T/o/keep" "$T/hv0.exr" "$T/hv1.exr"
 [ -f "$T/o/keep/precious" ]; ok $? "... and keeps its files"
+fqmsolve -m subsample "$T/h0.exr" "$T/hs0.exr"
 tilepack -q "$T/hills.tif" "$T/o/p" "$T/hv0.exr" &&
-    tilepack -q "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/hv1.exr" &&
-    [ -d "$T/o/p/1" ] && [ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ]
+    tilepack -q "$T/hills.tif" "$T/o/p" "$T/hs0.exr" &&
+    grep -q '"mode": "subsample"' "$T/o/p/index.json" &&
+    [ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ]
 ok $? "a pyramid is replaced by a newer one, atomically, nothing else left"
 
 # killed in the middle: no pyramid, no temporary directory

@@ -108,6 +108,31 @@ geo_from_header(georef *g, const rs_header *h, tl_err *e)
 	return 0;
 }
 
+const char *
+geo_differs(const georef *a, const georef *b)
+{
+	if (a->model != b->model)
+		return "model";
+	if (a->epsg != b->epsg || strcmp(a->crs, b->crs) != 0)
+		return "crs";
+	if (a->point != b->point)
+		return "raster";
+	if (a->origin[0] != b->origin[0] || a->origin[1] != b->origin[1])
+		return "origin";
+	if (a->step[0] != b->step[0] || a->step[1] != b->step[1])
+		return "step";
+	if (a->unit != b->unit)
+		return "unit";
+	if (a->cell[0] != b->cell[0] || a->cell[1] != b->cell[1])
+		return "cell";
+	if (strcmp(a->vdatum, b->vdatum) != 0)
+		return "vdatum";
+	if (a->has_nodata != b->has_nodata || (a->has_nodata &&
+	    a->nodata != b->nodata && !(isnan(a->nodata) && isnan(b->nodata))))
+		return "nodata";
+	return NULL;
+}
+
 /* --- grid geometry ------------------------------------------------------ */
 
 void

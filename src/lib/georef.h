@@ -35,6 +35,11 @@ typedef struct {
 int geo_to_header(const georef *g, rs_header *h, tl_err *e);
 int geo_from_header(georef *g, const rs_header *h, tl_err *e);
 
+/* The first field in which two georeferencings differ ("crs", "origin",
+ * "vdatum", ...), NULL when they are the same (a NaN nodata equals a NaN
+ * nodata): what "made from the same DEM, read the same way" means. */
+const char *geo_differs(const georef *a, const georef *b);
+
 /* CRS coordinates of the centre of vertex (i, j) of a level: level-0
  * position (i*2^level, j*2^level). */
 void geo_vertex_crs(const georef *g, int level, double i, double j,
