@@ -2,7 +2,17 @@
 # usage) and leaves no output file behind.
 . "$(dirname "$0")/lib.sh"
 
-/usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; done_testing; exit 1; }
+/usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; # The same file as input and output: refused, the input untouched.
+cp "$T/hills.tif" "$T/same.tif" && cp "$T/h0.exr" "$T/same.exr"
+fails "dem2fqm DEM DEM" 1 "^dem2fqm: .*same.tif: is both the input and the output" \
+    dem2fqm "$T/same.tif" "$T/same.tif"
+cmp -s "$T/same.tif" "$T/hills.tif"; ok $? "dem2fqm DEM DEM: the DEM untouched"
+fails "fqmfilter L L" 1 "^fqmfilter: .*same.exr: is both the input and the output" \
+    fqmfilter "$T/same.exr" "$T/same.exr"
+fails "fqmsolve - - <L >>L" 1 "^fqmsolve: stdout: is both the input and the output" \
+    sh -c 'fqmsolve - - <"$1" >>"$1"' sh "$T/same.exr"
+cmp -s "$T/same.exr" "$T/h0.exr"; ok $? "fqmfilter, fqmsolve: the map untouched"
+done_testing; exit 1; }
 o=$T/out.exr
 
 # no_output: nothing named out.exr, nor a temporary beside it
@@ -87,4 +97,14 @@ for p in dem2fqm fqmfilter fqmsolve; do
 	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/util.h")" ]
 	ok $? "$p --version"
 done
+# The same file as input and output: refused, the input untouched.
+cp "$T/hills.tif" "$T/same.tif" && cp "$T/h0.exr" "$T/same.exr"
+fails "dem2fqm DEM DEM" 1 "^dem2fqm: .*same.tif: is both the input and the output" \
+    dem2fqm "$T/same.tif" "$T/same.tif"
+cmp -s "$T/same.tif" "$T/hills.tif"; ok $? "dem2fqm DEM DEM: the DEM untouched"
+fails "fqmfilter L L" 1 "^fqmfilter: .*same.exr: is both the input and the output" \
+    fqmfilter "$T/same.exr" "$T/same.exr"
+fails "fqmsolve - - <L >>L" 1 "^fqmsolve: stdout: is both the input and the output" \
+    sh -c 'fqmsolve - - <"$1" >>"$1"' sh "$T/same.exr"
+cmp -s "$T/same.exr" "$T/h0.exr"; ok $? "fqmfilter, fqmsolve: the map untouched"
 done_testing

@@ -61,6 +61,21 @@ tl_warn(const char *prog, const char *fmt, ...)
 	fputc('\n', stderr);
 }
 
+/* 1 when in and out ("-": stdin, stdout) are one regular file: writing
+ * the output would destroy the input. */
+static int
+same_file(const char *in, const char *out)
+{
+	struct stat a, b;
+
+	if ((strcmp(in, "-") == 0 ? fstat(STDIN_FILENO, &a) : stat(in, &a)) != 0 ||
+	    (strcmp(out, "-") == 0 ? fstat(STDOUT_FILENO, &b) :
+	    stat(out, &b)) != 0)
+		return 0;
+	return S_ISREG(a.st_mode) && a.st_dev == b.st_dev &&
+	    a.st_ino == b.st_ino;
+}
+
 int
 tl_operands(const char *prog, int argc, char **argv, const char **in,
     const char **out)
@@ -71,6 +86,11 @@ tl_operands(const char *prog, int argc, char **argv, const char **in,
 	*out = argc > 1 ? argv[1] : "-";
 	if (strcmp(*out, "-") == 0 && isatty(STDOUT_FILENO)) {
 		tl_warn(prog, "stdout: refusing to write a stream to a terminal");
+		return 1;
+	}
+	if (same_file(*in, *out)) {
+		tl_warn(prog, "%s: is both the input and the output: refusing "
+		    "to replace the input", tl_name(*out, 1));
 		return 1;
 	}
 	return 0;
