@@ -128,4 +128,12 @@ make -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" >"$T/mk" 2>&1
 [ "$(grep -c dem2vgis "$T/mk")" = 1 ] && grep -q spike.tif "$T/mk" &&
     [ "$(ls -l --time-style=+%s.%N "$T/pyrs/hills.tif/index.json")" = "$before" ]
 ok $? "examples/Makefile redoes only the changed DEM"
+# Options dem2vgis passes on are tried first: no hang, exit 2, no output.
+for bad in "-r 2" "-k lanczos" "-j x"; do
+	# shellcheck disable=SC2086
+	fails "dem2vgis $bad: a usage error before any work" 2 \
+	    "^(fqmsolve|fqmfilter|dem2vgis): " \
+	    timeout 20 dem2vgis $bad "$T/hills.tif" "$T/o/bad"
+	[ ! -e "$T/o/bad" ]; ok $? "dem2vgis $bad: no output"
+done
 done_testing
