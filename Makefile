@@ -28,7 +28,7 @@ ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(PKGCF) -Isrc/lib \
 ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) $(PKGCF) -Isrc/lib
 LDLIBS   = -Wl,--as-needed $(PKGLIBS) -lz -lstdc++ -lm -lpthread -ldl
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck
 LIBC    := $(wildcard src/lib/*.c)
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.

@@ -1,7 +1,6 @@
 /* tileplay - the VGIS pyramid's player: an interactive OpenGL view of a
  * pyramid (GLFW), headless screenshots and scripted flights (EGL, no
- * display needed), and --verify, verify.h's brute-force checks, with no
- * GL at all. */
+ * display needed), and --verify, an alias of tilecheck(1). */
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -19,7 +18,6 @@
 
 static const char *prog = "tileplay";
 
-#define MAXTAU 64
 #define MAXKEY 256 /* keyframes of a --path file */
 
 static void
@@ -73,10 +71,7 @@ usage(FILE *f)
 }
 
 typedef struct {
-	dem_opts dem;
-	const char *verify, *dem_path;
-	double tau[MAXTAU];
-	int ntau;
+	vf_args chk;    /* --verify dir, --dem, --tau, the DEM options */
 	/* the player */
 	const char *dir, *shot, *view, *path;
 	int fly, wait, frames, stats, readout, size_set;
@@ -88,120 +83,14 @@ typedef struct {
 	gl_style style;
 } options;
 
-/* --- the report ----------------------------------------------------- */
-
-/* Kinds that ran on this level: fold on displaced levels, the DEM ones
- * with a DEM. */
-static int
-ran(const vf_report *r, const vf_level *L, int k)
-{
-	if (k == VF_FOLD)
-		return L->displaced;
-	if (k == VF_ERROR || k == VF_BASE || k == VF_LOCAL ||
-	    k == VF_COVERAGE)
-		return r->dem;
-	return 1;
-}
-
-static void
-print_level(const vf_report *r, const vf_level *L)
-{
-	printf("level %d: %dx%d vertices, %dx%d blocks (%lld read), %s\n",
-	    L->level, L->size[0], L->size[1], L->blocks[0], L->blocks[1],
-	    L->blocks_read, L->displaced ? "displaced (X Y)" : "1D");
-	printf("  violations:");
-	for (int k = 0; k < VF_NKIND; k++) {
-		if (ran(r, L, k))
-			printf(" %s %lld", vf_kind_name(k), L->count[k]);
-		else
-			printf(" %s -", vf_kind_name(k));
-	}
-	printf("\n  largest E %.6g m, base error %.6g m", L->emax, L->base);
-	if (r->dem)
-		printf(" (finest triangles: %.6g m), largest local error "
-		    "%.6g m, %lld valid samples", L->base_real, L->local_max,
-		    L->samples);
-	printf("\n  %12s %12s %12s\n", "tau", "triangles",
-	    r->dem ? "max error" : "");
-	for (int t = 0; t < L->ntau; t++) {
-		printf("  %12.6g %12lld", L->tau[t].tau, L->tau[t].triangles);
-		if (r->dem)
-			printf(" %12.6g", L->tau[t].maxerr);
-		putchar('\n');
-	}
-	if (r->dem && !isnan(L->tight))
-		printf("  tightness: max error / tau %.4f at tau %.6g in block "
-		    "(%d,%d)\n", L->tight, L->tight_tau, L->tight_block[0],
-		    L->tight_block[1]);
-}
-
-static void
-print_issue(const vf_issue *s)
-{
-	if (s->level >= 0)
-		printf("  level %d", s->level);
-	else
-		printf("  pyramid");
-	if (s->block[0] >= 0)
-		printf(" block (%d,%d)", s->block[0], s->block[1]);
-	if (s->vertex[0] >= 0)
-		printf(" vertex (%d,%d)", s->vertex[0], s->vertex[1]);
-	if (!isnan(s->tau))
-		printf(" tau %.6g", s->tau);
-	printf(": %s: %s\n", vf_kind_name(s->kind), s->text);
-}
-
-static void
-print_report(const char *dir, const options *o, const vf_report *r,
-    int max_issues)
-{
-	printf("pyramid %s: %d levels, level 0 %dx%d; ", dir, r->nlevels,
-	    r->size0[0], r->size0[1]);
-	if (r->dem)
-		printf("DEM %s\n", o->dem_path);
-	else
-		printf("no DEM: error, base, local, coverage not checked\n");
-	for (int l = 0; l < r->nlevels; l++)
-		print_level(r, &r->lev[l]);
-	if (r->nissue > 0) {
-		printf("violations (at most %d of each kind per level):\n",
-		    max_issues);
-		for (int k = 0; k < r->nissue; k++)
-			print_issue(&r->issue[k]);
-	}
-	if (r->total == 0) {
-		printf("result: pass\n");
-		return;
-	}
-	printf("result: FAIL, %lld violations:", r->total);
-	for (int k = 0; k < VF_NKIND; k++)
-		if (r->count[k] > 0)
-			printf(" %s %lld", vf_kind_name(k), r->count[k]);
-	putchar('\n');
-}
-
+/* --verify: tilecheck(1) under its old name, the same library call;
+ * exit 1 when it cannot check, as it always did. */
 static int
 verify(const options *o)
 {
-	vf_opts vo;
-	vf_report r;
-	tl_err e;
-	int failed;
+	int r = vf_run(&o->chk, prog);
 
-	vf_opts_init(&vo);
-	if (o->ntau > 0) {
-		vo.tau = o->tau;
-		vo.ntau = o->ntau;
-	}
-	if (vf_check(o->verify, o->dem_path, &o->dem, &vo, &r, &e) < 0) {
-		tl_warn(prog, "%s", e.msg);
-		vf_report_free(&r);
-		return 1;
-	}
-	print_report(o->verify, o, &r, vo.max_issues);
-	failed = r.total > 0;
-	vf_report_free(&r);
-	return failed;
+	return r < 0 ? 1 : r;
 }
 
 /* --- the player: what every mode shares ------------------------------- */
@@ -958,26 +847,6 @@ view(const options *o, double t0)
 
 /* --- options -------------------------------------------------------- */
 
-static int
-parse_taus(const char *s, options *o)
-{
-	char buf[1024], *tok, *save;
-
-	if (strlen(s) >= sizeof buf)
-		return -1;
-	strcpy(buf, s);
-	o->ntau = 0;
-	for (tok = strtok_r(buf, ",", &save); tok != NULL;
-	    tok = strtok_r(NULL, ",", &save)) {
-		if (o->ntau == MAXTAU ||
-		    tl_parse_double(tok, &o->tau[o->ntau]) < 0 ||
-		    o->tau[o->ntau] < 0)
-			return -1;
-		o->ntau++;
-	}
-	return o->ntau > 0 ? 0 : -1;
-}
-
 /* Exactly n numbers separated by sep: "x,y,z", "WxH". */
 static int
 parse_nums(const char *s, int sep, double *v, int n)
@@ -1091,16 +960,16 @@ option(int c, const char *arg, options *o)
 
 	switch (c) {
 	case OPT_VERIFY:
-		o->verify = arg;
+		o->chk.dir = arg;
 		return 0;
 	case OPT_DEM:
-		o->dem_path = arg;
+		o->chk.dem_path = arg;
 		return 0;
 	case OPT_TAU:
-		if (parse_taus(arg, o) == 0)
+		if (vf_parse_taus(&o->chk, arg) == 0)
 			return 0;
 		tl_warn(prog, "--tau %s: expected up to %d numbers >= 0, "
-		    "comma-separated", arg, MAXTAU);
+		    "comma-separated", arg, VF_MAXTAU);
 		return 3;
 	case 'h':
 		usage(stdout);
@@ -1109,7 +978,7 @@ option(int c, const char *arg, options *o)
 		printf("%s %s\n", prog, TL_VERSION);
 		return 1;
 	}
-	switch (dem_option(&o->dem, c, arg, &e)) {
+	switch (dem_option(&o->chk.dem, c, arg, &e)) {
 	case 1:
 		return 0;
 	case -1:
@@ -1210,7 +1079,7 @@ main(int argc, char **argv)
 	    -1)
 		if ((r = option(c, optarg, &o)) != 0)
 			return r - 1;
-	if (o.verify != NULL) {
+	if (o.chk.dir != NULL) {
 		if (optind < argc) {
 			usage(stderr);
 			return 2;

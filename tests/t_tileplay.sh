@@ -54,6 +54,20 @@ mk n42-3 N42E001.hgt -3
 mk n48 N48W125.hgt
 mk n48-3 N48W125.hgt -3
 
+# An index.json is untrusted input: an empty or absurd level list, or a
+# level of the wrong size, is refused with exit 1, never a crash.
+hostile() {	# NAME PYTHON-EDIT: a copy of bt with index.json edited
+	rm -rf "$T/$1" && cp -r "$T/bt" "$T/$1" &&
+	    $PY -c "import json,sys; p=sys.argv[1]; ix=json.load(open(p)); $2; json.dump(ix, open(p, 'w'))" \
+	    "$T/$1/index.json"
+	fails "index.json with $1: exit 1, no crash" 1 "^tileplay: .*index.json: " \
+	    tileplay "$T/$1" --shot "$T/h.png"
+}
+hostile nolevels "ix['levels'] = []"
+hostile 26levels "ix['levels'] = ix['levels'] + [ix['levels'][-1]] * 21"
+hostile bigsize "ix['size0'] = [1 << 30, 643]"
+hostile wrongsize "ix['levels'][1]['size'] = [5, 5]"
+
 # The picture checks, in numpy over GDAL's reading of the PNG.
 cat >"$T/px.py" <<'EOF'
 import json, math, sys

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "fqm.h"
+
 int
 py_nblocks(int n)
 {
@@ -209,8 +211,10 @@ get_doubles(json_t *o, const char *key, double *v, size_t n)
 	return 0;
 }
 
+/* Entry `want` of the levels array of a size0 pyramid. */
 static int
-level_from_json(json_t *o, py_level *L, const char *what, tl_err *e)
+level_from_json(json_t *o, py_level *L, int want, const int size0[2],
+    const char *what, tl_err *e)
 {
 	int level, w, h, bx, by, displaced;
 	const char *mode, *kernel;
@@ -224,6 +228,12 @@ level_from_json(json_t *o, py_level *L, const char *what, tl_err *e)
 	if (w < 2 || h < 2 || w > (1 << 26) || h > (1 << 26))
 		return tl_fail(e, "%s: level %d: bad size %dx%d", what, level,
 		    w, h);
+	if (level != want || w != fqm_level_size(size0[0], level) ||
+	    h != fqm_level_size(size0[1], level))
+		return tl_fail(e, "%s: level %d (entry %d): size %dx%d, level "
+		    "%d of a %dx%d DEM is %dx%d", what, level, want, w, h, want,
+		    size0[0], size0[1], fqm_level_size(size0[0], want),
+		    fqm_level_size(size0[1], want));
 	if (py_level_init(L, level, w, h, e) < 0)
 		return -1;
 	if (L->blocks[0] != bx || L->blocks[1] != by)
@@ -273,13 +283,27 @@ py_index_read(const char *dir, py_index *ix, tl_err *e)
 		goto done;
 	}
 	ix->geo.width = ix->size0[0], ix->geo.height = ix->size0[1];
+	/* an untrusted file: sizes checked before anything is allocated */
+	if (ix->size0[0] < 3 || ix->size0[1] < 3 || ix->size0[0] > (1 << 26) ||
+	    ix->size0[1] > (1 << 26)) {
+		tl_fail(e, "%s: size0 %dx%d outside 3 .. 2^26", path,
+		    ix->size0[0], ix->size0[1]);
+		goto done;
+	}
+	if (json_array_size(levels) !=
+	    (size_t)fqm_levels(ix->size0[0], ix->size0[1])) {
+		tl_fail(e, "%s: %zu levels, a %dx%d pyramid has %d", path,
+		    json_array_size(levels), ix->size0[0], ix->size0[1],
+		    fqm_levels(ix->size0[0], ix->size0[1]));
+		goto done;
+	}
 	ix->nlevels = (int)json_array_size(levels);
 	ix->lev = tl_alloc(ix->nlevels, sizeof *ix->lev, e);
 	if (ix->lev == NULL)
 		goto done;
 	for (int l = 0; l < ix->nlevels; l++)
-		if (level_from_json(json_array_get(levels, l), &ix->lev[l], path,
-		    e) < 0)
+		if (level_from_json(json_array_get(levels, l), &ix->lev[l], l,
+		    ix->size0, path, e) < 0)
 			goto done;
 	r = 0;
 done:

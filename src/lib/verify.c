@@ -223,7 +223,7 @@ typedef struct {
 	const char *dir;
 	vf_opts o;
 	vf_report *r;
-	py_index ix;
+	vf_index ix;
 	vf_tree tree;
 	dem *dem;
 	int W, H;          /* level-0 size */
@@ -246,7 +246,7 @@ typedef struct {
 
 typedef struct {
 	checker *c;
-	const py_level *L;
+	const vf_ilevel *L;
 	vf_level *R;
 	int l, s, bx, by, disp;
 	double *tau;
@@ -1224,7 +1224,7 @@ done:
 static void
 check_levels(checker *c)
 {
-	const py_index *ix = &c->ix;
+	const vf_index *ix = &c->ix;
 	int top = 0;
 
 	while (fqm_level_size(ix->size0[0], top) > BT_SIZE ||
@@ -1235,7 +1235,7 @@ check_levels(checker *c)
 		    "DEM has %d (the top is the first of one block)",
 		    ix->nlevels, ix->size0[0], ix->size0[1], top + 1);
 	for (int l = 0; l < ix->nlevels; l++) {
-		const py_level *L = &ix->lev[l];
+		const vf_ilevel *L = &ix->lev[l];
 		size_t nb = (size_t)L->blocks[0] * L->blocks[1];
 		int w = fqm_level_size(ix->size0[0], l);
 		int h = fqm_level_size(ix->size0[1], l);
@@ -1315,7 +1315,7 @@ report_init(checker *c)
 		return -1;
 	r->nlevels = c->ix.nlevels;
 	for (int l = 0; l < r->nlevels; l++) {
-		const py_level *L = &c->ix.lev[l];
+		const vf_ilevel *L = &c->ix.lev[l];
 		vf_level *R = &r->lev[l];
 		size_t nb = (size_t)L->blocks[0] * L->blocks[1];
 		R->level = l;
@@ -1347,7 +1347,7 @@ vf_check(const char *dir, const char *dem_path, const dem_opts *dopt,
 		c.o.max_issues = 0;
 	if (vf_tree_init(&c.tree, e) < 0)
 		return -1;
-	if (py_index_read(dir, &c.ix, e) < 0)
+	if (vf_index_read(dir, &c.ix, e) < 0)
 		goto done;
 	if (report_init(&c) < 0)
 		goto done;
@@ -1368,7 +1368,7 @@ done:
 	if (c.dem != NULL)
 		dem_close(c.dem);
 	geo_metric_free(&c.metric);
-	py_index_free(&c.ix);
+	vf_index_free(&c.ix);
 	vf_tree_free(&c.tree);
 	return ret;
 }

@@ -1,4 +1,6 @@
-/* verify.h - the brute-force checker of a VGIS pyramid (tileplay --verify).
+/* verify.h - the brute-force checker of a VGIS pyramid (tilecheck(1),
+ * tileplay --verify): the checks (verify.c), its own index.json reader
+ * (verify_index.c), the report and the programs' entry (verify_report.c).
  *
  * It trusts neither the producer nor bintree.c: the hierarchy is derived
  * here from the SPEC's split rule by building a block's bintree
@@ -37,6 +39,8 @@
  * level kept in the report. */
 #ifndef TL_VERIFY_H
 #define TL_VERIFY_H
+
+#include <stdio.h>
 
 #include "bintree.h"
 #include "dem.h"
@@ -153,5 +157,53 @@ typedef struct {
 int vf_check(const char *dir, const char *dem_path, const dem_opts *dopt,
     const vf_opts *o, vf_report *r, tl_err *e);
 void vf_report_free(vf_report *r);
+
+/* --- the programs' side: options, report, run (verify_report.c) ----- */
+
+#define VF_MAXTAU 64
+
+/* What tilecheck and tileplay --verify take. */
+typedef struct {
+	const char *dir;      /* the pyramid */
+	const char *dem_path; /* --dem, or NULL */
+	dem_opts dem;         /* -D -e -H -N -n -s */
+	double tau[VF_MAXTAU]; /* --tau, ntau of them (0: the sweep) */
+	int ntau;
+} vf_args;
+
+/* "t,...": up to VF_MAXTAU numbers >= 0 into a->tau; -1 when not. */
+int vf_parse_taus(vf_args *a, const char *s);
+
+/* The report as the programs print it: a block per level, the kept
+ * violations, "result: pass" or "result: FAIL, n violations: ...". */
+void vf_report_print(FILE *f, const vf_report *r, const char *dir,
+    const char *dem_path, int max_issues);
+
+/* Checks a->dir (against a->dem_path if set) and prints the report on
+ * stdout. Returns 0 when every check passes, 1 on violations, -1 when
+ * it cannot check (then "prog: what: why" on stderr, no report). */
+int vf_run(const vf_args *a, const char *prog);
+
+/* --- index.json as the checker reads it (verify_index.c) ------------
+ * Its own reader, sharing no code with the producer's (pyramid.c). */
+
+typedef struct {
+	int level, size[2], blocks[2], displaced;
+	char mode[64], kernel[64];
+	double *zmin, *zmax, *base, *emax; /* per block, row-major */
+} vf_ilevel;
+
+typedef struct {
+	int size0[2];
+	georef geo;
+	int nlevels;
+	vf_ilevel *lev;
+} vf_index;
+
+/* Fails on a missing or unreadable file, text that is not JSON, and an
+ * index it cannot check against (fields missing or of the wrong type,
+ * block counts not those of the level's size). */
+int vf_index_read(const char *dir, vf_index *ix, tl_err *e);
+void vf_index_free(vf_index *ix);
 
 #endif
