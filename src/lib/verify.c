@@ -317,32 +317,6 @@ selected(const blk *b, int k, double tau)
 
 /* --- reading blocks ------------------------------------------------- */
 
-static const char *
-geo_diff(const georef *a, const georef *b)
-{
-	if (a->model != b->model)
-		return "model";
-	if (a->epsg != b->epsg || strcmp(a->crs, b->crs) != 0)
-		return "crs";
-	if (a->point != b->point)
-		return "raster";
-	if (a->origin[0] != b->origin[0] || a->origin[1] != b->origin[1])
-		return "origin";
-	if (a->step[0] != b->step[0] || a->step[1] != b->step[1])
-		return "step";
-	if (a->unit != b->unit)
-		return "unit";
-	if (strcmp(a->vdatum, b->vdatum) != 0)
-		return "vdatum";
-	if (a->cell[0] != b->cell[0] || a->cell[1] != b->cell[1])
-		return "cell";
-	/* NaN == NaN here: a NaN nodata is the same declaration */
-	if (a->has_nodata != b->has_nodata || (a->has_nodata &&
-	    a->nodata != b->nodata && !(isnan(a->nodata) && isnan(b->nodata))))
-		return "nodata";
-	return NULL;
-}
-
 static void
 check_vgis(lv *v, const rs_header *h, int bi, int bj)
 {
@@ -390,7 +364,7 @@ check_fqm(lv *v, const rs_header *h, int bi, int bj)
 		BNOTE(v, VF_INDEX, bi, bj, "geo:model or geo:origin missing");
 	else if (geo_from_header(&g, h, &e) < 0)
 		BNOTE(v, VF_INDEX, bi, bj, "%s", e.msg);
-	else if ((what = geo_diff(&g, &c->ix.geo)) != NULL)
+	else if ((what = geo_differs(&g, &c->ix.geo)) != NULL)
 		BNOTE(v, VF_INDEX, bi, bj, "geo:%s differs from the index's "
 		    "georef", what);
 	if (rs_get_int(h, "fqm:level", &iv) < 0 || iv != v->l)
@@ -1297,7 +1271,7 @@ open_dem(checker *c, const char *path, const dem_opts *dopt)
 		return tl_fail(c->e, "%s: %dx%d samples, the pyramid was made "
 		    "from %dx%d", path, c->W, c->H, c->ix.size0[0],
 		    c->ix.size0[1]);
-	if ((what = geo_diff(g, &c->ix.geo)) != NULL)
+	if ((what = geo_differs(g, &c->ix.geo)) != NULL)
 		note(c, VF_INDEX, -1, -1, -1, -1, -1, NAN, "%s: georef %s "
 		    "differs from the index's", path, what);
 	c->r->dem = 1;
