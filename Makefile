@@ -19,22 +19,42 @@ CFLAGS  ?= -O2 -g
 CXXFLAGS ?= -O2 -g
 WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 
-# Resolved when a recipe runs, i.e. after $(B)/.deps has installed them.
-PKGS    := OpenEXR gdal libtiff-4 geographiclib OpenImageIO jansson proj egl epoxy glfw3 stb
-PKGCF    = $(shell pkg-config --cflags $(PKGS))
-PKGLIBS  = $(shell pkg-config --libs $(PKGS)) -lOpenEXRCore-3_1
-ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(PKGCF) -Isrc/lib \
-            -DTL_LIBDIR='"$(LIBDIR)"'
-ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) $(PKGCF) -Isrc/lib
-LDLIBS   = -Wl,--as-needed $(PKGLIBS) -lz -lstdc++ -lm -lpthread -ldl
+# The library is three layers, each an archive, dependencies one way:
+# core (rasters, DEM input, georeferencing, quadrics) <- pyramid (bintree,
+# blocks, checker) <- play (camera, meshes, cache, GL). A program links the
+# layers it uses and their packages only (tests/t_layers.sh checks the
+# includes). Package flags are resolved when a recipe runs, i.e. after
+# $(B)/.deps has installed them.
+CORE_PKGS := OpenEXR gdal geographiclib proj zlib
+PYR_PKGS  := jansson
+PLAY_PKGS := egl epoxy glfw3 stb
+TEST_PKGS := libtiff-4
+PKGS    := $(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS) OpenImageIO
+pkgcf    = $(shell pkg-config --cflags $(1))
+pkglibs  = $(shell pkg-config --libs $(1))
+ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) \
+            $(call pkgcf,$(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS)) \
+            -Isrc/lib -DTL_LIBDIR='"$(LIBDIR)"'
+ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) -Isrc/lib \
+            $(call pkgcf,geographiclib)
+SYSLIBS  = -lstdc++ -lm -lpthread -ldl
+
+LAYERS  := core pyramid play
+objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
+           $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
+CORE_A  := $(B)/libcore.a
+PYR_A   := $(B)/libpyramid.a
+PLAY_A  := $(B)/libplay.a
+CORE_LD  = $(CORE_A) -Wl,--as-needed $(call pkglibs,$(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
+PYR_LD   = $(PYR_A) $(CORE_A) -Wl,--as-needed $(call pkglibs,$(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
+PLAY_LD  = $(PLAY_A) $(PYR_A) $(CORE_A) -Wl,--as-needed \
+           $(call pkglibs,$(PLAY_PKGS) $(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
+ALL_LD   = $(PLAY_LD) $(call pkglibs,$(TEST_PKGS))
 
 PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck
-LIBC    := $(wildcard src/lib/*.c)
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
-LIBCXX  := $(filter-out src/lib/oiio_plugin.cpp,$(wildcard src/lib/*.cpp))
-LIBOBJ  := $(LIBC:src/lib/%.c=$(B)/lib/%.o) $(LIBCXX:src/lib/%.cpp=$(B)/lib/%.o)
 TESTC   := $(wildcard tests/t_*.c)
 TESTBIN := $(TESTC:tests/%.c=$(B)/tests/%)
 TOOLC   := $(wildcard tests/tools/*.c)
@@ -49,7 +69,7 @@ all: $(PROGS:%=$(B)/%) $(PLUGIN)
 $(B)/.deps:
 	@mkdir -p $(B)
 	@if ! command -v pkg-config >/dev/null || \
-	    ! pkg-config --exists $(PKGS) egl epoxy glfw3 libpng || \
+	    ! pkg-config --exists $(PKGS) libpng || \
 	    ! test -f /usr/share/proj/egm96_15.gtx; then \
 		echo "make: missing build dependencies; running scripts/install-deps"; \
 		sh scripts/install-deps; \
@@ -65,27 +85,36 @@ $(B)/lib/%.o: src/lib/%.cpp | $(B)/.deps
 	@mkdir -p $(@D)
 	$(CXX) $(ALLCXXFLAGS) -MMD -MP -c $< -o $@
 
-$(PLUGIN): src/lib/oiio_plugin.cpp src/lib/oiio_plugin.h | $(B)/.deps
-	$(CXX) -shared -fPIC $(ALLCXXFLAGS) -o $@ $< $(shell pkg-config --libs OpenImageIO)
+$(PLUGIN): src/lib/core/oiio_plugin.cpp src/lib/core/oiio_plugin.h | $(B)/.deps
+	$(CXX) -shared -fPIC $(ALLCXXFLAGS) $(call pkgcf,OpenImageIO) -o $@ $< \
+	    $(call pkglibs,OpenImageIO)
 
-$(B)/libtl.a: $(LIBOBJ)
+$(CORE_A): $(call objs,core)
+$(PYR_A): $(call objs,pyramid)
+$(PLAY_A): $(call objs,play)
+$(CORE_A) $(PYR_A) $(PLAY_A):
 	rm -f $@
 	ar rcs $@ $^
 
-$(B)/%.o: src/%.c | $(B)/.deps
+$(B)/cmd/%.o: src/cmd/%.c | $(B)/.deps
 	@mkdir -p $(@D)
 	$(CC) $(ALLCFLAGS) -MMD -MP -c $< -o $@
 
-$(B)/%: $(B)/%.o $(B)/libtl.a
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+# Each program with the layers it uses.
+$(B)/dem2fqm $(B)/fqmfilter $(B)/fqmsolve: $(B)/%: $(B)/cmd/%.o $(CORE_A)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(CORE_LD)
+$(B)/tilepack $(B)/tilecheck: $(B)/%: $(B)/cmd/%.o $(PYR_A) $(CORE_A)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PYR_LD)
+$(B)/tileplay: $(B)/%: $(B)/cmd/%.o $(PLAY_A) $(PYR_A) $(CORE_A)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD)
 
-$(B)/tests/%: tests/%.c $(B)/libtl.a
+$(B)/tests/%: tests/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(ALL_LD)
 
-$(B)/tools/%: tests/tools/%.c $(B)/libtl.a
+$(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(B)/libtl.a $(LDLIBS)
+	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(ALL_LD)
 
 check: all $(TESTBIN) $(TOOLBIN)
 	@sh tests/run
@@ -106,7 +135,7 @@ install: all
 	install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5
 
 clean:
-	rm -rf $(B)/lib $(B)/tests $(B)/tools $(B)/*.o $(B)/*.d $(B)/libtl.a $(PLUGIN) $(PROGS:%=$(B)/%)
+	rm -rf $(B)/lib $(B)/cmd $(B)/tests $(B)/tools $(B)/*.a $(PLUGIN) $(PROGS:%=$(B)/%)
 
 # tilepack and dem2vgis on a real DEM under ThreadSanitizer (a build of
 # their own in build-tsan/, the levels on parallel threads).

@@ -94,7 +94,7 @@ fails "too many operands" 2 "usage: dem2fqm" dem2fqm a b c
 for p in dem2fqm fqmfilter fqmsolve; do
 	$p --help >"$T/help" && grep -q "^usage: $p" "$T/help"
 	ok $? "$p --help prints usage on stdout, exit 0"
-	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/util.h")" ]
+	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/core/util.h")" ]
 	ok $? "$p --version"
 done
 # The same file as input and output: refused, the input untouched.

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bintree.h"
+#include "pyramid/bintree.h"
 #include "tap.h"
 
 #define N (2 * BT_CELLS + 1) /* a level of 2x2 blocks */

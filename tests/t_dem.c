@@ -15,10 +15,10 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "dem.h"
-#include "georef.h"
-#include "oiio_plugin.h"
-#include "raster.h"
+#include "core/dem.h"
+#include "core/georef.h"
+#include "core/oiio_plugin.h"
+#include "core/raster.h"
 #include "tap.h"
 
 /* top and fx stay below PATH_MAX; the paths built on them fit in 2x. */

@@ -18,8 +18,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "geodesy.h"
-#include "georef.h"
+#include "core/geodesy.h"
+#include "core/georef.h"
 #include "tap.h"
 
 #define QUARTER 32 /* level-0 samples: a quarter of a 128-cell block */

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "filter.h"
-#include "solve.h"
+#include "core/filter.h"
+#include "core/solve.h"
 #include "tap.h"
 
 static double
@@ -151,12 +151,12 @@ plane(double col, double row)
  * QEM-3D; returns the worst vertical deviation over all vertices of all
  * levels, padded ones past the edge included. */
 static double
-plane_pyramid(const fk_kernel *k, int W, int H, double *worst3d)
+plane_pyramid(const filter_kernel *k, int W, int H, double *worst3d)
 {
 	geo_metric m;
 	int n = 4 * (W > H ? W : H);
 	fqm_vertex *lev, *next;
-	sv_vertex *out;
+	solve_vertex *out;
 	double worst = 0;
 	int w = W, h = H;
 
@@ -196,37 +196,37 @@ plane_pyramid(const fk_kernel *k, int W, int H, double *worst3d)
 		}
 	}
 	for (int l = 0;; l++) {
-		for (int mode = SV_QEM1D; mode <= SV_QEM3D; mode++) {
-			sv_solver s;
-			sv_init(&s, mode, l, w, h, &m, NULL);
+		for (int mode = SOLVE_QEM1D; mode <= SOLVE_QEM3D; mode++) {
+			solve_state s;
+			solve_init(&s, mode, l, w, h, &m, NULL);
 			out = malloc(w * sizeof *out);
 			for (int j = 0; j < h; j++) {
-				sv_row(&s, lev + (size_t)j * w, out);
+				solve_row(&s, lev + (size_t)j * w, out);
 				for (int i = 0; i < w; i++) {
 					double ci = (double)i * (1 << l) + out[i].x / DX;
 					double cj = (double)j * (1 << l) + out[i].y / DY;
 					double dev = fabs(out[i].z - plane(ci, cj));
-					if (mode == SV_QEM1D)
+					if (mode == SOLVE_QEM1D)
 						worst = fmax(worst, dev);
 					else
 						*worst3d = fmax(*worst3d, dev);
 				}
 			}
 			free(out);
-			sv_free(&s);
+			solve_free(&s);
 		}
 		if (w <= 2 && h <= 2)
 			break;
-		fk_filter f;
-		fk_init(&f, k, l, w, h, W, H, &m, NULL);
+		filter_state f;
+		filter_init(&f, k, l, w, h, W, H, &m, NULL);
 		next = calloc((size_t)f.cw * f.ch, sizeof *next);
 		for (int j = 0, y = 0; y < f.ch; y++) {
-			while (!fk_ready(&f))
-				fk_push(&f, lev + (size_t)j++ * w);
-			fk_pull(&f, next + (size_t)y * f.cw);
+			while (!filter_ready(&f))
+				filter_push(&f, lev + (size_t)j++ * w);
+			filter_pull(&f, next + (size_t)y * f.cw);
 		}
 		w = f.cw, h = f.ch;
-		fk_free(&f);
+		filter_free(&f);
 		free(lev);
 		lev = next;
 	}
@@ -245,15 +245,15 @@ test_folds(int level, int W, int H, double reach)
 	geo_metric m;
 	int n = (W > H ? W : H) << (level + 1);
 	fqm_vertex *in = calloc(W, sizeof *in);
-	sv_vertex *lev = calloc((size_t)W * H, sizeof *lev);
-	sv_solver s;
+	solve_vertex *lev = calloc((size_t)W * H, sizeof *lev);
+	solve_state s;
 	unsigned seed = 99;
 	long bad = 0, moved = 0, outside = 0;
 	double sx, sy;
 
 	geo_metric_const(&m, n, DX, DY, NULL);
 	sx = DX * (1 << level), sy = DY * (1 << level);
-	sv_init(&s, SV_QEM3D, level, W, H, &m, NULL);
+	solve_init(&s, SOLVE_QEM3D, level, W, H, &m, NULL);
 	for (int j = 0; j < H; j++) {
 		for (int i = 0; i < W; i++) {
 			/* three planes through a random point: full rank */
@@ -271,11 +271,11 @@ test_folds(int level, int W, int H, double reach)
 			}
 			in[i].z = 100, in[i].v = 1;
 		}
-		sv_row(&s, in, lev + (size_t)j * W);
+		solve_row(&s, in, lev + (size_t)j * W);
 	}
 	for (int j = 0; j < H; j++)
 		for (int i = 0; i < W; i++) {
-			sv_vertex *v = &lev[(size_t)j * W + i];
+			solve_vertex *v = &lev[(size_t)j * W + i];
 			moved += v->x != 0 || v->y != 0;
 			if (fabs(v->x) > sx / 2 || fabs(v->y) > sy / 2 ||
 			    ((i == 0 || i == W - 1) && v->x != 0) ||
@@ -299,7 +299,7 @@ test_folds(int level, int W, int H, double reach)
 					if (ii < 0 || jj < 0 || ii >= W || jj >= H)
 						inside = 0;
 					else {
-						sv_vertex *u = &lev[(size_t)jj * W + ii];
+						solve_vertex *u = &lev[(size_t)jj * W + ii];
 						g3[k][0] = ii * sx, g3[k][1] = jj * sy;
 						p3[k][0] = g3[k][0] + u->x;
 						p3[k][1] = g3[k][1] + u->y;
@@ -317,11 +317,11 @@ test_folds(int level, int W, int H, double reach)
 				continue;
 			double g[4][2] = { { 0, 0 }, { sx, 0 }, { sx, sy },
 				{ 0, sy } }, p[4][2];
-			sv_vertex *c[4] = { v, v + 1, v + 1 + W, v + W };
+			solve_vertex *c[4] = { v, v + 1, v + 1 + W, v + W };
 			for (int k = 0; k < 4; k++)
 				p[k][0] = g[k][0] + c[k]->x,
 				p[k][1] = g[k][1] + c[k]->y;
-			bad += !sv_cell_ok(p, g, s.shrink);
+			bad += !solve_cell_ok(p, g, s.shrink);
 		}
 	ok(bad == 0 && outside == 0 && moved > W * H / 2,
 	    "QEM-3D %dx%d level %d, targets up to %.1f cell away: %ld "
@@ -329,7 +329,7 @@ test_folds(int level, int W, int H, double reach)
 	    "%ld of %d vertices "
 	    "moved, fold fix reduced %lld (zeroed %lld)", W, H, level, reach,
 	    bad, outside, moved, W * H, s.reduced, s.zeroed);
-	sv_free(&s);
+	solve_free(&s);
 	free(in), free(lev);
 	geo_metric_free(&m);
 }
@@ -344,7 +344,7 @@ main(void)
 	test_folds(0, 60, 40, 0.3);
 	test_folds(2, 60, 40, 1.0);
 	test_folds(3, 129, 129, 3.0);
-	for (const fk_kernel *k = fk_kernels; k->name; k++)
+	for (const filter_kernel *k = filter_kernels; k->name; k++)
 		for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
 			double w3, w1 = plane_pyramid(k, sizes[s][0], sizes[s][1],
 			    &w3);

@@ -1,6 +1,6 @@
 /* t_raster.c - both raster forms: bit-exact round trips, determinism,
  * pipes, damage and truncation reported, clean aborts, bounded memory. */
-#include "raster.h"
+#include "core/raster.h"
 #include "tap.h"
 
 #include <dirent.h>

@@ -15,7 +15,7 @@
 
 #include <proj.h>
 
-#include "vdatum.h"
+#include "core/vdatum.h"
 #include "tap.h"
 
 /* A SRTM tile's grid: EPSG:4326, PixelIsPoint, origin at its NW sample. */

@@ -19,13 +19,13 @@
 #include <tiffio.h>
 #include <unistd.h>
 
-#include "bintree.h"
-#include "dem.h"
-#include "fqm.h"
-#include "georef.h"
-#include "pyramid.h"
+#include "pyramid/bintree.h"
+#include "core/dem.h"
+#include "core/fqm.h"
+#include "core/georef.h"
+#include "pyramid/pyramid.h"
 #include "tap.h"
-#include "verify.h"
+#include "pyramid/verify.h"
 
 #define NODATA -9999.0f
 
@@ -151,8 +151,8 @@ bt_split(void *ctx, int gi, int gj)
 static void
 test_select(const vf_tree *t)
 {
-	static float e[PY_N];
-	static unsigned char sel[PY_N];
+	static float e[PYRAMID_N];
+	static unsigned char sel[PYRAMID_N];
 	static int out[2 * BT_CELLS * BT_CELLS];
 	tris a, b;
 	unsigned s = 7;
@@ -165,14 +165,14 @@ test_select(const vf_tree *t)
 	ok(full == 2L * BT_CELLS * BT_CELLS, "full selection: %ld leaves",
 	    full);
 	/* random errors scaled by the vertex's scale, saturated by bintree.c */
-	for (int k = 0; k < PY_N; k++) {
+	for (int k = 0; k < PYRAMID_N; k++) {
 		s = s * 1103515245u + 12345u;
 		e[k] = (float)((s >> 16) % 1000) *
 		    (float)bt_classify(k % BT_SIZE, k / BT_SIZE).h;
 	}
 	for (int h = 1; h <= BT_MAXH; h *= 2)
 		for (int pass = 0; pass < 2; pass++)
-			for (int k = 0; k < PY_N; k++) {
+			for (int k = 0; k < PYRAMID_N; k++) {
 				bt_class c = bt_classify(k % BT_SIZE, k / BT_SIZE);
 				int ch[4][2], nc;
 				if (c.h != h || (c.kind == BT_SQUARE) != pass)
@@ -185,7 +185,7 @@ test_select(const vf_tree *t)
 			}
 	sel_e = e;
 	for (sel_tau = 0; sel_tau < 64000; sel_tau = sel_tau * 3 + 100) {
-		for (int k = 0; k < PY_N; k++)
+		for (int k = 0; k < PYRAMID_N; k++)
 			sel[k] = e[k] > sel_tau;
 		a.n = b.n = 0;
 		bt_select(0, 0, bt_split, NULL, bt_emit, &a);
@@ -461,15 +461,15 @@ mode_of(const world *w, int l)
 }
 
 static int
-write_level(const world *w, const char *dir, grid *g, py_level *L)
+write_level(const world *w, const char *dir, grid *g, pyramid_level *L)
 {
-	py_block b;
+	pyramid_block b;
 	rs_header h;
 	char path[PATH_MAX];
 	tl_err e;
 	int r = 0;
 
-	if (py_block_alloc(&b, g->disp, &e) < 0 ||
+	if (pyramid_block_alloc(&b, g->disp, &e) < 0 ||
 	    attrs(w, g->l, mode_of(w, g->l), &h) < 0)
 		return -1;
 	snprintf(path, sizeof path, "%s/%d", dir, g->l);
@@ -478,7 +478,7 @@ write_level(const world *w, const char *dir, grid *g, py_level *L)
 		for (int bi = 0; bi < g->bx && r == 0; bi++) {
 			size_t kb = (size_t)bj * g->bx + bi;
 			double zl = INFINITY, zh = -INFINITY, em = 0, base = 0;
-			for (int k = 0; k < PY_N; k++) {
+			for (int k = 0; k < PYRAMID_N; k++) {
 				int c = k % BT_SIZE, q = k / BT_SIZE;
 				int gk = gidx(g, bi * BT_CELLS + c, bj * BT_CELLS + q);
 				b.z[k] = g->z[gk], b.e[k] = g->e[gk];
@@ -497,35 +497,35 @@ write_level(const world *w, const char *dir, grid *g, py_level *L)
 			b.zmin = L->zmin[kb] = zl, b.zmax = L->zmax[kb] = zh;
 			b.base = L->base[kb] = base;
 			L->emax[kb] = em;
-			py_block_path(path, sizeof path, dir, g->l, bi, bj);
-			r = py_block_write(path, &b, &h, &e);
+			pyramid_block_path(path, sizeof path, dir, g->l, bi, bj);
+			r = pyramid_block_write(path, &b, &h, &e);
 		}
 	if (r < 0)
 		printf("# %s\n", e.msg);
 	rs_header_free(&h);
-	py_block_free(&b);
+	pyramid_block_free(&b);
 	return r;
 }
 
 static int
 build(const world *w, const char *dir)
 {
-	py_index ix;
+	pyramid_index ix;
 	tl_err e;
 	int r = 0;
 
 	mkdir(dir, 0777);
 	memset(&ix, 0, sizeof ix);
-	ix.version = PY_VERSION;
+	ix.version = PYRAMID_VERSION;
 	ix.size0[0] = w->W, ix.size0[1] = w->H;
 	ix.geo = w->geo;
 	ix.lev = calloc(w->nlev, sizeof *ix.lev);
 	ix.nlevels = w->nlev;
 	for (int l = 0; l < w->nlev && r == 0; l++) {
-		py_level *L = &ix.lev[l];
+		pyramid_level *L = &ix.lev[l];
 		grid g = { .l = l, .s = 1 << l, .disp = w->disp[l] };
 		g.w = fqm_level_size(w->W, l), g.h = fqm_level_size(w->H, l);
-		if (py_level_init(L, l, g.w, g.h, &e) < 0)
+		if (pyramid_level_init(L, l, g.w, g.h, &e) < 0)
 			return -1;
 		L->displaced = g.disp;
 		snprintf(L->mode, sizeof L->mode, "%s", mode_of(w, l));
@@ -543,11 +543,11 @@ build(const world *w, const char *dir)
 		free(g.z), free(g.e), free(g.x), free(g.y), free(g.px);
 		free(g.py);
 	}
-	if (r == 0 && py_index_write(dir, &ix, &e) < 0) {
+	if (r == 0 && pyramid_index_write(dir, &ix, &e) < 0) {
 		printf("# %s\n", e.msg);
 		r = -1;
 	}
-	py_index_free(&ix);
+	pyramid_index_free(&ix);
 	return r;
 }
 
@@ -638,33 +638,33 @@ passes(const world *w, const char *dir)
 
 static int
 edit_block(const world *w, const char *dir, int l, int bi, int bj,
-    void (*fn)(py_block *, void *), void *arg)
+    void (*fn)(pyramid_block *, void *), void *arg)
 {
 	char path[PATH_MAX];
-	py_block b;
+	pyramid_block b;
 	rs_header h;
 	tl_err e;
 	int r;
 
-	if (py_block_alloc(&b, w->disp[l], &e) < 0)
+	if (pyramid_block_alloc(&b, w->disp[l], &e) < 0)
 		return -1;
 	b.level = l, b.bi = bi, b.bj = bj;
-	py_block_path(path, sizeof path, dir, l, bi, bj);
-	if (py_block_read(path, &b, &e) < 0 ||
+	pyramid_block_path(path, sizeof path, dir, l, bi, bj);
+	if (pyramid_block_read(path, &b, &e) < 0 ||
 	    attrs(w, l, mode_of(w, l), &h) < 0) {
 		printf("# %s\n", e.msg);
-		py_block_free(&b);
+		pyramid_block_free(&b);
 		return -1;
 	}
 	fn(&b, arg);
-	r = py_block_write(path, &b, &h, &e);
+	r = pyramid_block_write(path, &b, &h, &e);
 	rs_header_free(&h);
-	py_block_free(&b);
+	pyramid_block_free(&b);
 	return r;
 }
 
 static void
-bump_z(py_block *b, void *arg)
+bump_z(pyramid_block *b, void *arg)
 {
 	int k = *(int *)arg;
 
@@ -672,7 +672,7 @@ bump_z(py_block *b, void *arg)
 }
 
 static void
-lower_parent(py_block *b, void *arg)
+lower_parent(pyramid_block *b, void *arg)
 {
 	/* the block's centre (scale 64), below its children on the axes */
 	int m = 64 * BT_SIZE + 64;
@@ -684,22 +684,22 @@ lower_parent(py_block *b, void *arg)
 }
 
 static void
-corner_e(py_block *b, void *arg)
+corner_e(pyramid_block *b, void *arg)
 {
 	(void)arg;
 	b->e[0] = 1000;
 }
 
 static void
-scale_e(py_block *b, void *arg)
+scale_e(pyramid_block *b, void *arg)
 {
-	for (int k = 0; k < PY_N; k++)
+	for (int k = 0; k < PYRAMID_N; k++)
 		if (b->e[k] < FLT_MAX)
 			b->e[k] *= *(float *)arg;
 }
 
 static void
-move_x(py_block *b, void *arg)
+move_x(pyramid_block *b, void *arg)
 {
 	int *a = arg; /* vertex, level cells, metres per cell */
 
@@ -728,7 +728,7 @@ c_missing(const world *w, const char *d)
 	char p[PATH_MAX];
 
 	(void)w;
-	py_block_path(p, sizeof p, d, 0, 1, 0);
+	pyramid_block_path(p, sizeof p, d, 0, 1, 0);
 	return unlink(p);
 }
 
@@ -739,7 +739,7 @@ c_truncated(const world *w, const char *d)
 	struct stat st;
 
 	(void)w;
-	py_block_path(p, sizeof p, d, 0, 0, 1);
+	pyramid_block_path(p, sizeof p, d, 0, 0, 1);
 	if (stat(p, &st) < 0)
 		return -1;
 	return truncate(p, st.st_size / 2);
@@ -754,17 +754,17 @@ c_corner(const world *w, const char *d)
 static int
 c_zrange(const world *w, const char *d)
 {
-	py_index ix;
+	pyramid_index ix;
 	tl_err e;
 	int r;
 
 	(void)w;
-	if (py_index_read(d, &ix, &e) < 0)
+	if (pyramid_index_read(d, &ix, &e) < 0)
 		return -1;
 	ix.lev[0].zmin[1] -= 1;
 	ix.lev[0].zmax[1] += 1;
-	r = py_index_write(d, &ix, &e);
-	py_index_free(&ix);
+	r = pyramid_index_write(d, &ix, &e);
+	pyramid_index_free(&ix);
 	return r;
 }
 
@@ -773,12 +773,12 @@ c_zrange(const world *w, const char *d)
 static int
 c_small_e(const world *w, const char *d)
 {
-	py_index ix;
+	pyramid_index ix;
 	tl_err e;
 	float f = 0.02f;
 	int r = 0;
 
-	if (py_index_read(d, &ix, &e) < 0)
+	if (pyramid_index_read(d, &ix, &e) < 0)
 		return -1;
 	for (int bj = 0; bj < ix.lev[1].blocks[1] && r == 0; bj++)
 		for (int bi = 0; bi < ix.lev[1].blocks[0] && r == 0; bi++) {
@@ -788,8 +788,8 @@ c_small_e(const world *w, const char *d)
 			    f;
 		}
 	if (r == 0)
-		r = py_index_write(d, &ix, &e);
-	py_index_free(&ix);
+		r = pyramid_index_write(d, &ix, &e);
+	pyramid_index_free(&ix);
 	return r;
 }
 

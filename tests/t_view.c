@@ -8,8 +8,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cache.h"
-#include "fqm.h"
+#include "play/cache.h"
+#include "core/fqm.h"
 #include "tap.h"
 
 static char tmp[256];
@@ -75,18 +75,18 @@ triangles(const world *w, const lod_block *b, int n, long *skirts)
 
 	*skirts = 0;
 	for (int k = 0; k < n; k++) {
-		py_block blk;
+		pyramid_block blk;
 		mesh_tris tr = { 0 };
 		char path[4096];
-		py_block_alloc(&blk, w->ix.lev[b[k].level].displaced, &e);
+		pyramid_block_alloc(&blk, w->ix.lev[b[k].level].displaced, &e);
 		blk.level = b[k].level, blk.bi = b[k].bi, blk.bj = b[k].bj;
-		py_block_path(path, sizeof path, w->dir, b[k].level, b[k].bi,
+		pyramid_block_path(path, sizeof path, w->dir, b[k].level, b[k].bi,
 		    b[k].bj);
-		if (py_block_read(path, &blk, &e) == 0 &&
+		if (pyramid_block_read(path, &blk, &e) == 0 &&
 		    mesh_tris_build(&blk, b[k].tau, 1, &tr, &e) == 0)
 			t += tr.tris, *skirts += tr.skirts;
 		mesh_tris_free(&tr);
-		py_block_free(&blk);
+		pyramid_block_free(&blk);
 	}
 	return t;
 }
@@ -132,7 +132,7 @@ test_lod(const char *name)
 	world_block_box(&w, 0, 0, 0, wlo, whi);
 	{
 		double a[3], z[3];
-		const py_level *L0 = &w.ix.lev[0];
+		const pyramid_level *L0 = &w.ix.lev[0];
 		world_block_box(&w, 0, L0->blocks[0] - 1, L0->blocks[1] - 1, a, z);
 		wlo[1] = a[1], whi[0] = z[0];
 	}
@@ -239,7 +239,7 @@ test_cache(void)
 		return;
 	}
 	for (int f = 0; f < 60; f++) {
-		py_level *L = &w.ix.lev[0];
+		pyramid_level *L = &w.ix.lev[0];
 		cache_frame(c);
 		/* a moving window of 3 blocks over level 0 */
 		for (int k = 0; k < 3; k++) {

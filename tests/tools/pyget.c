@@ -6,12 +6,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "pyramid.h"
+#include "pyramid/pyramid.h"
 
 int
 main(int argc, char **argv)
 {
-	py_index ix;
+	pyramid_index ix;
 	tl_err e;
 	int l, gi, gj, found = 0;
 
@@ -20,22 +20,22 @@ main(int argc, char **argv)
 		return 2;
 	}
 	l = atoi(argv[2]), gi = atoi(argv[3]), gj = atoi(argv[4]);
-	if (py_index_read(argv[1], &ix, &e) < 0 || l < 0 || l >= ix.nlevels) {
+	if (pyramid_index_read(argv[1], &ix, &e) < 0 || l < 0 || l >= ix.nlevels) {
 		fprintf(stderr, "pyget: %s\n", l < 0 ? "bad level" : e.msg);
 		return 1;
 	}
-	py_level *L = &ix.lev[l];
+	pyramid_level *L = &ix.lev[l];
 	for (int bj = 0; bj < L->blocks[1]; bj++)
 		for (int bi = 0; bi < L->blocks[0]; bi++) {
 			int c = gi - bi * BT_CELLS, r = gj - bj * BT_CELLS, k;
 			char p[4096];
-			py_block b;
+			pyramid_block b;
 			if (c < 0 || r < 0 || c > BT_CELLS || r > BT_CELLS)
 				continue;
-			py_block_alloc(&b, L->displaced, &e);
+			pyramid_block_alloc(&b, L->displaced, &e);
 			b.level = l, b.bi = bi, b.bj = bj;
-			py_block_path(p, sizeof p, argv[1], l, bi, bj);
-			if (py_block_read(p, &b, &e) < 0) {
+			pyramid_block_path(p, sizeof p, argv[1], l, bi, bj);
+			if (pyramid_block_read(p, &b, &e) < 0) {
 				fprintf(stderr, "pyget: %s\n", e.msg);
 				return 1;
 			}
@@ -44,9 +44,9 @@ main(int argc, char **argv)
 			if (L->displaced)
 				printf(" %.9g %.9g", b.x[k], b.y[k]);
 			printf("\n");
-			py_block_free(&b);
+			pyramid_block_free(&b);
 			found++;
 		}
-	py_index_free(&ix);
+	pyramid_index_free(&ix);
 	return found ? 0 : 1;
 }

@@ -15,7 +15,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "raster.h"
+#include "core/raster.h"
 
 static void
 print_attr(const rs_attr *a)

@@ -1,0 +1,117 @@
+/* dem2fqm - a DEM in, its level-0 fundamental quadric map out: per vertex
+ * the area-weighted plane quadrics of its triangles, in its own frame. */
+#include <stdlib.h>
+
+#include "core/cli.h"
+#include "core/fqm0.h"
+#include "core/rowpipe.h"
+
+static const char usage[] =
+    "[-I] [-D datum] [-e encoding] [-H datum] [-N nodata] [-n name]\n"
+    "               [-s dx[,dy]] [-z compression] [dem [out]]\n"
+    "  -I              print the DEM's size, georeferencing, metric, datum, "
+    "voids\n"
+    "                  and level count; no output\n"
+    "  -D datum        the DEM's vertical datum (EPSG:5773) when it declares "
+    "none\n"
+    "  -e encoding     auto (default), grey, terrainrgb, terrarium\n"
+    "  -H datum        convert heights to datum: ellipsoid (WGS 84) or "
+    "EPSG:n\n"
+    "  -N nodata       void value, overriding the file's\n"
+    "  -n name         the file name of a DEM on stdin (N42E001.hgt)\n"
+    "  -s dx[,dy]      cell size in metres (overrides the CRS's metric)\n"
+    "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
+    "  dem             any raster GDAL reads, or EXR; - (stdin, default)\n"
+    "  out             level-0 FQM: EXR file or - (stream, default)\n";
+
+typedef struct {
+	int info;
+	const char *in, *out;
+} options;
+
+/* The work: the level-0 window over the DEM, one FQM row. */
+typedef struct {
+	fqm0_state s;
+	fqm_layout L;
+	fqm_vertex *fv;
+} job;
+
+static int
+fqm_row(void *ctx, int y, float *row, tl_err *e)
+{
+	job *j = ctx;
+
+	if (fqm0_row(&j->s, y, j->fv, e) < 0)
+		return -1;
+	fqm_encode(&j->L, j->fv, j->s.w, row);
+	return 0;
+}
+
+static int
+convert(const cli *c, const options *o, dem *d, tl_err *e)
+{
+	fqm_info fi = { .geo = *dem_georef(d) };
+	rs_header h;
+	geo_metric m = { 0 };
+	job j = { 0 };
+	char note[512];
+	int r = -1;
+
+	fi.size0[0] = fi.geo.width, fi.size0[1] = fi.geo.height;
+	if (fi.geo.width < 3 || fi.geo.height < 3)
+		return tl_fail(e, "%s: %dx%d samples: a DEM needs at least 3x3",
+		    tl_name(o->in, 0), fi.geo.width, fi.geo.height);
+	if (dem_metric_note(d, &c->dem, tl_name(o->in, 0), note, sizeof note))
+		cli_warn(c, "%s", note);
+	rs_header_init(&h, 0, 0);
+	if (geo_metric_init(&m, &fi.geo, e) == 0 &&
+	    fqm_header(&h, &fi, "none", e) == 0 &&
+	    fqm_layout_of(&h, &j.L, c->prog, e) == 0 &&
+	    fqm0_init(&j.s, d, &m, e) == 0 &&
+	    (j.fv = tl_alloc(fi.geo.width, sizeof *j.fv, e)) != NULL)
+		r = rowpipe_run(c->prog, o->out, &h, c->comp, fqm_row, &j, e);
+	fqm0_free(&j.s);
+	free(j.fv);
+	rs_header_free(&h);
+	geo_metric_free(&m);
+	return r;
+}
+
+static int
+work(const cli *c, const options *o, tl_err *e)
+{
+	dem *d;
+	int r;
+
+	if ((d = dem_open(o->in, &c->dem, e)) == NULL)
+		return -1;
+	r = o->info ? dem_info_print(d, stdout, e) : convert(c, o, d, e);
+	dem_close(d);
+	return r;
+}
+
+int
+main(int argc, char **argv)
+{
+	options o = { 0, "-", "-" };
+	cli c;
+	tl_err e;
+	int ch;
+
+	cli_init(&c, argv, usage, CLI_COMPRESSION | CLI_DEM);
+	while ((ch = cli_next(&c, argc, argv, "I", NULL)) != -1) {
+		if (ch != 'I')
+			return cli_usage_error(&c);
+		o.info = 1;
+	}
+	if (c.status >= 0)
+		return c.status;
+	argc -= optind, argv += optind;
+	if (o.info) { /* one DEM in, "key value" lines out */
+		if (argc > 1)
+			return cli_usage_error(&c);
+		o.in = argc > 0 ? argv[0] : "-";
+	} else if ((ch = cli_operands(&c, argc, argv, &o.in, &o.out)) != 0)
+		return ch;
+	return cli_exit(&c, work(&c, &o, &e), &e);
+}

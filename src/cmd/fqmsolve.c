@@ -1,0 +1,117 @@
+/* fqmsolve - the vertex map of a level: each vertex placed where its
+ * quadric is least (QEM-1D: z on the grid position; QEM-3D: x, y, z), or
+ * the vertex-filtered or sub-sampled heights the FQM carries. */
+#include <stdlib.h>
+
+#include "core/cli.h"
+#include "core/rowpipe.h"
+#include "core/solve.h"
+
+static const char usage[] =
+    "[-v] [-m mode] [-r cut] [-z compression] [in [out]]\n"
+    "  -m mode         qem1d (default), qem3d, filtered, subsample\n"
+    "  -r cut          qem3d: eigenvalues below cut x largest are free "
+    "(default 1e-3)\n"
+    "  -v              report how many vertices the qem3d fold fix moved\n"
+    "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
+    "  in, out         FQM in, vertex map out; EXR file or - "
+    "(stream, default)\n";
+
+typedef struct {
+	enum solve_mode mode;
+	double rel;
+	int verbose;
+	const char *in, *out;
+} options;
+
+/* The work: the solver, one FQM row in, one vertex row out. */
+typedef struct {
+	rs_reader *in;
+	const rs_header *ih, *oh;
+	fqm_layout L;
+	solve_state s;
+	float *irow;
+	fqm_vertex *fv;
+	solve_vertex *sv;
+} job;
+
+static int
+vertex_row(void *ctx, int y, float *row, tl_err *e)
+{
+	job *j = ctx;
+
+	if (rs_read_row(j->in, j->irow, e) < 0)
+		return -1;
+	fqm_decode(&j->L, j->irow, j->ih->width, j->fv);
+	solve_row(&j->s, j->fv, j->sv);
+	solve_encode(j->oh, j->sv, row);
+	return 0;
+}
+
+static int
+solve(const cli *c, const options *o, tl_err *e)
+{
+	job j = { 0 };
+	rs_header oh;
+	fqm_info fi;
+	geo_metric m = { 0 };
+	int w, r = -1;
+
+	rs_header_init(&oh, 0, 0);
+	if ((j.in = fqm_open(o->in, &fi, &j.L, e)) == NULL)
+		return -1;
+	j.ih = rs_header_of(j.in), j.oh = &oh, w = j.ih->width;
+	if (geo_metric_init(&m, &fi.geo, e) < 0 ||
+	    solve_init(&j.s, o->mode, fi.level, w, j.ih->height, &m, e) < 0 ||
+	    solve_header(&oh, j.ih, o->mode, e) < 0)
+		goto done;
+	j.s.rel = o->rel;
+	j.irow = tl_alloc((size_t)w * j.ih->nch, sizeof *j.irow, e);
+	j.fv = tl_alloc(w, sizeof *j.fv, e);
+	j.sv = tl_alloc(w, sizeof *j.sv, e);
+	if (j.irow != NULL && j.fv != NULL && j.sv != NULL)
+		r = rowpipe_run(c->prog, o->out, &oh, c->comp, vertex_row, &j, e);
+	if (r == 0 && o->verbose && o->mode == SOLVE_QEM3D)
+		cli_warn(c, "level %d: fold fix reduced %lld of %lld vertices, "
+		    "%lld back onto the grid", fi.level, j.s.reduced,
+		    (long long)w * j.ih->height, j.s.zeroed);
+done:
+	rs_close(j.in);
+	rs_header_free(&oh);
+	solve_free(&j.s);
+	geo_metric_free(&m);
+	free(j.irow), free(j.fv), free(j.sv);
+	return r;
+}
+
+int
+main(int argc, char **argv)
+{
+	static const struct option longopts[] = {
+		{ "mode", required_argument, NULL, 'm' },
+		{ NULL, 0, NULL, 0 },
+	};
+	options o = { SOLVE_QEM1D, 1e-3, 0, "-", "-" };
+	cli c;
+	tl_err e;
+	int ch;
+
+	cli_init(&c, argv, usage, CLI_COMPRESSION);
+	while ((ch = cli_next(&c, argc, argv, "m:r:v", longopts)) != -1) {
+		if (ch == 'm' && solve_mode_parse(optarg, &o.mode) < 0)
+			return cli_bad(&c, "-m %s: unknown mode", optarg);
+		else if (ch == 'r' && (tl_parse_double(optarg, &o.rel) < 0 ||
+		    o.rel < 0 || o.rel >= 1))
+			return cli_bad(&c, "-r %s: not a number in [0, 1)", optarg);
+		else if (ch == 'v')
+			o.verbose = 1;
+		else if (ch != 'm' && ch != 'r')
+			return cli_usage_error(&c);
+	}
+	if (c.status >= 0)
+		return c.status;
+	if ((ch = cli_operands(&c, argc - optind, argv + optind, &o.in,
+	    &o.out)) != 0)
+		return ch;
+	return cli_exit(&c, solve(&c, &o, &e), &e);
+}

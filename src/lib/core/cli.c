@@ -1,0 +1,164 @@
+/* cli.c - the programs' shared start-up: name, help, version, shared
+ * options, operands, exit statuses (cli.h). */
+#include <assert.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core/cli.h"
+
+static const struct option shared_long[] = {
+	{ "help", no_argument, NULL, 'h' },
+	{ "version", no_argument, NULL, 'V' },
+};
+
+void
+cli_init(cli *c, char **argv, const char *usage, int sets)
+{
+	const char *slash = strrchr(argv[0], '/');
+
+	memset(c, 0, sizeof *c);
+	c->prog = slash != NULL && slash[1] != '\0' ? slash + 1 : argv[0];
+	argv[0] = (char *)c->prog; /* getopt prints argv[0] */
+	c->usage = usage;
+	c->sets = sets;
+	c->comp = RS_ZIP;
+	c->status = -1;
+}
+
+/* The program's options and the shared ones, in one optstring and one
+ * long option table (built once). */
+static void
+build(cli *c, const char *optstring, const struct option *longopts)
+{
+	size_t n = 0;
+
+	snprintf(c->optstring, sizeof c->optstring, "%shV%s%s",
+	    optstring != NULL ? optstring : "",
+	    c->sets & CLI_COMPRESSION ? "z:" : "",
+	    c->sets & CLI_DEM ? DEM_OPTS : "");
+	for (; longopts != NULL && longopts[n].name != NULL; n++) {
+		assert(n + 3 < CLI_MAXLONG);
+		c->longopts[n] = longopts[n];
+	}
+	c->longopts[n++] = shared_long[0];
+	c->longopts[n++] = shared_long[1];
+	memset(&c->longopts[n], 0, sizeof c->longopts[n]);
+}
+
+/* A shared option: 1 handled (c->status set when the program must
+ * exit), 0 not a shared one. */
+static int
+shared(cli *c, int ch, const char *arg)
+{
+	tl_err e;
+
+	switch (ch) {
+	case 'h':
+		cli_usage(c, stdout);
+		c->status = CLI_OK;
+		return 1;
+	case 'V':
+		printf("%s %s\n", c->prog, TL_VERSION);
+		c->status = CLI_OK;
+		return 1;
+	case 'z':
+		if (!(c->sets & CLI_COMPRESSION))
+			return 0;
+		if (rs_compression_parse(arg, &c->comp) < 0)
+			c->status = cli_bad(c, "-z %s: unknown compression", arg);
+		return 1;
+	}
+	if (!(c->sets & CLI_DEM))
+		return 0;
+	switch (dem_option(&c->dem, ch, arg, &e)) {
+	case 1:
+		return 1;
+	case -1:
+		c->status = cli_bad(c, "%s", e.msg);
+		return 1;
+	}
+	return 0;
+}
+
+int
+cli_next(cli *c, int argc, char **argv, const char *optstring,
+    const struct option *longopts)
+{
+	int ch;
+
+	if (c->optstring[0] == '\0')
+		build(c, optstring, longopts);
+	while ((ch = getopt_long(argc, argv, c->optstring, c->longopts,
+	    NULL)) != -1) {
+		if (ch == '?' || ch == ':') { /* getopt has said why */
+			c->status = cli_usage_error(c);
+			return -1;
+		}
+		if (!shared(c, ch, optarg))
+			return ch;
+		if (c->status >= 0)
+			return -1;
+	}
+	return -1;
+}
+
+void
+cli_usage(const cli *c, FILE *f)
+{
+	fprintf(f, "usage: %s %s", c->prog, c->usage);
+}
+
+int
+cli_usage_error(const cli *c)
+{
+	cli_usage(c, stderr);
+	return CLI_USAGE;
+}
+
+static void
+vwarn(const cli *c, const char *fmt, va_list ap)
+{
+	fprintf(stderr, "%s: ", c->prog);
+	vfprintf(stderr, fmt, ap);
+	fputc('\n', stderr);
+}
+
+int
+cli_bad(const cli *c, const char *fmt, ...)
+{
+	va_list ap;
+
+	va_start(ap, fmt);
+	vwarn(c, fmt, ap);
+	va_end(ap);
+	return CLI_USAGE;
+}
+
+void
+cli_warn(const cli *c, const char *fmt, ...)
+{
+	va_list ap;
+
+	va_start(ap, fmt);
+	vwarn(c, fmt, ap);
+	va_end(ap);
+}
+
+int
+cli_operands(const cli *c, int argc, char **argv, const char **in,
+    const char **out)
+{
+	int r = tl_operands(c->prog, argc, argv, in, out);
+
+	return r == CLI_USAGE ? cli_usage_error(c) : r;
+}
+
+int
+cli_exit(const cli *c, int r, const tl_err *e)
+{
+	if (r >= 0)
+		return CLI_OK;
+	cli_warn(c, "%s", e->msg);
+	return CLI_FAIL;
+}

@@ -1,0 +1,74 @@
+/* cli.h - what every program does the same way at start-up (netpbm's
+ * pm_proginit, OpenBSD's getprogname): its name from argv[0], -h/--help,
+ * -V/--version, the shared option sets (-z compression, the DEM options),
+ * the filters' "[in [out]]" operands, messages and exit codes:
+ * 0 done, 1 failed, 2 usage. A program parses into its own struct with
+ * cli_next as it would with getopt_long, and ends with cli_exit. */
+#ifndef TL_CLI_H
+#define TL_CLI_H
+
+#include <getopt.h>
+#include <stdio.h>
+
+#include "core/dem.h"
+#include "core/raster.h"
+#include "core/util.h"
+
+enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
+
+/* Shared option sets a program may take. */
+#define CLI_COMPRESSION 1 /* -z compression of an EXR output */
+#define CLI_DEM 2         /* DEM_OPTS: -e -N -n -s -H -D */
+
+#define CLI_MAXLONG 40
+
+typedef struct {
+	const char *prog;          /* argv[0]'s last component */
+	const char *usage;         /* what follows "usage: prog " */
+	int sets;                  /* CLI_COMPRESSION | CLI_DEM */
+	enum rs_compression comp;  /* -z; RS_ZIP unless given */
+	dem_opts dem;              /* the DEM options */
+	int status;                /* -1, or the status to exit with now */
+	char optstring[128];
+	struct option longopts[CLI_MAXLONG];
+} cli;
+
+/* Names the program after argv[0]'s last component and sets argv[0] to
+ * it, so that getopt's messages and ours say the same name. usage is the
+ * text after "usage: prog ": the synopsis and the option list. */
+void cli_init(cli *c, char **argv, const char *usage, int sets);
+
+/* getopt_long over the program's options (optstring, and longopts ending
+ * in a zero entry, or NULL) and the shared ones, which it handles itself.
+ * Returns the program's next option character (or a long option's val),
+ * or -1 when the options end or when the program must exit now with
+ * c->status: after --help or --version (0), an unknown option or a bad
+ * value of a shared one (2). */
+int cli_next(cli *c, int argc, char **argv, const char *optstring,
+    const struct option *longopts);
+
+/* The usage, on stdout for --help, on stderr for a usage error. */
+void cli_usage(const cli *c, FILE *f);
+
+/* A usage error: the usage on stderr; returns CLI_USAGE. */
+int cli_usage_error(const cli *c);
+
+/* A bad option value or operand: "prog: message"; returns CLI_USAGE. */
+int cli_bad(const cli *c, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* "prog: message" on stderr, for warnings and failures. */
+void cli_warn(const cli *c, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* A filter's operands "[in [out]]", "-" by default: 0, or the status to
+ * exit with (2 for more than two, 1 for a stream to a terminal or the
+ * same file in and out, with a message). */
+int cli_operands(const cli *c, int argc, char **argv, const char **in,
+    const char **out);
+
+/* The exit status of a work function's result: 0 when r >= 0, else 1
+ * after "prog: what: why" from e. */
+int cli_exit(const cli *c, int r, const tl_err *e);
+
+#endif

@@ -1,0 +1,476 @@
+/* dem.c - DEM input: the dem object, stdin, the conversion of source
+ * samples to metres, the options. The formats are the adapters' business:
+ * GDAL reads every raster it knows (dem_gdal.c), OpenImageIO the EXRs
+ * GDAL 3.6 cannot read (dem_oiio.c).
+ *
+ * The source is converted once to float32 rows in an anonymous scratch
+ * file, voids as NaN. Voids are then filled for geometry (dem_fill.c) and
+ * the scratch file holds the filled rows followed by a validity mask for
+ * each row that has voids, so any row can be read back in any order with
+ * O(width) memory. */
+#include "core/dem_impl.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/vdatum.h"
+
+struct dem {
+	georef g;
+	int fd;                  /* filled rows, then masks of void rows */
+	long long voids;
+	double zunit;            /* metres per height unit of the file */
+	unsigned char *rowvoid;  /* one bit per row: the row has voids */
+	char what[256];          /* the file, for messages */
+};
+
+static int
+bit(const unsigned char *b, long long i)
+{
+	return b[i >> 3] >> (i & 7) & 1;
+}
+
+/* --- conversion --------------------------------------------------------- */
+
+static double
+sample(const void *p, int t, size_t k)
+{
+	switch (t) {
+	case TL_PX_U8: return ((const uint8_t *)p)[k];
+	case TL_PX_I8: return ((const int8_t *)p)[k];
+	case TL_PX_U16: return ((const uint16_t *)p)[k];
+	case TL_PX_I16: return ((const int16_t *)p)[k];
+	case TL_PX_U32: return ((const uint32_t *)p)[k];
+	case TL_PX_I32: return ((const int32_t *)p)[k];
+	case TL_PX_F32: return ((const float *)p)[k];
+	case TL_PX_F64: return ((const double *)p)[k];
+	}
+	return NAN;
+}
+
+/* Height of pixel k (stride samples apart) in the file's unit, before
+ * the void test. The RGB encodings read the first three bytes. */
+static double
+decode(const dem_load *L, const void *p, int t, size_t k, int stride)
+{
+	const uint8_t *c = (const uint8_t *)p + k * stride;
+
+	switch (L->enc) {
+	case DEM_ENC_TERRAINRGB:
+		return (c[0] * 65536.0 + c[1] * 256.0 + c[2]) / 10 - 10000;
+	case DEM_ENC_TERRARIUM:
+		return c[0] * 256.0 + c[1] + c[2] / 256.0 - 32768;
+	default:
+		return sample(p, t, k * stride);
+	}
+}
+
+/* Nodata is a raw value (GDAL's convention), so it is tested before
+ * scale and offset. */
+static int
+is_void(const dem_load *L, double v)
+{
+	if (isnan(v))
+		return 1;
+	return L->has_nodata &&
+	    (L->f32 ? (float)v == (float)L->nodata : v == L->nodata);
+}
+
+/* Raw value to metres. Without scale and offset the expression is the
+ * one it always was, so heights stay bit-identical. */
+static double
+metres(const dem_load *L, double v)
+{
+	if (L->scale != 1 || L->offset != 0)
+		v = v * L->scale + L->offset;
+	return v * L->zunit;
+}
+
+int
+dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
+    int n, const unsigned char *mask, tl_err *e)
+{
+	int nv = 0;
+
+	if (x0 < 0 || y < 0 || n < 0 || x0 + n > L->w || y >= L->h)
+		return tl_fail(e, "%s: sample window outside the raster",
+		    L->what);
+	if (L->flip_y)
+		y = L->h - 1 - y;
+	if (L->flip_x)
+		x0 = L->w - x0 - n;
+	for (int i = 0; i < n; i++) {
+		int k = L->flip_x ? n - 1 - i : i;
+		double v = decode(L, p, t, (size_t)k, stride), z;
+		z = is_void(L, v) || (mask != NULL && mask[k] == 0) ? NAN :
+		    metres(L, v);
+		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
+			L->seg[i] = NAN;
+			nv++;
+		} else {
+			L->seg[i] = (float)z;
+		}
+	}
+	if (L->vd != NULL && vd_apply(L->vd, y, x0, n, L->seg, e) < 0)
+		return -1;
+	if (nv > 0) {
+		L->voids += nv;
+		L->rowvoid[y >> 3] |= 1 << (y & 7);
+	}
+	return tl_pwrite(L->fd, L->seg, (size_t)n * sizeof(float),
+	    ((long long)y * L->w + x0) * (long long)sizeof(float),
+	    "scratch file", e);
+}
+
+/* The vertical datum conversion, once the georeferencing is known. */
+static int
+datum(dem_load *L, georef *g, const dem_opts *o, tl_err *e)
+{
+	const char *from = o->vdatum != NULL ? o->vdatum : g->vdatum;
+
+	if (o->heights == NULL)
+		return 0;
+	if (g->model == GEO_NONE)
+		return tl_fail(e, "%s: -H %s: the DEM has no CRS, so its "
+		    "heights cannot change datum", L->what, o->heights);
+	if ((L->vd = vd_open(g, from, o->heights, e)) == NULL) {
+		char why[sizeof e->msg];
+		snprintf(why, sizeof why, "%s", e->msg);
+		return tl_fail(e, "%s: %s", L->what, why);
+	}
+	snprintf(g->vdatum, sizeof g->vdatum, "%s", vd_target_name(L->vd));
+	return 0;
+}
+
+int
+dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
+    int f32, tl_err *e)
+{
+	if (w < 1 || h < 1 || w > DEM_MAXDIM || h > DEM_MAXDIM)
+		return tl_fail(e, "%s: unsupported size %d x %d (1 .. %d a "
+		    "side)", L->what, w, h, DEM_MAXDIM);
+	g->width = L->w = w;
+	g->height = L->h = h;
+	L->has_nodata = o->has_nodata ? 1 : g->has_nodata;
+	L->nodata = o->has_nodata ? o->nodata : g->nodata;
+	L->f32 = f32;
+	if (L->zunit == 0)
+		L->zunit = 1;
+	if (L->scale == 0)
+		L->scale = 1;
+	if (datum(L, g, o, e) < 0)
+		return -1;
+	if ((L->fd = tl_scratch(e)) < 0)
+		return -1;
+	L->seg = tl_alloc((size_t)w, sizeof(float), e);
+	L->rowvoid = tl_alloc((size_t)h / 8 + 1, 1, e);
+	return L->seg != NULL && L->rowvoid != NULL ? 0 : -1;
+}
+
+int
+dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
+    tl_err *e)
+{
+	L->enc = o->encoding;
+	if (L->enc == DEM_ENC_AUTO)
+		L->enc = type == TL_PX_U8 && nch >= 3 ? DEM_ENC_TERRAINRGB :
+		    DEM_ENC_GREY;
+	if (L->enc != DEM_ENC_GREY && (type != TL_PX_U8 || nch < 3))
+		return tl_fail(e, "%s: %s encoding needs an 8-bit image with "
+		    "3 or more channels", L->what,
+		    L->enc == DEM_ENC_TERRAINRGB ? "Terrain-RGB" : "Terrarium");
+	return 0;
+}
+
+/* --- input --------------------------------------------------------------- */
+
+/* A DEM on stdin is copied to a file in a private directory, under the
+ * name -n gives (so that GDAL recognises N44W072.hgt by its name) or
+ * "stdin"; the directory is registered for removal by a signal. */
+typedef struct {
+	tl_outfile dir;
+	char path[4096];
+} spool;
+
+static int
+spool_stdin(spool *s, const char *name, tl_err *e)
+{
+	char tmpl[4096], buf[65536];
+	const char *t = getenv("TMPDIR"), *b;
+	long long off = 0;
+	ssize_t n;
+	int fd, r = 0;
+
+	b = name != NULL && strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
+	if (b == NULL || *b == '\0' || strcmp(b, ".") == 0 ||
+	    strcmp(b, "..") == 0)
+		b = "stdin";
+	snprintf(tmpl, sizeof tmpl, "%s/dem-stdin", t && *t ? t : "/tmp");
+	if (tl_outdir_begin(&s->dir, tmpl, e) < 0)
+		return -1;
+	if ((size_t)snprintf(s->path, sizeof s->path, "%s/%s", s->dir.tmp, b) >=
+	    sizeof s->path)
+		return tl_fail(e, "-n %s: name too long", name);
+	if ((fd = open(s->path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC,
+	    0600)) < 0)
+		return tl_failsys(e, "%s: cannot create", s->path);
+	while (r == 0) {
+		n = read(STDIN_FILENO, buf, sizeof buf);
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0)
+			r = tl_failsys(e, "stdin: read");
+		else if (n == 0)
+			break;
+		else if (tl_pwrite(fd, buf, (size_t)n, off, "stdin spool",
+		    e) < 0)
+			r = -1;
+		off += n;
+	}
+	close(fd);
+	if (r == 0 && off == 0)
+		r = tl_fail(e, "stdin: empty");
+	return r;
+}
+
+/* What the first bytes say: an EXR, a format GDAL reads that we know by
+ * its magic (so that GDAL's refusal means damage), or no telling. */
+enum magic { MAGIC_NONE, MAGIC_EXR, MAGIC_KNOWN };
+
+/* A named file: refuse what cannot be a raster before GDAL guesses. */
+static int
+check_file(const char *path, enum magic *kind, tl_err *e)
+{
+	unsigned char m[8];
+	struct stat st;
+	ssize_t n;
+	int fd;
+
+	*kind = MAGIC_NONE;
+	if ((fd = open(path, O_RDONLY | O_CLOEXEC)) < 0)
+		return tl_failsys(e, "%s: cannot open", path);
+	if (fstat(fd, &st) != 0) {
+		close(fd);
+		return tl_failsys(e, "%s: stat", path);
+	}
+	if (S_ISDIR(st.st_mode)) {
+		close(fd);
+		return tl_fail(e, "%s: is a directory", path);
+	}
+	do
+		n = pread(fd, m, sizeof m, 0);
+	while (n < 0 && errno == EINTR);
+	close(fd);
+	if (n < 0)
+		return tl_failsys(e, "%s: read", path);
+	if (n == 0 && S_ISREG(st.st_mode))
+		return tl_fail(e, "%s: empty file", path);
+	if (n >= 4 && memcmp(m, "\x76\x2f\x31\x01", 4) == 0)
+		*kind = MAGIC_EXR;
+	else if (n >= 4 && (memcmp(m, "II*\0", 4) == 0 ||
+	    memcmp(m, "MM\0*", 4) == 0 || memcmp(m, "II+\0", 4) == 0 ||
+	    memcmp(m, "MM\0+", 4) == 0 ||
+	    (n == 8 && memcmp(m, "\x89PNG\r\n\x1a\n", 8) == 0)))
+		*kind = MAGIC_KNOWN;
+	return 0;
+}
+
+/* EXR goes to OpenImageIO; everything else to GDAL, then OpenImageIO
+ * for the few formats only it reads. */
+static int
+read_any(dem_load *L, georef *g, const char *path, const dem_opts *o,
+    tl_err *e)
+{
+	enum magic kind;
+	int r;
+
+	if (check_file(path, &kind, e) < 0)
+		return -1;
+	if (kind != MAGIC_EXR && (r = dem_read_gdal(L, g, path, o, e)) <= 0)
+		return r;
+	if (kind == MAGIC_KNOWN)
+		return tl_fail(e, "%s: truncated or corrupt (GDAL cannot open "
+		    "it)", L->what);
+	if ((r = dem_read_oiio(L, g, path, kind == MAGIC_EXR, o, e)) > 0)
+		return tl_fail(e, "%s: not a raster (any format GDAL reads, "
+		    "or EXR)%s", L->what, strcmp(L->what, "stdin") == 0 ?
+		    "; a format GDAL knows by its file name (an .hgt) needs "
+		    "that name on stdin: -n NAME" : "");
+	return r;
+}
+
+dem *
+dem_open(const char *path, const dem_opts *o, tl_err *e)
+{
+	static const dem_opts none;
+	spool sp = { { NULL, NULL, -1 }, "" };
+	dem_load L = { 0 };
+	dem *d;
+	int r;
+
+	if (o == NULL)
+		o = &none;
+	if ((d = tl_alloc(1, sizeof *d, e)) == NULL)
+		return NULL;
+	d->fd = L.fd = -1;
+	snprintf(d->what, sizeof d->what, "%s", strcmp(path, "-") == 0 ?
+	    "stdin" : path);
+	L.what = d->what;
+	if (strcmp(path, "-") == 0) {
+		r = spool_stdin(&sp, o->hgt_name, e);
+		if (r == 0)
+			r = read_any(&L, &d->g, sp.path, o, e);
+		if (sp.dir.tmp != NULL)
+			tl_outdir_abort(&sp.dir);
+	} else {
+		r = read_any(&L, &d->g, path, o, e);
+	}
+	free(L.seg);
+	vd_close(L.vd);
+	d->fd = L.fd;
+	d->rowvoid = L.rowvoid;
+	d->voids = L.voids;
+	d->zunit = L.zunit;
+	if (r == 0 && L.voids == (long long)L.w * L.h)
+		r = tl_fail(e, "%s: no valid samples (every sample is a void)",
+		    d->what);
+	if (r == 0 && L.voids > 0)
+		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
+	if (r < 0) {
+		dem_close(d);
+		return NULL;
+	}
+	return d;
+}
+
+const georef *
+dem_georef(const dem *d)
+{
+	return &d->g;
+}
+
+long long
+dem_voids(const dem *d)
+{
+	return d->voids;
+}
+
+double
+dem_zunit(const dem *d)
+{
+	return d->zunit;
+}
+
+int
+dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e)
+{
+	long long w = d->g.width, h = d->g.height;
+
+	if (j < 0 || j >= h)
+		return tl_fail(e, "%s: row %d outside 0 .. %lld", d->what, j,
+		    h - 1);
+	if (tl_pread(d->fd, z, (size_t)w * sizeof(float),
+	    j * w * (long long)sizeof(float), "DEM scratch file", e) < 0)
+		return -1;
+	if (valid == NULL)
+		return 0;
+	if (!bit(d->rowvoid, j)) {
+		memset(valid, 1, (size_t)w);
+		return 0;
+	}
+	return tl_pread(d->fd, valid, (size_t)w,
+	    h * w * (long long)sizeof(float) + j * w, "DEM scratch file", e);
+}
+
+void
+dem_close(dem *d)
+{
+	if (d == NULL)
+		return;
+	if (d->fd >= 0)
+		close(d->fd);
+	free(d->rowvoid);
+	free(d);
+}
+
+/* --- options --------------------------------------------------------- */
+
+static int
+parse_cell(const char *s, double cell[2])
+{
+	char buf[64], *comma;
+
+	if (strlen(s) >= sizeof buf)
+		return -1;
+	strcpy(buf, s);
+	if ((comma = strchr(buf, ',')) != NULL)
+		*comma++ = '\0';
+	if (tl_parse_double(buf, &cell[0]) < 0 || cell[0] <= 0)
+		return -1;
+	cell[1] = cell[0];
+	if (comma != NULL && (tl_parse_double(comma, &cell[1]) < 0 ||
+	    cell[1] <= 0))
+		return -1;
+	return 0;
+}
+
+static int
+encoding_option(dem_opts *o, const char *arg, tl_err *e)
+{
+	static const struct {
+		const char *name;
+		enum dem_encoding enc;
+	} encs[] = {
+		{ "auto", DEM_ENC_AUTO }, { "grey", DEM_ENC_GREY },
+		{ "gray", DEM_ENC_GREY }, { "terrainrgb", DEM_ENC_TERRAINRGB },
+		{ "terrarium", DEM_ENC_TERRARIUM },
+	};
+
+	for (size_t k = 0; k < sizeof encs / sizeof encs[0]; k++)
+		if (strcmp(arg, encs[k].name) == 0) {
+			o->encoding = encs[k].enc;
+			return 1;
+		}
+	return tl_fail(e, "-e %s: unknown encoding (auto, grey, terrainrgb, "
+	    "terrarium)", arg);
+}
+
+int
+dem_option(dem_opts *o, int c, const char *arg, tl_err *e)
+{
+	switch (c) {
+	case 'e':
+		return encoding_option(o, arg, e);
+	case 'N':
+		if (tl_parse_double(arg, &o->nodata) < 0)
+			return tl_fail(e, "-N %s: not a number", arg);
+		o->has_nodata = 1;
+		return 1;
+	case 'n':
+		o->hgt_name = arg;
+		return 1;
+	case 's':
+		if (parse_cell(arg, o->cell) < 0)
+			return tl_fail(e, "-s %s: expected dx or dx,dy in "
+			    "metres, > 0", arg);
+		return 1;
+	case 'H':
+		if (*arg == '\0')
+			return tl_fail(e, "-H: empty datum");
+		o->heights = arg;
+		return 1;
+	case 'D':
+		if (*arg == '\0')
+			return tl_fail(e, "-D: empty datum");
+		o->vdatum = arg;
+		return 1;
+	}
+	return 0;
+}

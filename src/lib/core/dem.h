@@ -1,0 +1,75 @@
+/* dem.h - DEM input: any raster GDAL reads (GeoTIFF, COG, SRTM .hgt and
+ * .hgt.zip, Esri .asc, ENVI, VRT mosaics, NetCDF, PNG with a world file,
+ * ...) and EXR (OpenImageIO, in the plugin tl_oiio.so, loaded only for
+ * it); "-" for stdin (spooled to a file named by -n, so GDAL knows an
+ * .hgt by its name). Georeferencing, nodata (NaN too), mask bands,
+ * scale/offset and vertical units come from GDAL; heights come out in
+ * metres, optionally converted to another vertical datum (vdatum.h).
+ * South-up and east-left grids are turned north-up; rotated ones are
+ * refused. Nothing is printed.
+ *
+ * The source is converted once, in row order, to float32 in an anonymous
+ * scratch file; voids (declared nodata, masked, NaN, +-Inf, |z| > 1e6 m)
+ * are then filled for geometry by 4-direction inverse-distance weighting
+ * (see dem2fqm(1)). Afterwards any row can be read in any order with
+ * bounded memory (a few rows), whatever the DEM's size. */
+#ifndef TL_DEM_H
+#define TL_DEM_H
+
+#include <stdio.h>
+
+#include "core/georef.h"
+#include "core/util.h"
+
+enum dem_encoding {
+	DEM_ENC_AUTO,       /* grey: value; 8-bit RGB(A): Terrain-RGB */
+	DEM_ENC_GREY,       /* first channel, native value */
+	DEM_ENC_TERRAINRGB, /* Mapbox: (R*65536 + G*256 + B) / 10 - 10000 */
+	DEM_ENC_TERRARIUM   /* Mapzen: R*256 + G + B/256 - 32768 */
+};
+
+typedef struct {
+	enum dem_encoding encoding;
+	const char *hgt_name;  /* the name of a DEM on stdin (-n), or NULL */
+	double cell[2];        /* -s: cell size in metres. Without a
+	                        * geotransform it is the grid's step (0 = 1 m,
+	                        * the program may warn: model GEO_NONE); with
+	                        * one it overrides the CRS's metric (georef
+	                        * cell). cell[1] 0 = cell[0] */
+	int has_nodata;        /* override the file's nodata (the georef still
+	                        * reports the file's) */
+	double nodata;
+	const char *heights;   /* -H: vertical datum to convert heights to
+	                        * ("ellipsoid", "EPSG:5773"), NULL: as read */
+	const char *vdatum;    /* -D: the DEM's vertical datum when it
+	                        * declares none (or another), NULL: the file's */
+} dem_opts;
+
+typedef struct dem dem;
+
+/* For programs reading a DEM: applies its option c, one of -e encoding,
+ * -N nodata, -n name, -s dx[,dy], -H datum, -D datum (optstring DEM_OPTS),
+ * with argument arg. Returns 1 when c is one of them, 0 when it is not,
+ * -1 when arg is bad (e says why, as "-e x: unknown encoding"). */
+#define DEM_OPTS "e:N:n:s:H:D:"
+int dem_option(dem_opts *o, int c, const char *arg, tl_err *e);
+
+dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
+const georef *dem_georef(const dem *d); /* width, height inside */
+long long dem_voids(const dem *d);      /* void samples */
+double dem_zunit(const dem *d);         /* metres per unit of the file */
+/* Row j (any order): z gets heights with voids filled, valid (if not NULL)
+ * gets 1 for a real sample and 0 for a void. Both have width entries. */
+int dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e);
+void dem_close(dem *d);
+
+/* dem2fqm -I: what a user needs to trust the result and a script to plan
+ * a pyramid, as "key value" lines on f (dem2fqm(1)). */
+int dem_info_print(const dem *d, FILE *f, tl_err *e);
+/* A grid without a CRS has no known unit: fills buf with what was
+ * assumed (and how to say otherwise) and returns 1, or returns 0. name
+ * names the DEM. */
+int dem_metric_note(const dem *d, const dem_opts *o, const char *name,
+    char *buf, size_t n);
+
+#endif

@@ -1,0 +1,50 @@
+/* filter.h - filter kernels and the streaming level filter of QEM-filtering:
+ * quadrics low-pass filtered (translated into each coarse vertex's frame, in
+ * double) and sub-sampled by 2; coarse vertex k at fine vertex 2k. */
+#ifndef TL_FILTER_H
+#define TL_FILTER_H
+
+#include "core/fqm.h"
+
+/* A symmetric, non-negative kernel (a negative tap would make the filtered
+ * quadric indefinite): w[0] centre, w[k] at +-k, taps sum to 1. */
+#define FILTER_MAX_RADIUS 2
+typedef struct {
+	const char *name;
+	int radius;
+	double w[FILTER_MAX_RADIUS + 1];
+} filter_kernel;
+
+extern const filter_kernel filter_kernels[]; /* terminated by name == NULL */
+const filter_kernel *filter_find(const char *name);
+
+/* The level filter holds 2r+1 horizontally filtered rows of the coarse
+ * width: memory O(coarse width x kernel height), never a level. */
+typedef struct {
+	const filter_kernel *k;
+	int level;         /* of the fine input */
+	int fw, fh, cw, ch; /* fine and coarse sizes */
+	int w0, h0;        /* level-0 size: vertices past it are padding */
+	const geo_metric *m;
+	int nring;
+	fqm_vertex *ring;  /* nring x cw */
+	int *tag;          /* fine row held by each ring slot */
+	int next;          /* next fine row to push */
+	int out;           /* next coarse row to pull */
+} filter_state;
+
+int filter_init(filter_state *f, const filter_kernel *k, int level, int fw, int fh,
+    int w0, int h0, const geo_metric *m, tl_err *e);
+/* 1 when the next coarse row can be pulled, 0 when a fine row must be
+ * pushed first. */
+int filter_ready(const filter_state *f);
+void filter_push(filter_state *f, const fqm_vertex *fine); /* fine row f->next */
+void filter_pull(filter_state *f, fqm_vertex *coarse);      /* coarse row f->out */
+void filter_free(filter_state *f);
+
+/* Value i of n samples, odd reflection (2h0 - h(-i)) past either end: it
+ * keeps linear functions linear, so reference heights of padded vertices
+ * and the vertex-filtered pyramid reproduce a plane exactly. */
+double filter_extend(const double *h, size_t stride, int n, int i);
+
+#endif

@@ -1,0 +1,82 @@
+/* fqm.h - the fundamental quadric map (FQM) and the vertex map as rasters:
+ * channels, levels, header attributes, row decoding. The byte-level formats
+ * are in raster.h; their meaning is documented in fqm(5). */
+#ifndef TL_FQM_H
+#define TL_FQM_H
+
+#include "core/attr.h"
+#include "core/georef.h"
+#include "core/quadric.h"
+#include "core/raster.h"
+
+#define FQM_VERSION 1
+
+/* One decoded FQM vertex: its quadric (own frame), reference height Z,
+ * sub-sampled DEM height S and validity V. */
+typedef struct {
+	quadric q;
+	double z, s, v;
+} fqm_vertex;
+
+/* What every level's header says about where it stands. */
+typedef struct {
+	int level;
+	int size0[2]; /* level-0 width, height */
+	georef geo;
+} fqm_info;
+
+/* Channel indices of an FQM in its (sorted) header. */
+typedef struct {
+	int q[10]; /* a11 a12 a13 a22 a23 a33 b1 b2 b3 c */
+	int z, s, v;
+} fqm_layout;
+
+/* Columns (or rows) of level l for a level-0 extent of n0: ceil((n0-1)/2^l)+1. */
+int fqm_level_size(int n0, int level);
+
+/* The pyramid's level count: levels 0 .. the first that fits one block of
+ * FQM_BLOCK x FQM_BLOCK vertices (vgis(5)). */
+#define FQM_BLOCK 129
+int fqm_levels(int w0, int h0);
+
+/* A fresh FQM header for a level: channels, fqm:* and geo:* attributes. */
+int fqm_header(rs_header *h, const fqm_info *fi, const char *kernel,
+    tl_err *e);
+/* Reads fqm:* and geo:* attributes; checks that kind is want ("fqm" or
+ * "vertices") and that the raster's size is that of its level. */
+int fqm_info_of(const rs_header *h, const char *want, fqm_info *fi,
+    const char *what, tl_err *e);
+int fqm_layout_of(const rs_header *h, fqm_layout *L, const char *what,
+    tl_err *e);
+/* Opens an FQM (path or "-") and reads its info and layout: the filters'
+ * input. NULL with e filled on failure. */
+rs_reader *fqm_open(const char *path, fqm_info *fi, fqm_layout *L,
+    tl_err *e);
+void fqm_decode(const fqm_layout *L, const float *row, int w,
+    fqm_vertex *out);
+void fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w,
+    float *row);
+
+/* Level 0, in two steps so that each triangle is computed once. Every
+ * level-0 plane passes through its vertex, so a triangle's quadric is the
+ * same A = w n n' (b = 0, c = 0 exactly) at each of its corners.
+ *
+ * fqm_band0: the cell band between DEM rows J and J+1 (valid[k] 1 for real
+ * samples): for each of the w-1 cells, the sums of A over the triangles at
+ * each of its 4 corners (0 (i,J) 1 (i+1,J) 2 (i+1,J+1) 3 (i,J+1)), band[]
+ * holding (w-1) x 4 x 6 doubles. Each cell contributes both of its
+ * triangulations at half weight (the FQM does not depend on a choice of
+ * diagonal); a triangle with a void corner contributes nothing. The cell
+ * is the symmetric trapezoid of the metric embedding (georef.h) at rows
+ * J, J+1, its widths and height taken at its middle column.
+ *
+ * fqm_row0: level-0 FQM row J from the bands above and below it (NULL past
+ * the edges) and the DEM row itself. */
+#define FQM_BAND0_DOUBLES 24
+void fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
+    const unsigned char *v1, int w, int J, const geo_metric *m,
+    double *band);
+void fqm_row0(const double *above, const double *below, const float *z,
+    const unsigned char *valid, int w, fqm_vertex *out);
+
+#endif

@@ -1,0 +1,25 @@
+/* fqm0.h - level 0 of the FQM from a DEM, streamed: a window of two DEM
+ * rows and the cell bands above and below the current row (fqm_band0,
+ * fqm_row0 in fqm.h), so every triangle's quadric is computed once. */
+#ifndef TL_FQM0_H
+#define TL_FQM0_H
+
+#include "core/dem.h"
+#include "core/fqm.h"
+
+typedef struct {
+	dem *d;
+	const geo_metric *m;
+	int w, h, next;              /* DEM size; the row expected next */
+	float *z[2];                 /* DEM rows j, j+1 (by parity) */
+	unsigned char *valid[2];
+	double *band[2];             /* cell bands j-1..j and j..j+1 */
+} fqm0_state;
+
+/* d of at least 3x3 samples, its metric m: both outlive the state. */
+int fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e);
+/* FQM row j of level 0 (w vertices); rows strictly in order from 0. */
+int fqm0_row(fqm0_state *s, int j, fqm_vertex *out, tl_err *e);
+void fqm0_free(fqm0_state *s);
+
+#endif

@@ -1,0 +1,21 @@
+/* rowpipe.h - the filters' one drive (dem2fqm, fqmfilter, fqmsolve): an
+ * output raster made row by row by a callback, a progress line on a
+ * terminal, the output written under a temporary name and committed when
+ * complete or removed on failure. The callback pulls whatever input it
+ * needs; the program owns its input and its state. */
+#ifndef TL_ROWPIPE_H
+#define TL_ROWPIPE_H
+
+#include "core/raster.h"
+#include "core/util.h"
+
+/* Fills output row y (h->width x h->nch floats, channel-major, as
+ * rs_write_row takes it), rows in order 0 .. h->height-1; 0 or -1. */
+typedef int (*rowpipe_fn)(void *ctx, int y, float *row, tl_err *e);
+
+/* Writes the raster of header h to out (EXR file, or "-" for the stream)
+ * with compression comp; label names the progress line. 0 or -1. */
+int rowpipe_run(const char *label, const char *out, const rs_header *h,
+    enum rs_compression comp, rowpipe_fn fn, void *ctx, tl_err *e);
+
+#endif

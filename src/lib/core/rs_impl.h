@@ -1,0 +1,54 @@
+/* rs_impl.h - private to raster.c, exr.c and stream.c: the reader and
+ * writer objects and the entry points of the two backends. */
+#ifndef TL_RS_IMPL_H
+#define TL_RS_IMPL_H
+
+#include "core/raster.h"
+
+/* Sanity caps shared by both forms, so that garbage cannot make a reader
+ * allocate gigabytes before it notices. */
+#define RS_MAXDIM (1 << 26)
+#define RS_MAXROW (1 << 30) /* bytes: 4 x channels x width */
+#define RS_MAXSTR 65535
+
+struct rs_reader {
+	rs_header h;
+	char *name;  /* for messages: the path, or "stdin" */
+	int fd;
+	int ownfd;   /* close fd in rs_close */
+	int y;       /* next row */
+	int failed;  /* an error was reported: every later read fails */
+	int (*row)(rs_reader *, float *, tl_err *);
+	void (*close)(rs_reader *);
+	void *impl;
+	unsigned char pre[8]; /* bytes rs_open read to find the magic */
+	int npre;
+};
+
+struct rs_writer {
+	rs_header h;
+	char *name;  /* for messages */
+	int y;       /* next row */
+	int failed;
+	int (*row)(rs_writer *, const float *, tl_err *);
+	int (*finish)(rs_writer *, tl_err *);
+	void (*abort)(rs_writer *);
+	void *impl;
+};
+
+/* Size and channel count within the caps above; fills e ("name: ..."). */
+int rs_check_size(const rs_header *h, const char *name, tl_err *e);
+
+/* EXR: fd is a regular file (or scratch spool), read with pread from base. */
+int exr_open_read(rs_reader *r, long long base, tl_err *e);
+int exr_create(rs_writer *w, const char *path, enum rs_compression c,
+    tl_err *e);
+
+/* Stream: r->pre holds the 8 magic bytes already consumed from r->fd. */
+int st_open_read(rs_reader *r, tl_err *e);
+int st_create(rs_writer *w, int fd, tl_err *e);
+
+extern const unsigned char rs_exr_magic[4];
+extern const unsigned char rs_st_magic[8];
+
+#endif

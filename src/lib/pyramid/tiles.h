@@ -1,0 +1,53 @@
+/* tiles.h - the errors of a level's blocks: exact local errors against
+ * every valid DEM sample, saturated across block borders (vgis(5), "The
+ * triangulation"), streamed.
+ *
+ * One pass over the DEM's rows: each valid sample is located, for every
+ * scale and kind of the bintree, in the diamond(s) containing it (closed;
+ * in the displaced triangles for QEM-3D levels) and raises that diamond
+ * vertex's local error to the sample's vertical distance from the
+ * diamond's two triangles without the vertex; it also raises its block's
+ * base error (its distance from the finest triangles). Once no later DEM
+ * row can reach the local errors a block row's saturation needs, its
+ * errors are saturated, children before parents, over a band of 128 rows
+ * either side (a vertex's descendants lie within 126 rows of it, a block
+ * centre's within 190), and the blocks are handed out. Every local error
+ * is an exact maximum, so E is exact on every level, not a bound.
+ *
+ * Memory: rings of 512 level rows of Z and offsets and of 1024 rows of
+ * local errors, the saturation band (385 rows) and one DEM row. */
+#ifndef TL_TILES_H
+#define TL_TILES_H
+
+#include "core/dem.h"
+#include "pyramid/pyramid.h"
+
+/* The level's real row r (r < size[1]) of heights and, displaced, the X
+ * and Y offsets in metres (x, y NULL for 1D levels). Rows are asked for in
+ * order, once each. */
+typedef int (*tiles_row_fn)(void *ctx, int r, float *z, float *x, float *y,
+    tl_err *e);
+/* A finished block; the callee writes it (b is reused afterwards). */
+typedef int (*tiles_block_fn)(void *ctx, const pyramid_block *b, tl_err *e);
+
+typedef struct {
+	int level;
+	int size[2];     /* the level's vertices */
+	int displaced;
+	const geo_metric *m;
+	tiles_row_fn row;
+	void *row_ctx;
+	tiles_block_fn block;
+	void *block_ctx;
+	const char *label; /* progress on a terminal, or NULL */
+} tiles_level;
+
+typedef struct {
+	double max_base;   /* largest base error of any block */
+	double max_e;      /* largest finite E */
+	long long samples; /* valid DEM samples measured */
+} tiles_stats;
+
+int tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e);
+
+#endif
