@@ -28,7 +28,7 @@ WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 CORE_PKGS := OpenEXR gdal geographiclib proj zlib
 PYR_PKGS  := jansson
 PLAY_PKGS := egl epoxy glfw3 stb
-TEST_PKGS := libtiff-4
+TEST_PKGS := libtiff-4 jansson
 PKGS    := $(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS) OpenImageIO
 pkgcf    = $(shell pkg-config --cflags $(1))
 pkglibs  = $(shell pkg-config --libs $(1))
@@ -55,7 +55,9 @@ PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
-TESTC   := $(wildcard tests/t_*.c)
+# tests/<layer>/t_<module>.c, one per module, linked with their layer;
+# tests/cmd/t_*.sh run the programs
+TESTC   := $(wildcard tests/*/t_*.c)
 TESTBIN := $(TESTC:tests/%.c=$(B)/tests/%)
 TOOLC   := $(wildcard tests/tools/*.c)
 TOOLBIN := $(TOOLC:tests/tools/%.c=$(B)/tools/%)
@@ -108,15 +110,25 @@ $(B)/tilepack $(B)/tilecheck: $(B)/%: $(B)/cmd/%.o $(PYR_A) $(CORE_A)
 $(B)/tileplay: $(B)/%: $(B)/cmd/%.o $(PLAY_A) $(PYR_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD)
 
-$(B)/tests/%: tests/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
+TESTFLAGS = $(ALLCFLAGS) -Itests
+TEST_LD  = $(call pkglibs,$(TEST_PKGS))
+$(B)/tests/core/%: tests/core/%.c tests/tap.h $(CORE_A)
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(ALL_LD)
+	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(CORE_LD) $(TEST_LD)
+$(B)/tests/pyramid/%: tests/pyramid/%.c tests/tap.h $(PYR_A) $(CORE_A)
+	@mkdir -p $(@D)
+	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(PYR_LD) $(TEST_LD)
+$(B)/tests/play/%: tests/play/%.c tests/tap.h $(PLAY_A) $(PYR_A) $(CORE_A)
+	@mkdir -p $(@D)
+	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD) $(TEST_LD)
 
 $(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)
 	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(ALL_LD)
 
-check: all $(TESTBIN) $(TOOLBIN)
+tests: all $(TESTBIN) $(TOOLBIN)
+
+check: tests
 	@sh tests/run
 
 example: all $(TOOLBIN)
@@ -146,5 +158,5 @@ check-tsan:
 
 -include $(shell find $(B) -name '*.d' 2>/dev/null)
 
-.PHONY: all check check-tsan example bench install clean
+.PHONY: all tests check check-tsan example bench install clean
 .SECONDARY:

@@ -1,6 +1,7 @@
-# lib.sh - shared helpers for the shell tests (sourced). TAP lines on stdout.
+# lib.sh - shared helpers for the shell tests in tests/*/ (sourced). TAP
+# lines on stdout.
 set -u
-TOP=$(cd "$(dirname "$0")/.." && pwd)
+TOP=$(cd "$(dirname "$0")/../.." && pwd)
 B="$TOP/build"
 DATA=${DATA:-$TOP/../shared/data}
 PATH="$B:$B/tools:$PATH"

@@ -2,7 +2,7 @@
 # every level's QEM-1D and QEM-3D surface stays on the plane, within what
 # float32 storage of quadrics and heights allows (the algebra alone, in
 # double, is exact to 1e-13 m: t_quadric).
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 /usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; done_testing; exit 1; }
 for k in binomial none box binomial5; do

@@ -3,7 +3,7 @@
 # archives (no symbol a lower layer needs is defined by a higher one) and on
 # the programs (each links only its layers' libraries: no GL or JSON where
 # no layer asks for it).
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 L=$TOP/src/lib
 allowed() {	# allowed LAYER: the layers its files may include

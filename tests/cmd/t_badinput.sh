@@ -1,6 +1,6 @@
 # t_badinput - bad input gets a clear message, exit status 1 (2 for bad
 # usage) and leaves no output file behind.
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 /usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; # The same file as input and output: refused, the input untouched.
 cp "$T/hills.tif" "$T/same.tif" && cp "$T/h0.exr" "$T/same.exr"

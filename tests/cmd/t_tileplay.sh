@@ -5,7 +5,7 @@
 # tolerance, the cache's cap along a flight over the largest pyramid, and
 # the window under Xvfb when there is one. Pictures are read back with
 # GDAL (Debian's /usr/bin/python3).
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 PY=/usr/bin/python3
 MAGENTA=255,0,255 # never a terrain colour: viridis and the level colours

@@ -6,7 +6,7 @@
 # without CRS, world files, other formats (.asc, ENVI, .hgt.zip, VRT), an
 # .hgt on stdin, sparse tiles, rotation, -s, and vertical datums (-H, -D).
 # shellcheck disable=SC2086 # lists of numbers split into words on purpose
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 PATH=$TOP/scripts:$PATH
 PY=/usr/bin/python3

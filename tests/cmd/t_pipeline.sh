@@ -2,7 +2,7 @@
 # ../shared/data: every level's size and georeferencing against gdalinfo's
 # values (literals below, not read by our code), pipe and file routes
 # byte-identical, reruns byte-identical, level 0 reproducing the DEM.
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 # file W0 H0 epsg gdal-origin-x gdal-origin-y pixel-x pixel-y valid-samples
 # (gdalinfo 3.6: "Size is", "Origin =", "Pixel Size =", voids from

@@ -6,7 +6,7 @@
 # GeodSolve for the distance: neither is our code) within 0.1 %; and the
 # QEM-1D level-1 RMS error of the Web Mercator and UTM versions, which
 # have the same ground resolution, within 2 % of each other.
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 PATH=$TOP/scripts:$PATH
 
 gdal_translate -q -srcwin 300 300 400 400 "$DATA/N44W072.hgt" "$T/w4326.tif"

@@ -1,6 +1,6 @@
 # t_docs - every program has a man page whose options are those --help
 # lists, and the man pages render without warnings.
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 PATH=$TOP/scripts:$PATH
 for p in $(sed -n 's/^\(PROGS\|SCRIPTS\) *:= *//p' "$TOP/Makefile"); do

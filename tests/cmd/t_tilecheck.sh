@@ -2,7 +2,7 @@
 # exit statuses (0 pass, 1 violations, 2 usage, 3 cannot check), a real
 # pyramid that passes, corrupted copies that fail, no GL linked, and
 # tileplay --verify printing the same report.
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 run "--help exits 0" tilecheck --help
 grep -q '^usage: tilecheck \[--dem dem\]' "$T/out"; ok $? "--help prints the usage"

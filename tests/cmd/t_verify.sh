@@ -2,7 +2,7 @@
 # by dem2vgis (1D and QEM-3D, projected and geographic with voids) that
 # must pass every check against their DEM. (t_verify.c tests the checker
 # itself on hand-built and corrupted pyramids.)
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 run "--help exits 0" tileplay --help
 grep -q '^usage: tileplay --verify dir' "$T/out"; ok $? "--help prints the usage"

@@ -1,6 +1,6 @@
 # t_tilepack - tilepack and dem2vgis: E values derived by hand, bad input,
 # interrupted runs, atomic replacement, the examples Makefile.
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/../lib.sh"
 
 /usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; done_testing; exit 1; }
 PATH=$TOP/scripts:$PATH
