@@ -2,7 +2,10 @@
 # lines on stdout.
 set -u
 TOP=$(cd "$(dirname "$0")/../.." && pwd)
-B="$TOP/build"
+# the build to test: build/, or another (TL_BUILD=build-x, e.g. make B=build-x)
+B=$(cd "$TOP" && cd "${TL_BUILD:-build}" && pwd)
+TL_BIN=$B	# dem2vgis runs this build's programs
+export TL_BIN
 DATA=${DATA:-$TOP/../shared/data}
 PATH="$B:$B/tools:$PATH"
 TL_OIIO_PLUGIN=$B/tl_oiio.so	# for the tools in build/tools
