@@ -69,13 +69,13 @@ has(const char *msg, const char *s)
 	return strstr(msg, s) != NULL;
 }
 
-/* The height vd_apply gives sample (i, j) whose height is h. */
+/* The height vdatum_apply gives sample (i, j) whose height is h. */
 static double
-shifted(vd_shift *v, int i, int j, float h)
+shifted(vdatum_shift *v, int i, int j, float h)
 {
 	tl_err e = { "" };
 
-	if (vd_apply(v, j, i, 1, &h, &e) < 0) {
+	if (vdatum_apply(v, j, i, 1, &h, &e) < 0) {
 		printf("# %s\n", e.msg);
 		return NAN;
 	}
@@ -121,23 +121,23 @@ static void
 test_egm96(void)
 {
 	tl_err e = { "" };
-	vd_shift *v, *back;
+	vdatum_shift *v, *back;
 	georef g;
 	double h;
 
 	for (size_t k = 0; k < sizeof geo_pts / sizeof geo_pts[0]; k++) {
 		g = srtm(geo_pts[k].lon0, geo_pts[k].lat0, geo_pts[k].n);
-		v = vd_open(&g, "EPSG:5773", "ellipsoid", &e);
-		back = vd_open(&g, "ellipsoid", "EPSG:5773", &e);
+		v = vdatum_open(&g, "EPSG:5773", "ellipsoid", &e);
+		back = vdatum_open(&g, "ellipsoid", "EPSG:5773", &e);
 		if (!ok(v != NULL && back != NULL, "%s: EGM96 <-> ellipsoid "
 		    "opens", geo_pts[k].what)) {
 			printf("# %s\n", e.msg);
-			vd_close(v);
+			vdatum_close(v);
 			continue;
 		}
 		if (k == 0)
 			printf("# EGM96 -> ellipsoid: \"%s\"; back: \"%s\"\n",
-			    vd_operation_name(v), vd_operation_name(back));
+			    vdatum_operation_name(v), vdatum_operation_name(back));
 		h = shifted(v, geo_pts[k].i, geo_pts[k].j, 250);
 		ok(fabs(h - 250 - geo_pts[k].N) < 0.05, "%s: 250 m EGM96 = "
 		    "%.4f m ellipsoidal (cs2cs: N = %.4f)", geo_pts[k].what, h,
@@ -145,12 +145,12 @@ test_egm96(void)
 		h = shifted(back, geo_pts[k].i, geo_pts[k].j, 250);
 		ok(fabs(h - 250 + geo_pts[k].N) < 0.05, "%s: 250 m "
 		    "ellipsoidal = %.4f m EGM96", geo_pts[k].what, h);
-		ok(strcmp(vd_target_name(v), "EPSG:4979") == 0 &&
-		    strcmp(vd_target_name(back), "EPSG:5773") == 0,
+		ok(strcmp(vdatum_target_name(v), "EPSG:4979") == 0 &&
+		    strcmp(vdatum_target_name(back), "EPSG:5773") == 0,
 		    "%s: targets named %s, %s", geo_pts[k].what,
-		    vd_target_name(v), vd_target_name(back));
-		vd_close(v);
-		vd_close(back);
+		    vdatum_target_name(v), vdatum_target_name(back));
+		vdatum_close(v);
+		vdatum_close(back);
 	}
 }
 
@@ -159,18 +159,18 @@ test_utm(void)
 {
 	tl_err e = { "" };
 	georef g = bigtujunga();
-	vd_shift *v = vd_open(&g, "EPSG:5773", "ellipsoid", &e);
-	vd_shift *back = vd_open(&g, "ellipsoid", "EPSG:5773", &e);
+	vdatum_shift *v = vdatum_open(&g, "EPSG:5773", "ellipsoid", &e);
+	vdatum_shift *back = vdatum_open(&g, "ellipsoid", "EPSG:5773", &e);
 	double h;
 
 	if (!ok(v != NULL && back != NULL, "UTM 11N: EGM96 <-> ellipsoid "
 	    "opens")) {
 		printf("# %s\n", e.msg);
-		vd_close(v);
+		vdatum_close(v);
 		return;
 	}
-	printf("# UTM: \"%s\"; back: \"%s\"\n", vd_operation_name(v),
-	    vd_operation_name(back));
+	printf("# UTM: \"%s\"; back: \"%s\"\n", vdatum_operation_name(v),
+	    vdatum_operation_name(back));
 	for (size_t k = 0; k < sizeof utm_pts / sizeof utm_pts[0]; k++) {
 		h = shifted(v, utm_pts[k].i, utm_pts[k].j, 1000);
 		ok(fabs(h - 1000 - utm_pts[k].N) < 0.05, "UTM (%d, %d): 1000 "
@@ -181,8 +181,8 @@ test_utm(void)
 		    "m ellipsoidal = %.4f m EGM96", utm_pts[k].i,
 		    utm_pts[k].j, h);
 	}
-	vd_close(v);
-	vd_close(back);
+	vdatum_close(v);
+	vdatum_close(back);
 }
 
 /* The exact heights, straight from PROJ (crs_to_crs picks the EGM96
@@ -224,7 +224,7 @@ oracle_row(oracle *o, const georef *g, int j, const float *z, double *x,
 	    sizeof *y, g->width, h, sizeof *h, g->width, NULL, 0, 0);
 }
 
-/* Largest |vd_apply - PROJ| over every every-th row of g and every row
+/* Largest |vdatum_apply - PROJ| over every every-th row of g and every row
  * within 12 of row `near` (whole rows, heights 0..999 with NaN between).
  * Also the exact cost per sample. */
 static double
@@ -232,7 +232,7 @@ lattice_error(const georef *g, const char *src, int every, int near,
     double *ns, int *nan_ok)
 {
 	tl_err e = { "" };
-	vd_shift *v = vd_open(g, "EPSG:5773", "ellipsoid", &e);
+	vdatum_shift *v = vdatum_open(g, "EPSG:5773", "ellipsoid", &e);
 	float *z = calloc(g->width, sizeof *z);
 	double *x = calloc(g->width, sizeof *x), *y, *h, worst = 0, t = 0,
 	    t0;
@@ -257,7 +257,7 @@ lattice_error(const georef *g, const char *src, int every, int near,
 		t += now() - t0;
 		for (int i = 0; i < g->width; i++)
 			z[i] = i % 11 == 5 ? NAN : z[i];
-		if (vd_apply(v, j, 0, g->width, z, &e) < 0) {
+		if (vdatum_apply(v, j, 0, g->width, z, &e) < 0) {
 			printf("# %s\n", e.msg);
 			worst = INFINITY;
 			break;
@@ -270,7 +270,7 @@ lattice_error(const georef *g, const char *src, int every, int near,
 	}
 	*ns = t / ((double)rows * g->width) * 1e9;
 	oracle_close(&o);
-	vd_close(v);
+	vdatum_close(v);
 	free(z), free(x), free(y), free(h);
 	return worst;
 }
@@ -319,7 +319,7 @@ test_pieces(void)
 {
 	tl_err e = { "" };
 	georef g = srtm(-125, 49, 3601);
-	vd_shift *v = vd_open(&g, "EPSG:5773", "ellipsoid", &e);
+	vdatum_shift *v = vdatum_open(&g, "EPSG:5773", "ellipsoid", &e);
 	float whole[3601], part[3601];
 	int same = 1;
 
@@ -330,10 +330,10 @@ test_pieces(void)
 	for (int j = 3600; j >= 0; j -= 97) {
 		for (int i = 0; i < 3601; i++)
 			whole[i] = part[i] = (float)(i % 500);
-		vd_apply(v, j, 0, 3601, whole, &e);
+		vdatum_apply(v, j, 0, 3601, whole, &e);
 		for (int i1 = 3601, i0; i1 > 0; i1 = i0) {
 			i0 = i1 > 301 ? i1 - 301 : 0;
-			vd_apply(v, j, i0, i1 - i0, part + i0, &e);
+			vdatum_apply(v, j, i0, i1 - i0, part + i0, &e);
 		}
 		same &= memcmp(whole, part, sizeof whole) == 0;
 	}
@@ -341,30 +341,30 @@ test_pieces(void)
 	/* Past the grid: PROJ, exactly. */
 	ok(fabs(shifted(v, -5, 3700, 0) - shifted(v, 0, 3600, 0)) < 0.5,
 	    "samples past the grid still convert");
-	vd_close(v);
+	vdatum_close(v);
 }
 
-/* Where PROJ gives HUGE_VAL (here latitude 2826 degrees), vd_apply fails
+/* Where PROJ gives HUGE_VAL (here latitude 2826 degrees), vdatum_apply fails
  * rather than store it; NaN samples there need nothing. */
 static void
 test_huge(void)
 {
 	tl_err e = { "" };
 	georef g = srtm(-125, 49, 3601);
-	vd_shift *v = vd_open(&g, "EPSG:5773", "ellipsoid", &e);
+	vdatum_shift *v = vdatum_open(&g, "EPSG:5773", "ellipsoid", &e);
 	float z[2] = { 100, 200 }, w[2] = { NAN, NAN };
 
 	if (!ok(v != NULL, "N48W125: opens")) {
 		printf("# %s\n", e.msg);
 		return;
 	}
-	ok(vd_apply(v, -10000000, 0, 2, z, &e) < 0 &&
+	ok(vdatum_apply(v, -10000000, 0, 2, z, &e) < 0 &&
 	    has(e.msg, "no height") && z[0] == 100 && z[1] == 200,
 	    "no height from PROJ: refused, heights untouched");
 	printf("# %s\n", e.msg);
-	ok(vd_apply(v, -10000000, 0, 2, w, &e) == 0 && isnan(w[0]),
+	ok(vdatum_apply(v, -10000000, 0, 2, w, &e) == 0 && isnan(w[0]),
 	    "no height needed for NaN");
-	vd_close(v);
+	vdatum_close(v);
 }
 
 /* The DEM's CRS as WKT2 (what GDAL gives for a CRS without one code)
@@ -377,20 +377,20 @@ test_wkt(void)
 	const char *opts[] = { "MULTILINE=NO", NULL }, *wkt;
 	tl_err e = { "" };
 	georef g = bigtujunga();
-	vd_shift *v;
+	vdatum_shift *v;
 	double h;
 
 	wkt = proj_as_wkt(ctx, crs, PJ_WKT2_2019, opts);
 	snprintf(g.crs, sizeof g.crs, "%s", wkt != NULL ? wkt : "");
 	g.epsg = 0;
-	v = vd_open(&g, "EPSG:5773", "EPSG:4979", &e);
+	v = vdatum_open(&g, "EPSG:5773", "EPSG:4979", &e);
 	if (ok(v != NULL, "UTM 11N as WKT2: opens")) {
 		h = shifted(v, utm_pts[0].i, utm_pts[0].j, 1000);
 		ok(fabs(h - 1000 - utm_pts[0].N) < 0.05, "UTM 11N as WKT2: "
 		    "1000 m EGM96 = %.4f m ellipsoidal", h);
 	} else
 		printf("# %s\n", e.msg);
-	vd_close(v);
+	vdatum_close(v);
 	proj_destroy(crs);
 	proj_context_destroy(ctx);
 }
@@ -400,50 +400,50 @@ test_refusals(void)
 {
 	tl_err e = { "" };
 	georef g = srtm(-72, 45, 1201), sp = srtm(1, 43, 1201), none;
-	vd_shift *v;
+	vdatum_shift *v;
 
-	v = vd_open(&g, "EPSG:5773", "EPSG:3855", &e);
+	v = vdatum_open(&g, "EPSG:5773", "EPSG:3855", &e);
 	ok(v == NULL && has(e.msg, "egm08") && has(e.msg, "PROJ_DATA"),
 	    "EGM96 -> EGM2008 refused, naming the missing grid");
 	printf("# %s\n", e.msg);
-	vd_close(v);
+	vdatum_close(v);
 
-	v = vd_open(&g, "EPSG:3855", "ellipsoid", &e);
+	v = vdatum_open(&g, "EPSG:3855", "ellipsoid", &e);
 	ok(v == NULL && has(e.msg, "egm08") &&
 	    has(e.msg, "EPSG:3855 to EPSG:4979"),
 	    "EGM2008 -> ellipsoid refused, naming the missing grid");
 
 	/* NAVD88 in Vermont: only geoid grids Debian lacks (GEOID99..18). */
-	v = vd_open(&g, "EPSG:5703", "ellipsoid", &e);
+	v = vdatum_open(&g, "EPSG:5703", "ellipsoid", &e);
 	ok(v == NULL && has(e.msg, "needs the grid") && has(e.msg, "us_noaa"),
 	    "NAVD88 -> ellipsoid in the US refused, naming a NOAA geoid grid");
 	printf("# %s\n", e.msg);
 
 	/* NAVD88 in the Pyrenees: PROJ has only its ballpark (zero). */
-	v = vd_open(&sp, "EPSG:5703", "ellipsoid", &e);
+	v = vdatum_open(&sp, "EPSG:5703", "ellipsoid", &e);
 	ok(v == NULL && has(e.msg, "ballpark"), "NAVD88 in Spain refused: "
 	    "only a ballpark operation");
 	printf("# %s\n", e.msg);
 
-	v = vd_open(&g, NULL, "ellipsoid", &e);
+	v = vdatum_open(&g, NULL, "ellipsoid", &e);
 	ok(v == NULL && has(e.msg, "declares no vertical datum") &&
 	    has(e.msg, "-D EPSG:5773"), "no declared datum: the -D hint");
-	v = vd_open(&g, "", "EPSG:5773", &e);
+	v = vdatum_open(&g, "", "EPSG:5773", &e);
 	ok(v == NULL && has(e.msg, "-D"), "empty declared datum: the -D hint");
 	printf("# %s\n", e.msg);
 
-	v = vd_open(&g, "EGM96 (SRTM)", "ellipsoid", &e);
+	v = vdatum_open(&g, "EGM96 (SRTM)", "ellipsoid", &e);
 	ok(v == NULL && has(e.msg, "not a vertical CRS"), "a citation is "
 	    "not a vertical CRS");
-	v = vd_open(&g, "EPSG:4326", "ellipsoid", &e);
+	v = vdatum_open(&g, "EPSG:4326", "ellipsoid", &e);
 	ok(v == NULL && has(e.msg, "not a vertical CRS"), "EPSG:4326 is "
 	    "not a vertical CRS");
 
-	v = vd_open(&g, "EPSG:5703", "EPSG:6360", &e);
+	v = vdatum_open(&g, "EPSG:5703", "EPSG:6360", &e);
 	ok(v == NULL && has(e.msg, "metres"), "a target in feet refused");
 
 	geo_init_none(&none, 30, 30);
-	v = vd_open(&none, "EPSG:5773", "ellipsoid", &e);
+	v = vdatum_open(&none, "EPSG:5773", "ellipsoid", &e);
 	ok(v == NULL && has(e.msg, "no horizontal CRS"), "no CRS: refused");
 	printf("# %s\n", e.msg);
 }
@@ -453,17 +453,17 @@ test_units(void)
 {
 	tl_err e = { "" };
 
-	ok(fabs(vd_unit_of("EPSG:6360", &e) - 1200.0 / 3937) < 1e-12,
-	    "EPSG:6360 (NAVD88 ftUS): %.15g m", vd_unit_of("EPSG:6360", &e));
-	ok(fabs(vd_unit_of("EPSG:8228", &e) - 0.3048) < 1e-12,
-	    "EPSG:8228 (NAVD88 ft): %.15g m", vd_unit_of("EPSG:8228", &e));
-	ok(vd_unit_of("EPSG:5773", &e) == 1, "EPSG:5773: 1 m");
-	ok(vd_unit_of("ellipsoid", &e) == 1, "ellipsoid: 1 m");
-	ok(vd_unit_of("EPSG:4326+5773", &e) == 1, "a compound CRS: its "
+	ok(fabs(vdatum_unit_of("EPSG:6360", &e) - 1200.0 / 3937) < 1e-12,
+	    "EPSG:6360 (NAVD88 ftUS): %.15g m", vdatum_unit_of("EPSG:6360", &e));
+	ok(fabs(vdatum_unit_of("EPSG:8228", &e) - 0.3048) < 1e-12,
+	    "EPSG:8228 (NAVD88 ft): %.15g m", vdatum_unit_of("EPSG:8228", &e));
+	ok(vdatum_unit_of("EPSG:5773", &e) == 1, "EPSG:5773: 1 m");
+	ok(vdatum_unit_of("ellipsoid", &e) == 1, "ellipsoid: 1 m");
+	ok(vdatum_unit_of("EPSG:4326+5773", &e) == 1, "a compound CRS: its "
 	    "vertical part");
-	ok(vd_unit_of("EPSG:32611", &e) < 0 && has(e.msg, "not a vertical"),
+	ok(vdatum_unit_of("EPSG:32611", &e) < 0 && has(e.msg, "not a vertical"),
 	    "EPSG:32611 has no height unit");
-	ok(vd_unit_of(NULL, &e) < 0, "NULL has no height unit");
+	ok(vdatum_unit_of(NULL, &e) < 0, "NULL has no height unit");
 }
 
 /* Same datum, units aside: heights in metres need nothing. */
@@ -477,24 +477,24 @@ test_identity(void)
 	tl_err e = { "" };
 	georef g = srtm(-72, 45, 1201), none;
 	float z[4] = { 1.5f, NAN, -3, 1e6f }, w[4];
-	vd_shift *v;
+	vdatum_shift *v;
 
 	geo_init_none(&none, 30, 30);
 	for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
-		v = vd_open(k == 0 ? &none : &g, pairs[k][0], pairs[k][1], &e);
+		v = vdatum_open(k == 0 ? &none : &g, pairs[k][0], pairs[k][1], &e);
 		memcpy(w, z, sizeof w);
-		ok(v != NULL && vd_apply(v, 5, 7, 4, w, &e) == 0 &&
+		ok(v != NULL && vdatum_apply(v, 5, 7, 4, w, &e) == 0 &&
 		    memcmp(w, z, sizeof w) == 0 &&
-		    strcmp(vd_operation_name(v), "identity") == 0,
+		    strcmp(vdatum_operation_name(v), "identity") == 0,
 		    "%s -> %s: identity, nothing changes", pairs[k][0],
 		    pairs[k][1]);
 		if (v == NULL)
 			printf("# %s\n", e.msg);
-		vd_close(v);
+		vdatum_close(v);
 	}
 }
 
-/* A source in feet: vd_apply takes metres, the operation feet. A WKT
+/* A source in feet: vdatum_apply takes metres, the operation feet. A WKT
  * vertical CRS on the EGM96 datum in feet (not in EPSG). */
 static void
 test_feet(void)
@@ -505,21 +505,21 @@ test_feet(void)
 	    "LENGTHUNIT[\"foot\",0.3048]]]";
 	tl_err e = { "" };
 	georef g = srtm(-72, 45, 1201);
-	vd_shift *v;
+	vdatum_shift *v;
 	double h;
 
-	ok(fabs(vd_unit_of(wkt, &e) - 0.3048) < 1e-12, "EGM96 in feet: "
+	ok(fabs(vdatum_unit_of(wkt, &e) - 0.3048) < 1e-12, "EGM96 in feet: "
 	    "0.3048 m");
-	v = vd_open(&g, wkt, "ellipsoid", &e);
+	v = vdatum_open(&g, wkt, "ellipsoid", &e);
 	if (!ok(v != NULL, "EGM96 (ft) -> ellipsoid opens")) {
 		printf("# %s\n", e.msg);
 		return;
 	}
-	printf("# EGM96 (ft): \"%s\"\n", vd_operation_name(v));
+	printf("# EGM96 (ft): \"%s\"\n", vdatum_operation_name(v));
 	h = shifted(v, 600, 600, 250);
 	ok(fabs(h - 250 - geo_pts[0].N) < 0.05, "250 m (given in metres) "
 	    "EGM96 = %.4f m ellipsoidal", h);
-	vd_close(v);
+	vdatum_close(v);
 }
 
 /* Not asserted: ns per sample converting a whole 3601-wide DEM, row
@@ -528,14 +528,14 @@ static void
 cost(const char *what, const georef *g, const char *from, const char *to)
 {
 	tl_err e = { "" };
-	vd_shift *v = vd_open(g, from, to, &e);
+	vdatum_shift *v = vdatum_open(g, from, to, &e);
 	float *z = calloc(g->width, sizeof *z);
 	double t0, t = 0, ns;
 
 	if (v == NULL || z == NULL) {
 		printf("# cost %s: %s\n", what,
 		    v == NULL ? e.msg : "no memory");
-		vd_close(v);
+		vdatum_close(v);
 		free(z);
 		return;
 	}
@@ -543,7 +543,7 @@ cost(const char *what, const georef *g, const char *from, const char *to)
 		for (int i = 0; i < g->width; i++)
 			z[i] = (float)(i % 1000);
 		t0 = now();
-		if (vd_apply(v, j, 0, g->width, z, &e) < 0) {
+		if (vdatum_apply(v, j, 0, g->width, z, &e) < 0) {
 			printf("# cost %s: %s\n", what, e.msg);
 			break;
 		}
@@ -552,7 +552,7 @@ cost(const char *what, const georef *g, const char *from, const char *to)
 	ns = t / ((double)g->height * g->width) * 1e9;
 	printf("# cost %s: %.1f ns per sample, %.3f s for the %dx%d DEM\n",
 	    what, ns, t, g->width, g->height);
-	vd_close(v);
+	vdatum_close(v);
 	free(z);
 }
 
@@ -572,7 +572,7 @@ int
 main(void)
 {
 	/* Grids fetched from the network would make this test depend on
-	 * it; vd_open honours PROJ_NETWORK like any PROJ program. */
+	 * it; vdatum_open honours PROJ_NETWORK like any PROJ program. */
 	unsetenv("PROJ_NETWORK");
 	test_egm96();
 	test_utm();

@@ -118,7 +118,7 @@ dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
 			L->seg[i] = (float)z;
 		}
 	}
-	if (L->vd != NULL && vd_apply(L->vd, y, x0, n, L->seg, e) < 0)
+	if (L->vd != NULL && vdatum_apply(L->vd, y, x0, n, L->seg, e) < 0)
 		return -1;
 	if (nv > 0) {
 		L->voids += nv;
@@ -140,12 +140,12 @@ datum(dem_load *L, georef *g, const dem_opts *o, tl_err *e)
 	if (g->model == GEO_NONE)
 		return tl_fail(e, "%s: -H %s: the DEM has no CRS, so its "
 		    "heights cannot change datum", L->what, o->heights);
-	if ((L->vd = vd_open(g, from, o->heights, e)) == NULL) {
+	if ((L->vd = vdatum_open(g, from, o->heights, e)) == NULL) {
 		char why[sizeof e->msg];
 		snprintf(why, sizeof why, "%s", e->msg);
 		return tl_fail(e, "%s: %s", L->what, why);
 	}
-	snprintf(g->vdatum, sizeof g->vdatum, "%s", vd_target_name(L->vd));
+	snprintf(g->vdatum, sizeof g->vdatum, "%s", vdatum_target_name(L->vd));
 	return 0;
 }
 
@@ -333,7 +333,7 @@ dem_open(const char *path, const dem_opts *o, tl_err *e)
 		r = read_any(&L, &d->g, path, o, e);
 	}
 	free(L.seg);
-	vd_close(L.vd);
+	vdatum_close(L.vd);
 	d->fd = L.fd;
 	d->rowvoid = L.rowvoid;
 	d->voids = L.voids;

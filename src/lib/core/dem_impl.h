@@ -25,7 +25,7 @@ typedef struct {
 	float *seg;              /* w floats */
 	unsigned char *rowvoid;  /* one bit per row: the row has voids */
 	long long voids;
-	struct vd_shift *vd;     /* vertical datum conversion, or NULL */
+	struct vdatum_shift *vd;     /* vertical datum conversion, or NULL */
 } dem_load;
 
 /* Sets up the conversion once size, nodata and units are known (zunit,

@@ -1,37 +1,14 @@
-/* vdatum.c - DEM heights converted between vertical datums with PROJ.
+/* vdatum.c - setting up the conversion of DEM heights between vertical
+ * datums with PROJ (vdatum.h); vdatum_lattice.c applies it to rows.
  *
- * vd_open chooses one operation, from the DEM's compound CRS (its
+ * vdatum_open chooses one operation, from the DEM's compound CRS (its
  * horizontal CRS + the declared vertical CRS, or EPSG:4979 for
  * ellipsoidal heights) to the target, among those PROJ lists for the
  * DEM's whole area, and refuses what would shift heights by zero without
  * saying so: PROJ falls back, when a geoid grid is missing, to a
  * "ballpark" vertical transformation that leaves heights unchanged (and
- * proj_create_crs_to_crs picks it silently).
- *
- * Cost: PROJ takes 130-370 ns per point for these pipelines (its
- * unitconvert step alone ~70 ns), 2-5 s for a 3601 x 3601 DEM. So the
- * shift is computed exactly (z = 0) at a lattice of nodes every S
- * samples, S chosen so that a lattice cell measures at most LATTICE_SPAN
- * metres along x plus y on the ground, and interpolated bilinearly in
- * between; where S would be 1 every sample is transformed exactly.
- *
- * Error of the lattice: the grids PROJ applies are interpolated
- * bilinearly in longitude, latitude, so the shift is smooth inside a
- * grid cell and its slope jumps (by at most ds) across a grid line. A
- * linear interpolation over h metres that straddles one such kink errs
- * by at most h ds / 4; the bilinear one by at most (hx + hy) ds / 4 <=
- * LATTICE_SPAN ds / 4 (its cells, <= 250 m, are far smaller than any
- * geoid grid's, 1.8 km for 1' grids, so a cell meets at most one line
- * each way), plus a curvature term below 1e-4 m where the DEM's axes are
- * not parallel to the grid's (projected CRSs). For EGM96 (egm96_15.gtx)
- * ds <= 2.2e-4 (measured over the whole grid; largest at the Canaries
- * and the Bonin trench), so the error is below 1.4 cm; t_vdatum measures
- * 9.3 mm on Tenerife with the grid lines mid-cell, the worst case. A
- * grid whose slope (the deflection of the vertical, rarely above 60",
- * 3e-4) changed sign across one line would make ds 6e-4 and the bound 4
- * cm. The heights' own accuracy (SRTM: metres) and that of EGM96's 15'
- * grid against the model (decimetres) are larger. */
-#include "core/vdatum.h"
+ * proj_create_crs_to_crs picks it silently). */
+#include "core/vdatum_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -39,47 +16,16 @@
 #include <string.h>
 #include <strings.h>
 
-#include <proj.h>
 #include <proj_experimental.h> /* compound CRSs, 3D to 2D */
 
 /* Boundary points per DEM edge sampled for its lon/lat extent. */
 #define EDGE_POINTS 32
-/* Ground metres, x plus y, of a lattice cell; see the error above. */
-#define LATTICE_SPAN 250.0
-#define LATTICE_MAX_STEP 64
-#define EARTH_RADIUS 6371008.8
-
-/* One row of lattice nodes: the shift (metres) at each node, NaN until
- * computed, infinite where PROJ gives none. */
-typedef struct {
-	int m;     /* node row, -1 for none */
-	double *d; /* nx values */
-} vd_nodes;
-
-struct vd_shift {
-	PJ_CONTEXT *ctx;
-	PJ *op;      /* source to target, normalised: x lon or easting, y
-	              * lat or northing, z height; NULL: nothing to do */
-	PJ *toll;    /* horizontal CRS to WGS 84 lon/lat, applied first when
-	              * the source is EPSG:4979, which takes lon/lat */
-	georef g;    /* where the samples are (geo_vertex_crs) */
-	double fs, ft; /* metres per unit of the source / target heights */
-	double *x, *y, *z; /* one row, for proj_trans_generic */
-	int cap;
-	int step;    /* lattice spacing S in samples, 1: exact everywhere */
-	int nx, ny;  /* lattice nodes: columns min(k S, width - 1), rows */
-	vd_nodes rows[2]; /* the two node rows around the last row */
-	char name[192];   /* "EPSG:5773 to EPSG:4979", prefixes messages */
-	char target[128]; /* vd_target_name */
-	char opname[256]; /* vd_operation_name */
-	char log[256];    /* PROJ's last message, for ours */
-};
 
 /* One side of the conversion. */
 typedef struct {
 	PJ *crs;     /* the vertical CRS, NULL for ellipsoidal heights */
 	double unit; /* metres per unit of its heights */
-} vd_side;
+} side;
 
 /* PROJ reports through the context's logger, never on stderr: keep the
  * last message to explain our own failures. */
@@ -89,7 +35,7 @@ keep_log(void *data, int level, const char *msg)
 	char *buf = data;
 
 	(void)level;
-	snprintf(buf, sizeof ((vd_shift *)0)->log, "%s", msg);
+	snprintf(buf, sizeof ((vdatum_shift *)0)->log, "%s", msg);
 }
 
 static PJ_CONTEXT *
@@ -100,12 +46,6 @@ quiet_context(char *log)
 	if (ctx != NULL)
 		proj_log_func(ctx, log, keep_log);
 	return ctx;
-}
-
-static const char *
-why(const char *log)
-{
-	return log[0] != '\0' ? log : "PROJ gives no reason";
 }
 
 static int
@@ -168,7 +108,7 @@ height_unit(PJ_CONTEXT *ctx, const PJ *crs)
 }
 
 static int
-open_side(PJ_CONTEXT *ctx, const char *def, vd_side *s, const char *log,
+open_side(PJ_CONTEXT *ctx, const char *def, side *s, const char *log,
     tl_err *e)
 {
 	s->crs = NULL;
@@ -177,7 +117,7 @@ open_side(PJ_CONTEXT *ctx, const char *def, vd_side *s, const char *log,
 		return 0;
 	if ((s->crs = vertical_crs(ctx, def)) == NULL)
 		return tl_fail(e, "%s: not a vertical CRS PROJ knows (%s)", def,
-		    why(log));
+		    vdatum_why(log));
 	if ((s->unit = height_unit(ctx, s->crs)) < 0)
 		return tl_fail(e, "%s: cannot find the unit of its heights",
 		    def);
@@ -185,11 +125,11 @@ open_side(PJ_CONTEXT *ctx, const char *def, vd_side *s, const char *log,
 }
 
 double
-vd_unit_of(const char *vcrs, tl_err *e)
+vdatum_unit_of(const char *vcrs, tl_err *e)
 {
-	char log[sizeof ((vd_shift *)0)->log] = "";
+	char log[sizeof ((vdatum_shift *)0)->log] = "";
 	PJ_CONTEXT *ctx;
-	vd_side s;
+	side s;
 	int rc;
 
 	if (vcrs == NULL || vcrs[0] == '\0')
@@ -224,7 +164,7 @@ same_datum(PJ_CONTEXT *ctx, const PJ *a, const PJ *b)
 
 /* What the index records: the CRS's code, else its name. */
 static void
-name_target(vd_shift *v, const vd_side *t, const char *def)
+name_target(vdatum_shift *v, const side *t, const char *def)
 {
 	const char *auth, *code;
 
@@ -256,7 +196,7 @@ axes(PJ_CONTEXT *ctx, const PJ *crs)
 /* The DEM's horizontal CRS, 2D: a compound CRS gives its first part, a 3D
  * one is demoted (the heights are ours to describe). */
 static PJ *
-horizontal_crs(vd_shift *v, const georef *g, tl_err *e)
+horizontal_crs(vdatum_shift *v, const georef *g, tl_err *e)
 {
 	char def[sizeof g->crs + 16];
 	PJ *crs, *h;
@@ -289,7 +229,7 @@ horizontal_crs(vd_shift *v, const georef *g, tl_err *e)
 	if (crs == NULL || !proj_is_crs(crs)) {
 		proj_destroy(crs);
 		tl_fail(e, "%s: cannot read the DEM's CRS (%s)", v->name,
-		    why(v->log));
+		    vdatum_why(v->log));
 		return NULL;
 	}
 	return crs;
@@ -297,7 +237,7 @@ horizontal_crs(vd_shift *v, const georef *g, tl_err *e)
 
 /* The operation from the horizontal CRS to WGS 84 longitude, latitude. */
 static int
-open_toll(vd_shift *v, PJ *h, tl_err *e)
+open_toll(vdatum_shift *v, PJ *h, tl_err *e)
 {
 	PJ *wgs = proj_create(v->ctx, "EPSG:4326"), *op = NULL;
 
@@ -309,7 +249,7 @@ open_toll(vd_shift *v, PJ *h, tl_err *e)
 	proj_destroy(wgs);
 	if (v->toll == NULL)
 		return tl_fail(e, "%s: cannot convert the DEM's CRS to "
-		    "longitude, latitude (%s)", v->name, why(v->log));
+		    "longitude, latitude (%s)", v->name, vdatum_why(v->log));
 	return 0;
 }
 
@@ -317,7 +257,7 @@ open_toll(vd_shift *v, PJ *h, tl_err *e)
  * east across the antimeridian) from points along its border, where a
  * map projection's extremes lie. */
 static int
-dem_area(vd_shift *v, double box[4], tl_err *e)
+dem_area(vdatum_shift *v, double box[4], tl_err *e)
 {
 	double x[4 * EDGE_POINTS], y[4 * EDGE_POINTS], w, h, t, lon;
 	double lo = HUGE_VAL, hi = -HUGE_VAL, wlo = HUGE_VAL, whi = -HUGE_VAL;
@@ -342,7 +282,7 @@ dem_area(vd_shift *v, double box[4], tl_err *e)
 		if (!isfinite(x[k]) || !isfinite(y[k]) || fabs(y[k]) > 90)
 			return tl_fail(e, "%s: the DEM's border does not "
 			    "convert to longitude, latitude (%s)", v->name,
-			    why(v->log));
+			    vdatum_why(v->log));
 		lon = remainder(x[k], 360);
 		lo = fmin(lo, lon), hi = fmax(hi, lon);
 		lon = lon < 0 ? lon + 360 : lon;
@@ -355,69 +295,6 @@ dem_area(vd_shift *v, double box[4], tl_err *e)
 	box[0] = lo, box[2] = hi;
 	return 0;
 }
-
-/* Ground metres of one column step and one row step, the largest over
- * the DEM's corners and centre (WGS 84 lon/lat on a sphere: a 0.5 %
- * estimate is plenty to size the lattice). */
-static int
-sample_size(vd_shift *v, double *sx, double *sy)
-{
-	static const double at[5][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 },
-		{ 1, 1 }, { 0.5, 0.5 } };
-	double x[15], y[15], i, j, c, dx, dy, rad = M_PI / 180;
-
-	for (int k = 0; k < 5; k++) {
-		i = at[k][0] * (v->g.width - 1);
-		j = at[k][1] * (v->g.height - 1);
-		for (int q = 0; q < 3; q++)
-			geo_vertex_crs(&v->g, 0, i + (q == 1), j + (q == 2),
-			    &x[3 * k + q], &y[3 * k + q]);
-	}
-	proj_trans_generic(v->toll, PJ_FWD, x, sizeof *x, 15, y, sizeof *y,
-	    15, NULL, 0, 0, NULL, 0, 0);
-	*sx = *sy = 0;
-	for (int k = 0; k < 15; k++)
-		if (!isfinite(x[k]) || !isfinite(y[k]))
-			return -1;
-	for (int k = 0; k < 15; k += 3) {
-		c = cos(y[k] * rad);
-		for (int q = 1; q <= 2; q++) {
-			dx = remainder(x[k + q] - x[k], 360) * c;
-			dy = y[k + q] - y[k];
-			*(q == 1 ? sx : sy) = fmax(*(q == 1 ? sx : sy),
-			    EARTH_RADIUS * rad * hypot(dx, dy));
-		}
-	}
-	return 0;
-}
-
-/* The lattice: the largest spacing S whose cells measure at most
- * LATTICE_SPAN metres, x plus y; 1 (exact) for small grids. */
-static int
-open_lattice(vd_shift *v, tl_err *e)
-{
-	double sx, sy;
-	int s;
-
-	v->step = 1;
-	if (v->g.width < 2 || v->g.height < 2 ||
-	    sample_size(v, &sx, &sy) < 0 || !(sx + sy > 0))
-		return 0;
-	s = (int)fmin(floor(LATTICE_SPAN / (sx + sy)), LATTICE_MAX_STEP);
-	if (s < 2)
-		return 0;
-	v->step = s;
-	v->nx = (v->g.width - 2) / s + 2;
-	v->ny = (v->g.height - 2) / s + 2;
-	for (int r = 0; r < 2; r++) {
-		v->rows[r].m = -1;
-		if ((v->rows[r].d = tl_alloc((size_t)v->nx,
-		    sizeof *v->rows[r].d, e)) == NULL)
-			return -1;
-	}
-	return 0;
-}
-
 /* Grids the operation names that PROJ cannot open. */
 static int
 missing_grids(PJ_CONTEXT *ctx, const PJ *op)
@@ -434,7 +311,7 @@ missing_grids(PJ_CONTEXT *ctx, const PJ *op)
 }
 
 static int
-fail_grids(vd_shift *v, const PJ *op, tl_err *e)
+fail_grids(vdatum_shift *v, const PJ *op, tl_err *e)
 {
 	const char *name, *full, *pkg, *url, *where = "", *db, *at = "";
 	char list[512] = "", dir[512] = "/usr/share/proj", cdn[512];
@@ -476,7 +353,7 @@ fail_grids(vd_shift *v, const PJ *op, tl_err *e)
  * whole DEM, uses only grids PROJ finds and no ballpark step (a
  * ballpark vertical step leaves heights unchanged). */
 static PJ *
-choose(vd_shift *v, PJ *src, PJ *dst, const double box[4], tl_err *e)
+choose(vdatum_shift *v, PJ *src, PJ *dst, const double box[4], tl_err *e)
 {
 	PJ_OPERATION_FACTORY_CONTEXT *f;
 	PJ_OBJ_LIST *l = NULL;
@@ -519,7 +396,7 @@ choose(vd_shift *v, PJ *src, PJ *dst, const double box[4], tl_err *e)
 	else if (best == NULL)
 		tl_fail(e, "%s: PROJ knows no operation over the DEM's area "
 		    "(lon %.6g..%.6g, lat %.6g..%.6g) (%s)", v->name, box[0],
-		    box[2], box[1], box[3], why(v->log));
+		    box[2], box[1], box[3], vdatum_why(v->log));
 	proj_destroy(miss);
 	return best;
 }
@@ -527,7 +404,7 @@ choose(vd_shift *v, PJ *src, PJ *dst, const double box[4], tl_err *e)
 /* The DEM's heights' CRS and the target's, both with the horizontal CRS
  * h where they are vertical; EPSG:4979 for ellipsoidal heights. */
 static PJ *
-side_crs(vd_shift *v, PJ *h, const vd_side *s)
+side_crs(vdatum_shift *v, PJ *h, const side *s)
 {
 	if (s->crs == NULL)
 		return proj_create(v->ctx, "EPSG:4979");
@@ -535,8 +412,8 @@ side_crs(vd_shift *v, PJ *h, const vd_side *s)
 }
 
 static int
-open_operation(vd_shift *v, const georef *g, const vd_side *from,
-    const vd_side *to, tl_err *e)
+open_operation(vdatum_shift *v, const georef *g, const side *from,
+    const side *to, tl_err *e)
 {
 	PJ *h, *src = NULL, *dst = NULL, *op = NULL;
 	double box[4];
@@ -550,7 +427,7 @@ open_operation(vd_shift *v, const georef *g, const vd_side *from,
 	dst = side_crs(v, h, to);
 	if (src == NULL || dst == NULL) {
 		tl_fail(e, "%s: cannot build the compound CRSs (%s)", v->name,
-		    why(v->log));
+		    vdatum_why(v->log));
 		goto done;
 	}
 	if ((op = choose(v, src, dst, box, e)) == NULL)
@@ -559,10 +436,10 @@ open_operation(vd_shift *v, const georef *g, const vd_side *from,
 	    proj_get_name(op) != NULL ? proj_get_name(op) : "unnamed");
 	if ((v->op = proj_normalize_for_visualization(v->ctx, op)) == NULL) {
 		tl_fail(e, "%s: cannot use the operation \"%s\" (%s)",
-		    v->name, v->opname, why(v->log));
+		    v->name, v->opname, vdatum_why(v->log));
 		goto done;
 	}
-	if (open_lattice(v, e) < 0)
+	if (vdatum_lattice_open(v, e) < 0)
 		goto done;
 	/* Ellipsoidal source heights: EPSG:4979 takes lon/lat, toll gives
 	 * them; otherwise the operation takes the DEM's CRS as it is. */
@@ -579,11 +456,11 @@ done:
 	return rc;
 }
 
-vd_shift *
-vd_open(const georef *g, const char *from, const char *to, tl_err *e)
+vdatum_shift *
+vdatum_open(const georef *g, const char *from, const char *to, tl_err *e)
 {
-	vd_shift *v;
-	vd_side s = { NULL, 1 }, t = { NULL, 1 };
+	vdatum_shift *v;
+	side s = { NULL, 1 }, t = { NULL, 1 };
 	int rc = -1;
 
 	if (from == NULL || from[0] == '\0') {
@@ -625,195 +502,26 @@ done:
 	proj_destroy(s.crs);
 	proj_destroy(t.crs);
 	if (rc < 0) {
-		vd_close(v);
+		vdatum_close(v);
 		return NULL;
 	}
 	return v;
 }
 
-static int
-grow(vd_shift *v, int n, tl_err *e)
-{
-	double *x, *y, *z;
-
-	if (n <= v->cap)
-		return 0;
-	x = tl_alloc((size_t)n, sizeof *x, e);
-	y = tl_alloc((size_t)n, sizeof *y, e);
-	z = tl_alloc((size_t)n, sizeof *z, e);
-	if (x == NULL || y == NULL || z == NULL) {
-		free(x), free(y), free(z);
-		return -1;
-	}
-	free(v->x), free(v->y), free(v->z);
-	v->x = x, v->y = y, v->z = z, v->cap = n;
-	return 0;
-}
-
-static int
-fail_sample(vd_shift *v, int j, int i, tl_err *e)
-{
-	double x, y;
-	int err = proj_errno(v->op);
-
-	geo_vertex_crs(&v->g, 0, i, j, &x, &y);
-	return tl_fail(e, "%s: row %d column %d (%.10g, %.10g in the DEM's "
-	    "CRS): PROJ gives no height there (%s)", v->name, j, i, x, y,
-	    err != 0 ? proj_context_errno_string(v->ctx, err) : why(v->log));
-}
-
-/* The n points in x, y (the DEM's CRS), z (source units) to the target;
- * HUGE_VAL where PROJ gives nothing (outside a grid). */
-static void
-transform(vd_shift *v, int n)
-{
-	v->log[0] = '\0';
-	if (v->toll != NULL) {
-		proj_errno_reset(v->toll);
-		proj_trans_generic(v->toll, PJ_FWD, v->x, sizeof *v->x, n,
-		    v->y, sizeof *v->y, n, NULL, 0, 0, NULL, 0, 0);
-	}
-	proj_errno_reset(v->op);
-	proj_trans_generic(v->op, PJ_FWD, v->x, sizeof *v->x, n, v->y,
-	    sizeof *v->y, n, v->z, sizeof *v->z, n, NULL, 0, 0);
-}
-
-/* Every sample through PROJ. */
-static int
-exact(vd_shift *v, int j, int i0, int n, float *z, tl_err *e)
-{
-	if (grow(v, n, e) < 0)
-		return -1;
-	for (int k = 0; k < n; k++) {
-		geo_vertex_crs(&v->g, 0, i0 + k, j, &v->x[k], &v->y[k]);
-		/* The operation works in the source CRS's units. */
-		v->z[k] = isnan(z[k]) ? 0 : z[k] / v->fs;
-	}
-	transform(v, n);
-	for (int k = 0; k < n; k++)
-		if (!isnan(z[k]) && !isfinite(v->z[k]))
-			return fail_sample(v, j, i0 + k, e);
-	for (int k = 0; k < n; k++)
-		if (!isnan(z[k]))
-			z[k] = (float)(v->z[k] * v->ft);
-	return 0;
-}
-
-/* Level-0 column of lattice column k, row of lattice row m. */
-static int
-node_i(const vd_shift *v, int k)
-{
-	return k * v->step < v->g.width - 1 ? k * v->step : v->g.width - 1;
-}
-
-static int
-node_j(const vd_shift *v, int m)
-{
-	return m * v->step < v->g.height - 1 ? m * v->step : v->g.height - 1;
-}
-
-/* Node row m with nodes k0..k1 computed, in the slot not holding node
- * row `keep`. The shift at a node is that of a height 0: the grids'
- * shifts do not depend on the height (a Helmert step's scale would, by
- * parts per million of it). */
-static const double *
-node_row(vd_shift *v, int m, int keep, int k0, int k1, tl_err *e)
-{
-	vd_nodes *r;
-	int c = 0;
-
-	r = &v->rows[v->rows[0].m == m ? 0 : v->rows[1].m == m ? 1 :
-	    v->rows[0].m == keep ? 1 : 0];
-	if (r->m != m) {
-		r->m = m;
-		for (int k = 0; k < v->nx; k++)
-			r->d[k] = NAN;
-	}
-	if (grow(v, k1 - k0 + 1, e) < 0)
-		return NULL;
-	for (int k = k0; k <= k1; k++)
-		if (isnan(r->d[k])) {
-			geo_vertex_crs(&v->g, 0, node_i(v, k), node_j(v, m),
-			    &v->x[c], &v->y[c]);
-			v->z[c++] = 0;
-		}
-	if (c == 0)
-		return r->d;
-	transform(v, c);
-	c = 0;
-	for (int k = k0; k <= k1; k++)
-		if (isnan(r->d[k])) {
-			r->d[k] = isfinite(v->z[c]) ? v->z[c] * v->ft :
-			    INFINITY;
-			c++;
-		}
-	return r->d;
-}
-
-/* Bilinear between the lattice nodes around the samples. Returns 1,
- * z untouched, when a node has no shift (a grid's edge crosses the
- * cell): the caller goes exact then. */
-static int
-lattice(vd_shift *v, int j, int i0, int n, float *z, tl_err *e)
-{
-	const double *a, *b;
-	double u, t, d;
-	int m, k, k0, k1, s = v->step;
-
-	m = j / s < v->ny - 2 ? j / s : v->ny - 2;
-	k0 = i0 / s < v->nx - 2 ? i0 / s : v->nx - 2;
-	k1 = (i0 + n - 1) / s + 1 < v->nx - 1 ? (i0 + n - 1) / s + 1 :
-	    v->nx - 1;
-	if ((a = node_row(v, m, m + 1, k0, k1, e)) == NULL ||
-	    (b = node_row(v, m + 1, m, k0, k1, e)) == NULL)
-		return -1;
-	for (k = k0; k <= k1; k++)
-		if (!isfinite(a[k]) || !isfinite(b[k]))
-			return 1;
-	u = (double)(j - node_j(v, m)) / (node_j(v, m + 1) - node_j(v, m));
-	for (int q = 0; q < n; q++) {
-		if (isnan(z[q]))
-			continue;
-		k = (i0 + q) / s < v->nx - 2 ? (i0 + q) / s : v->nx - 2;
-		t = (double)(i0 + q - node_i(v, k)) /
-		    (node_i(v, k + 1) - node_i(v, k));
-		d = (1 - u) * ((1 - t) * a[k] + t * a[k + 1]) +
-		    u * ((1 - t) * b[k] + t * b[k + 1]);
-		z[q] = (float)(z[q] + d);
-	}
-	return 0;
-}
-
-int
-vd_apply(vd_shift *v, int j, int i0, int n, float *z, tl_err *e)
-{
-	int rc;
-
-	if (v->op == NULL || n <= 0)
-		return 0;
-	/* The lattice covers the grid; anything else goes exact. */
-	if (v->step > 1 && j >= 0 && j < v->g.height && i0 >= 0 &&
-	    n <= v->g.width - i0) {
-		if ((rc = lattice(v, j, i0, n, z, e)) <= 0)
-			return rc;
-	}
-	return exact(v, j, i0, n, z, e);
-}
-
 const char *
-vd_target_name(const vd_shift *v)
+vdatum_target_name(const vdatum_shift *v)
 {
 	return v->target;
 }
 
 const char *
-vd_operation_name(const vd_shift *v)
+vdatum_operation_name(const vdatum_shift *v)
 {
 	return v->opname;
 }
 
 void
-vd_close(vd_shift *v)
+vdatum_close(vdatum_shift *v)
 {
 	if (v == NULL)
 		return;
