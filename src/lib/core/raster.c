@@ -14,7 +14,7 @@
 const unsigned char rs_exr_magic[4] = { 0x76, 0x2f, 0x31, 0x01 };
 /* PNG-style: a high-bit byte, CR LF, ^Z, LF expose 7-bit and text-mode
  * damage. */
-const unsigned char rs_st_magic[8] = { 0x89, 'F', 'Q', 'M', '\r', '\n',
+const unsigned char rs_stream_magic[8] = { 0x89, 'F', 'Q', 'M', '\r', '\n',
     0x1a, '\n' };
 
 /* --- headers ---------------------------------------------------------- */
@@ -371,21 +371,21 @@ dispatch(rs_reader *r, tl_err *e)
 		    r->name);
 	if ((r->npre = read_some(r->fd, r->pre, 8)) < 0)
 		return tl_failsys(e, "%s: read", r->name);
-	if (r->npre == 8 && memcmp(r->pre, rs_st_magic, 8) == 0)
-		return st_open_read(r, e);
+	if (r->npre == 8 && memcmp(r->pre, rs_stream_magic, 8) == 0)
+		return rs_stream_open_read(r, e);
 	if (r->npre < 4 || memcmp(r->pre, rs_exr_magic, 4) != 0)
 		return tl_fail(e, "%s: %s", r->name, r->npre == 0 ?
 		    "empty input" : "not an fqm stream or EXR file");
 	if (!S_ISREG(st.st_mode)) {
 		if (spool(r, e) < 0)
 			return -1;
-		return exr_open_read(r, 0, e);
+		return rs_exr_open_read(r, 0, e);
 	}
 	/* A regular file, maybe stdin not at its start: EXR offsets count
 	 * from where the file's EXR begins. */
 	if ((pos = lseek(r->fd, 0, SEEK_CUR)) < 0)
 		return tl_failsys(e, "%s: seek", r->name);
-	return exr_open_read(r, (long long)pos - r->npre, e);
+	return rs_exr_open_read(r, (long long)pos - r->npre, e);
 }
 
 rs_reader *
@@ -523,8 +523,8 @@ rs_create(const char *path, const rs_header *h, enum rs_compression c,
 		free(w);
 		return NULL;
 	}
-	if ((stream ? st_create(w, STDOUT_FILENO, e) :
-	    exr_create(w, path, c, e)) < 0) {
+	if ((stream ? rs_stream_create(w, STDOUT_FILENO, e) :
+	    rs_exr_create(w, path, c, e)) < 0) {
 		rs_abort(w);
 		return NULL;
 	}

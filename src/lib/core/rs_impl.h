@@ -1,4 +1,4 @@
-/* rs_impl.h - private to raster.c, exr.c and stream.c: the reader and
+/* rs_impl.h - private to raster.c, exr*.c and stream.c: the reader and
  * writer objects and the entry points of the two backends. */
 #ifndef TL_RS_IMPL_H
 #define TL_RS_IMPL_H
@@ -40,15 +40,15 @@ struct rs_writer {
 int rs_check_size(const rs_header *h, const char *name, tl_err *e);
 
 /* EXR: fd is a regular file (or scratch spool), read with pread from base. */
-int exr_open_read(rs_reader *r, long long base, tl_err *e);
-int exr_create(rs_writer *w, const char *path, enum rs_compression c,
+int rs_exr_open_read(rs_reader *r, long long base, tl_err *e);
+int rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
     tl_err *e);
 
 /* Stream: r->pre holds the 8 magic bytes already consumed from r->fd. */
-int st_open_read(rs_reader *r, tl_err *e);
-int st_create(rs_writer *w, int fd, tl_err *e);
+int rs_stream_open_read(rs_reader *r, tl_err *e);
+int rs_stream_create(rs_writer *w, int fd, tl_err *e);
 
 extern const unsigned char rs_exr_magic[4];
-extern const unsigned char rs_st_magic[8];
+extern const unsigned char rs_stream_magic[8];
 
 #endif

@@ -182,7 +182,7 @@ put_header(rs_writer *w, tl_err *e)
 	const rs_header *h = &w->h;
 
 	s->crc = 0;
-	if (put(w, rs_st_magic, 8, e) < 0 || put32(w, ST_VERSION, e) < 0 ||
+	if (put(w, rs_stream_magic, 8, e) < 0 || put32(w, ST_VERSION, e) < 0 ||
 	    put32(w, (uint32_t)h->width, e) < 0 ||
 	    put32(w, (uint32_t)h->height, e) < 0 ||
 	    put32(w, (uint32_t)h->nch, e) < 0 ||
@@ -249,7 +249,7 @@ st_abort(rs_writer *w)
 }
 
 int
-st_create(rs_writer *w, int fd, tl_err *e)
+rs_stream_create(rs_writer *w, int fd, tl_err *e)
 {
 	struct st_wr *s;
 
@@ -548,7 +548,7 @@ st_close(rs_reader *r)
 }
 
 int
-st_open_read(rs_reader *r, tl_err *e)
+rs_stream_open_read(rs_reader *r, tl_err *e)
 {
 	if ((r->impl = tl_alloc(1, sizeof(struct st_rd), e)) == NULL)
 		return -1;

@@ -1,0 +1,42 @@
+/* exr_impl.h - private to the EXR backend of raster.h: exr.c (I/O
+ * callbacks, errors, channel binding), exr_read.c, exr_write.c and
+ * exr_attr.c (header attributes). OpenEXRCore owns the exr_ prefix; ours
+ * is rs_exr_, the raster stream's EXR side. */
+#ifndef TL_EXR_IMPL_H
+#define TL_EXR_IMPL_H
+
+#include <openexr.h>
+
+#include "core/rs_impl.h"
+
+/* Shared by reader and writer: what the callbacks need. */
+struct rs_exr_io {
+	int fd;
+	long long base; /* where the EXR begins in fd */
+	long long size; /* its length (reading) */
+	char msg[512];  /* OpenEXRCore's first complaint since last cleared */
+};
+
+/* A context initializer whose I/O goes through io's descriptor (pread
+ * from io->base, or pwrite) and whose errors are kept in io->msg. */
+void rs_exr_init_read(exr_context_initializer_t *init, struct rs_exr_io *io);
+void rs_exr_init_write(exr_context_initializer_t *init, struct rs_exr_io *io);
+
+/* "name: what: why", why being OpenEXRCore's message or its code's;
+ * clears io->msg; returns -1. */
+int rs_exr_fail(tl_err *e, struct rs_exr_io *io, exr_result_t rv,
+    const char *name, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+
+/* Points OpenEXRCore's n channels at a buffer of rows laid out as ours:
+ * channel-planar within a row, rows one after the other, float32. */
+void rs_exr_bind(exr_coding_channel_info_t *ch, int n, const rs_header *h,
+    float *buf);
+
+/* Header attributes: one of ours into part 0 of a file being written;
+ * one of the file's into h (EXR's structural attributes and types we do
+ * not carry are skipped: 0). */
+exr_result_t rs_exr_attr_put(exr_context_t c, const rs_attr *a);
+int rs_exr_attr_get(rs_header *h, const exr_attribute_t *a, tl_err *e);
+
+#endif
