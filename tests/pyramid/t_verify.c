@@ -516,7 +516,7 @@ build(const world *w, const char *dir)
 
 	mkdir(dir, 0777);
 	memset(&ix, 0, sizeof ix);
-	ix.version = PYRAMID_VERSION;
+	ix.version = VGIS_VERSION;
 	ix.size0[0] = w->W, ix.size0[1] = w->H;
 	ix.geo = w->geo;
 	ix.lev = calloc(w->nlev, sizeof *ix.lev);

@@ -1,6 +1,7 @@
 /* bintree.c - the 4-8 hierarchy of a block (see bintree.h). */
 #include "pyramid/bintree.h"
 
+#include <assert.h>
 #include <stddef.h>
 
 static int
@@ -18,6 +19,7 @@ bt_classify(int gi, int gj)
 	if ((gi | gj) == 0 || h >= BT_CELLS)
 		return c;
 	c.h = h;
+	assert(h >= 1 && h <= BT_MAXH);
 	if ((gi / h) & 1)
 		c.kind = (gj / h) & 1 ? BT_SQUARE : BT_EDGE_H;
 	else
@@ -46,14 +48,18 @@ bt_diamond(int gi, int gj, int tri[2][3][2])
 		 * own (0,0)-(128,128) diagonal */
 		if (((((gi % BT_CELLS) - h) / (2 * h)) +
 		    (((gj % BT_CELLS) - h) / (2 * h))) % 2 == 0) {
-			set(tri[0][0], gi - h, gj - h), set(tri[0][1], gi + h, gj + h);
+			set(tri[0][0], gi - h, gj - h);
+			set(tri[0][1], gi + h, gj + h);
 			set(tri[0][2], gi + h, gj - h);
-			set(tri[1][0], gi + h, gj + h), set(tri[1][1], gi - h, gj - h);
+			set(tri[1][0], gi + h, gj + h);
+			set(tri[1][1], gi - h, gj - h);
 			set(tri[1][2], gi - h, gj + h);
 		} else {
-			set(tri[0][0], gi + h, gj - h), set(tri[0][1], gi - h, gj + h);
+			set(tri[0][0], gi + h, gj - h);
+			set(tri[0][1], gi - h, gj + h);
 			set(tri[0][2], gi - h, gj - h);
-			set(tri[1][0], gi - h, gj + h), set(tri[1][1], gi + h, gj - h);
+			set(tri[1][0], gi - h, gj + h);
+			set(tri[1][1], gi + h, gj - h);
 			set(tri[1][2], gi + h, gj + h);
 		}
 		return 2;
@@ -108,6 +114,7 @@ bt_children(int gi, int gj, int c[4][2])
 }
 
 typedef struct {
+	int o[2]; /* the block's (0,0) vertex */
 	bt_split_fn split;
 	void *sctx;
 	bt_emit_fn emit;
@@ -115,11 +122,23 @@ typedef struct {
 	long n;
 } walk;
 
+static int
+inblock(const walk *w, const int v[2])
+{
+	return v[0] >= w->o[0] && v[1] >= w->o[1] &&
+	    v[0] <= w->o[0] + BT_CELLS && v[1] <= w->o[1] + BT_CELLS;
+}
+
 static void
 descend(walk *w, const int a[2], const int b[2], const int p[2])
 {
 	int m[2];
 
+	/* a right isosceles triangle of the block: the apex equidistant
+	 * from both ends, every corner inside */
+	assert((p[0] - a[0]) * (p[0] - a[0]) + (p[1] - a[1]) * (p[1] - a[1]) ==
+	    (p[0] - b[0]) * (p[0] - b[0]) + (p[1] - b[1]) * (p[1] - b[1]));
+	assert(inblock(w, a) && inblock(w, b) && inblock(w, p));
 	/* legs of length 1 (hypotenuse midpoint off the grid): a leaf */
 	if (((a[0] + b[0]) & 1) == 0 && ((a[1] + b[1]) & 1) == 0) {
 		m[0] = (a[0] + b[0]) / 2, m[1] = (a[1] + b[1]) / 2;
@@ -130,7 +149,8 @@ descend(walk *w, const int a[2], const int b[2], const int p[2])
 		}
 	}
 	if (w->emit != NULL) {
-		int t[3][2] = { { a[0], a[1] }, { b[0], b[1] }, { p[0], p[1] } };
+		int t[3][2] = { { a[0], a[1] }, { b[0], b[1] },
+			{ p[0], p[1] } };
 		w->emit(w->ectx, t);
 	}
 	w->n++;
@@ -140,10 +160,13 @@ long
 bt_select(int gi0, int gj0, bt_split_fn split, void *sctx, bt_emit_fn emit,
     void *ectx)
 {
-	walk w = { split, sctx, emit, ectx, 0 };
+	walk w = { { gi0, gj0 }, split, sctx, emit, ectx, 0 };
 	int o[2] = { gi0, gj0 }, f[2] = { gi0 + BT_CELLS, gj0 + BT_CELLS };
 	int tr[2] = { gi0 + BT_CELLS, gj0 }, bl[2] = { gi0, gj0 + BT_CELLS };
 
+	/* blocks start at multiples of 128 (the roles of vertices) */
+	assert(gi0 >= 0 && gj0 >= 0 && gi0 % BT_CELLS == 0 &&
+	    gj0 % BT_CELLS == 0);
 	descend(&w, o, f, tr);
 	descend(&w, f, o, bl);
 	return w.n;

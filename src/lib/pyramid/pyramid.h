@@ -1,5 +1,5 @@
 /* pyramid.h - the VGIS block directory on disk (see vgis(5)): index.json
- * and, per level, one 129x129 EXR per block:
+ * (pyramid_index.c) and, per level, one 129x129 EXR per block (pyramid.c):
  *
  *   DIR/index.json
  *   DIR/<level>/<row>_<col>.exr     channels E Z (+ X Y when displaced)
@@ -10,20 +10,12 @@
 #ifndef TL_PYRAMID_H
 #define TL_PYRAMID_H
 
-#include "pyramid/bintree.h"
 #include "core/georef.h"
 #include "core/raster.h"
+#include "pyramid/bintree.h"
+#include "pyramid/vgis.h"
 
-/* Header attribute names of a block (vgis(5)). */
-#define VGIS_ATTR_BASE_ERROR "vgis:base_error"
-#define VGIS_ATTR_BLOCK "vgis:block"
-#define VGIS_ATTR_LEVEL "vgis:level"
-#define VGIS_ATTR_ORIGIN "vgis:origin"
-#define VGIS_ATTR_VERSION "vgis:version"
-#define VGIS_ATTR_ZRANGE "vgis:zrange"
-
-#define PYRAMID_VERSION 1
-#define PYRAMID_N (BT_SIZE * BT_SIZE)
+#define PYRAMID_N (BT_SIZE * BT_SIZE) /* vertices of a block */
 
 typedef struct {
 	int level;
@@ -53,7 +45,12 @@ int pyramid_nblocks(int n);
 int pyramid_level_init(pyramid_level *L, int level, int w, int h, tl_err *e);
 void pyramid_index_free(pyramid_index *ix);
 
+/* DIR/index.json, written atomically (ix->version is not read: this
+ * program's VGIS_VERSION is written). */
 int pyramid_index_write(const char *dir, const pyramid_index *ix, tl_err *e);
+/* Reads DIR/index.json as untrusted input: sizes, the level count and
+ * every level's size and block count are checked before anything is
+ * allocated from them. */
 int pyramid_index_read(const char *dir, pyramid_index *ix, tl_err *e);
 
 /* "DIR/<level>/<row>_<col>.exr" */

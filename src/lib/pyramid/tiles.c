@@ -2,8 +2,7 @@
  * tiles.h). */
 #include "pyramid/tiles.h"
 
-#include "core/fqm.h"
-
+#include <assert.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -60,32 +59,39 @@ dmax(double a, double b)
 	return a > b ? a : b;
 }
 
+/* Level row gj in the ring of heights and offsets: loaded, and not yet
+ * overwritten by a row RINGV further on. */
 static size_t
 slot(const state *s, int gj)
 {
+	assert(gj >= 0 && gj < s->loaded && gj >= s->loaded - RINGV);
 	return (size_t)(gj & (RINGV - 1)) * s->P;
 }
 
+/* Level row gj in the ring of local errors, likewise. */
 static size_t
 eslot(const state *s, int gj)
 {
+	assert(gj >= 0 && gj < s->loaded && gj >= s->loaded - RINGE);
 	return (size_t)(gj & (RINGE - 1)) * s->P;
 }
 
-/* Loads level row r: a real row, or past the last one a copy of it;
- * columns past the last real one copy its height (padding). */
+/* Loads level row r (the next one): a real row, or past the last one a
+ * copy of it; columns past the last real one copy its height (padding). */
 static int
 load_row(state *s, int r, tl_err *e)
 {
 	const tiles_level *L = s->L;
 	int n = L->size[0], m = L->size[1];
-	size_t o = slot(s, r);
+	size_t o;
 	long J = (long)r << L->level;
 
-	if ((r >= RINGV && r - RINGV >= s->next_bj * BT_CELLS) ||
-	    (r >= RINGE && r - RINGE >= s->next_bj * BT_CELLS - REACH))
-		return tl_fail(e, "level %d: internal error: ring overrun at "
-		    "row %d", L->level, r);
+	/* the rows it overwrites are behind every block row still to go */
+	assert(r == s->loaded);
+	assert(r < RINGV || r - RINGV < s->next_bj * BT_CELLS);
+	assert(r < RINGE || r - RINGE < s->next_bj * BT_CELLS - REACH);
+	s->loaded++;
+	o = slot(s, r);
 	if (r < m) {
 		if (L->row(L->row_ctx, r, s->rz, L->displaced ? s->rx : NULL,
 		    L->displaced ? s->ry : NULL, e) < 0)
@@ -96,7 +102,8 @@ load_row(state *s, int r, tl_err *e)
 			memcpy(s->oy + o, s->ry, (size_t)n * sizeof *s->oy);
 		}
 	} else {
-		memcpy(s->z + o, s->z + slot(s, m - 1), (size_t)n * sizeof *s->z);
+		memcpy(s->z + o, s->z + slot(s, m - 1),
+		    (size_t)n * sizeof *s->z);
 		if (L->displaced) {
 			memset(s->ox + o, 0, (size_t)n * sizeof *s->ox);
 			memset(s->oy + o, 0, (size_t)n * sizeof *s->oy);
@@ -120,7 +127,7 @@ ensure(state *s, int r, tl_err *e)
 	if (r > s->Q - 1)
 		r = s->Q - 1;
 	while (s->loaded <= r)
-		if (load_row(s, s->loaded++, e) < 0)
+		if (load_row(s, s->loaded, e) < 0)
 			return -1;
 	return 0;
 }
@@ -261,7 +268,8 @@ static void
 row_diamonds(state *s, double y, int h, int edge)
 {
 	double reach = h + s->margin;
-	long c0 = (long)ceil((y - reach) / h), c1 = (long)floor((y + reach) / h);
+	long c0 = (long)ceil((y - reach) / h);
+	long c1 = (long)floor((y + reach) / h);
 
 	for (long c = c0 > 0 ? c0 : 0; c <= c1 && c * h < s->Q; c++) {
 		long cy = c * h, x0;
@@ -269,7 +277,8 @@ row_diamonds(state *s, double y, int h, int edge)
 			continue; /* square centres: odd multiples */
 		x0 = edge && (c & 1) ? 0 : h;
 		for (long cx = x0; cx < s->P; cx += 2 * h) {
-			int tri[2][3][2], nt = bt_diamond((int)cx, (int)cy, tri);
+			int tri[2][3][2];
+			int nt = bt_diamond((int)cx, (int)cy, tri);
 			float *acc = &s->acc[eslot(s, (int)cy) + cx];
 			for (int k = 0; k < nt; k++) {
 				double err = tri_row(s, tri[k], y);
@@ -292,10 +301,11 @@ row_leaves(state *s, double y)
 	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++)
 		for (int ci = 0; ci < s->P - 1; ci++) {
 			int a[2] = { ci, (int)cj }, b[2] = { ci + 1, (int)cj };
-			int c[2] = { ci + 1, (int)cj + 1 }, d[2] = { ci, (int)cj + 1 };
+			int c[2] = { ci + 1, (int)cj + 1 };
+			int d[2] = { ci, (int)cj + 1 };
 			int t[2][3][2];
-			double *base = &s->base[(size_t)(cj / BT_CELLS) * s->bx +
-			    ci / BT_CELLS];
+			double *base = &s->base[(size_t)(cj / BT_CELLS) *
+			    s->bx + ci / BT_CELLS];
 			if ((ci + cj) % 2 == 0) {
 				memcpy(t[0][0], a, 8), memcpy(t[0][1], b, 8);
 				memcpy(t[0][2], c, 8), memcpy(t[1][0], a, 8);
@@ -347,6 +357,7 @@ saturate(state *s, int bj)
 	int g0 = bj * BT_CELLS - REACH, P = s->P;
 	int lo = g0 > 0 ? g0 : 0, hi = g0 + BAND < s->Q ? g0 + BAND : s->Q;
 
+	assert(lo >= g0 && hi <= g0 + BAND && lo < hi);
 	for (int gj = lo; gj < hi; gj++)
 		memcpy(s->band + (size_t)(gj - g0) * P, s->acc + eslot(s, gj),
 		    (size_t)P * sizeof *s->band);
@@ -398,11 +409,14 @@ emit_row(state *s, int bj, tl_err *e)
 		for (int r = 0; r < BT_SIZE; r++) {
 			int gj = bj * BT_CELLS + r;
 			size_t o = slot(s, gj) + (size_t)bi * BT_CELLS;
+			/* the block's rows lie in the band's middle */
+			assert(gj - g0 >= REACH && gj - g0 < BAND - REACH);
 			const float *band = s->band + (size_t)(gj - g0) * s->P +
 			    (size_t)bi * BT_CELLS;
 			for (int c = 0; c < BT_SIZE; c++) {
 				int k = r * BT_SIZE + c;
-				int corner = r % BT_CELLS == 0 && c % BT_CELLS == 0;
+				int corner = r % BT_CELLS == 0 &&
+				    c % BT_CELLS == 0;
 				b->z[k] = s->z[o + c];
 				b->e[k] = corner ? FLT_MAX : band[c];
 				if (!corner && b->e[k] > emax)
@@ -445,7 +459,8 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	memset(s, 0, sizeof *s);
 	s->L = L, s->d = d;
 	s->W0 = g->width;
-	s->bx = pyramid_nblocks(L->size[0]), s->by = pyramid_nblocks(L->size[1]);
+	s->bx = pyramid_nblocks(L->size[0]);
+	s->by = pyramid_nblocks(L->size[1]);
 	s->P = s->bx * BT_CELLS + 1, s->Q = s->by * BT_CELLS + 1;
 	s->step = (double)(1L << L->level);
 	/* QEM-3D offsets stay within half a cell (fqmsolve(1)) */

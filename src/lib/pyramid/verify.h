@@ -1,10 +1,23 @@
 /* verify.h - the brute-force checker of a VGIS pyramid (tilecheck(1),
- * tileplay --verify): the checks (verify.c), its own index.json reader
- * (verify_index.c), the report and the programs' entry (verify_report.c).
+ * tileplay --verify), the one public header of these files:
  *
- * It trusts neither the producer nor bintree.c: the hierarchy is derived
- * here from the split rule of vgis(5) by building a block's bintree
- * explicitly, and every property is checked by exhaustion:
+ *   verify.c         the pyramid as a whole, vf_check
+ *   verify_tree.c    a block's bintree, built from the split rule
+ *   verify_index.c   its own index.json reader
+ *   verify_level.c   a level, one block row at a time
+ *   verify_block.c   block files and their attributes   (index)
+ *   verify_border.c  shared borders, padding       (border, padding)
+ *   verify_sat.c     saturation                        (saturation)
+ *   verify_match.c   selections at each tau           (matching, fold)
+ *   verify_error.c   triangles against the DEM   (error, base, local)
+ *   verify_dem.c     the DEM window                      (coverage)
+ *   verify_report.c  the report, the programs' entry
+ *   verify_impl.h    what they share
+ *
+ * It trusts neither the producer nor bintree.c and shares no code with
+ * them (pyramid.h, tiles.h): the hierarchy is derived here from the split
+ * rule of vgis(5) by building a block's bintree explicitly, and every
+ * property is checked by exhaustion:
  *
  *   index       index.json against the block files: every block present,
  *               129x129, channels E Z (+ X Y), vgis:* geo:* fqm:*

@@ -1,12 +1,13 @@
 /* verify_index.c - the checker's own reader of index.json (jansson).
  *
- * It shares no code with the producer's reader (pyramid.c): a pyramid
+ * It shares no code with the producer's reader (pyramid_index.c): a pyramid
  * whose index that reader misreads is then caught by the checks against
  * the block files rather than read the same wrong way twice. It reads the
  * fields vgis(5) documents and the checker needs, and refuses an index
  * it cannot check against (not JSON, a field missing or of the wrong
  * type, block counts that do not fit the level's size). */
 #include "pyramid/verify.h"
+#include "pyramid/vgis.h"
 
 #include <errno.h>
 #include <jansson.h>
@@ -83,22 +84,15 @@ str(json_t *parent, const char *key, char *buf, size_t n, int optional)
 static const char *
 georef_of(json_t *o, georef *g)
 {
-	static const char *const model[] = { "none", "projected",
-		"geographic" };
 	char s[32];
 	json_t *x;
-	int k;
 
 	memset(g, 0, sizeof *g);
 	if (!json_is_object(o))
 		return "georef";
-	if (str(o, "model", s, sizeof s, 0) < 0)
+	if (str(o, "model", s, sizeof s, 0) < 0 ||
+	    geo_model_parse(s, &g->model) < 0)
 		return "georef.model";
-	for (k = 0; k < 3 && strcmp(s, model[k]) != 0; k++)
-		;
-	if (k == 3)
-		return "georef.model";
-	g->model = (enum geo_model)k;
 	if (int1(o, "epsg", &g->epsg) < 0)
 		return "georef.epsg";
 	if (str(o, "crs", g->crs, sizeof g->crs, 0) < 0)
@@ -208,7 +202,7 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 	FILE *f;
 
 	memset(ix, 0, sizeof *ix);
-	snprintf(path, sizeof path, "%s/index.json", dir);
+	snprintf(path, sizeof path, "%s/" VGIS_INDEX, dir);
 	if ((f = fopen(path, "r")) == NULL)
 		return tl_failsys(e, "%s", path);
 	root = json_loadf(f, JSON_REJECT_DUPLICATES, &je);
@@ -220,7 +214,7 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 	if (!json_is_object(root))
 		bad = "an object";
 	else if (str(root, "format", fmt, sizeof fmt, 0) < 0 ||
-	    strcmp(fmt, "terrain-lod vgis") != 0)
+	    strcmp(fmt, VGIS_FORMAT) != 0)
 		bad = "format";
 	else if (int1(root, "version", &version) < 0)
 		bad = "version";
@@ -238,9 +232,10 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 		tl_fail(e, "%s: not a pyramid index (%s)", path, bad);
 		goto done;
 	}
-	if (version != 1 || block != VF_BLOCK) {
+	if (version != VGIS_VERSION || block != VF_BLOCK) {
 		tl_fail(e, "%s: version %d, blocks of %d: the checker reads "
-		    "version 1, blocks of %d", path, version, block, VF_BLOCK);
+		    "version %d, blocks of %d", path, version, block,
+		    VGIS_VERSION, VF_BLOCK);
 		goto done;
 	}
 	ix->geo.width = ix->size0[0], ix->geo.height = ix->size0[1];

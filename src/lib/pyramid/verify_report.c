@@ -99,7 +99,8 @@ vf_report_print(FILE *f, const vf_report *r, const char *dir,
 	if (r->dem)
 		fprintf(f, "DEM %s\n", dem_path);
 	else
-		fprintf(f, "no DEM: error, base, local, coverage not checked\n");
+		fprintf(f, "no DEM: error, base, local, coverage not "
+		    "checked\n");
 	for (int l = 0; l < r->nlevels; l++)
 		print_level(f, r, &r->lev[l]);
 	if (r->nissue > 0) {

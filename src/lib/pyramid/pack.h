@@ -1,0 +1,59 @@
+/* pack.h - a DEM's VGIS pyramid from the vertex maps of its levels, the
+ * work of tilepack(1): each map checked against the DEM (its level, the
+ * DEM's size and georeferencing), every level's blocks computed (tiles.h)
+ * on threads that take the levels in order, the level count enforced, the
+ * directory (vgis(5), pyramid.h) built under a temporary name and renamed
+ * when complete. */
+#ifndef TL_PACK_H
+#define TL_PACK_H
+
+#include <stdio.h>
+
+#include "core/dem.h"
+#include "core/fqm.h"
+#include "pyramid/tiles.h"
+
+#define PACK_MAXJOBS 64 /* threads at most, whatever jobs says */
+
+typedef struct {
+	const char *dem_path; /* the DEM the levels were made from */
+	dem_opts dem;         /* how to read it */
+	const char *dir;      /* the pyramid to make */
+	char *const *levels;  /* vertex maps of levels 0 .. nlevels-1, paths
+	                       * or "-" */
+	int nlevels;
+	int jobs;             /* levels at once, >= 1 */
+	int force;            /* replace dir even if it is not a pyramid */
+	const char *prog;     /* names the progress lines "prog: level l" */
+} pack_args;
+
+/* What a level came to. */
+typedef struct {
+	int size[2];   /* vertices */
+	int blocks[2];
+	int displaced;
+	tiles_stats st;
+} pack_level;
+
+/* Makes a->dir, or leaves nothing; out[0 .. a->nlevels-1] is filled
+ * when it returns 0. Levels are checked before their count, whose fault
+ * says less than theirs. */
+int pack_run(const pack_args *a, pack_level *out, tl_err *e);
+
+/* One line per level: "prog: level l: WxH vertices, BXxBY blocks, 1D,
+ * max E x m, max base error y m". */
+void pack_report(FILE *f, const char *prog, const pack_level *L, int n);
+
+/* The checks pack_run makes, each on its own. */
+
+/* A vertex map (named name) is level l of the DEM of georeferencing g:
+ * same level, level-0 size and georeferencing (geo_differs). */
+int pack_check_level(const fqm_info *fi, int l, const georef *g,
+    const char *name, tl_err *e);
+/* nlevels is the count of a w0 x h0 DEM's pyramid (fqm_levels). */
+int pack_check_count(int nlevels, int w0, int h0, tl_err *e);
+/* dir may be replaced: absent, a pyramid (it has an index.json), empty
+ * (then removed), or force is set. */
+int pack_check_dir(const char *dir, int force, tl_err *e);
+
+#endif
