@@ -271,8 +271,8 @@ check_geographic_exact(const georef *g)
 	for (int j = 0; j < H; j++) {
 		double lat = g->origin[1] + (j + 0.5) * g->step[1], d;
 		double next = g->origin[1] + (j + 1.5) * g->step[1];
-		tl_geod_inverse(lat, 0, lat, sx, &dx[j]);
-		if (j + 1 < H && tl_geod_inverse(lat, 0, next, 0, &d) == 0)
+		geodesy_inverse(lat, 0, lat, sx, &dx[j]);
+		if (j + 1 < H && geodesy_inverse(lat, 0, next, 0, &d) == 0)
 			y[j + 1] = y[j] + d;
 	}
 	if (!ok(geo_metric_init(&m, g, &e) == 0, "geographic: metric %s",

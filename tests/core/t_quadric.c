@@ -18,13 +18,13 @@ urand(unsigned *s)
 static void
 rand_quadric(quadric *q, unsigned *s)
 {
-	q_zero(q);
+	quadric_zero(q);
 	for (int k = 0; k < 4; k++) {
 		double n[3] = { urand(s), urand(s), urand(s) + 2 }, l;
 		l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 		for (int i = 0; i < 3; i++)
 			n[i] /= l;
-		q_add_plane(q, n, 10 * urand(s), 1 + urand(s));
+		quadric_add_plane(q, n, 10 * urand(s), 1 + urand(s));
 	}
 }
 
@@ -40,9 +40,9 @@ test_algebra(void)
 		double n[3] = { 0.6, 0, 0.8 }, v[3] = { urand(&s), urand(&s),
 			urand(&s) }, d = urand(&s), w = 3;
 		double dist = n[0] * v[0] + n[1] * v[1] + n[2] * v[2] + d;
-		q_zero(&q);
-		q_add_plane(&q, n, d, w);
-		worst = fmax(worst, fabs(q_eval(&q, v) - w * dist * dist));
+		quadric_zero(&q);
+		quadric_add_plane(&q, n, d, w);
+		worst = fmax(worst, fabs(quadric_eval(&q, v) - w * dist * dist));
 	}
 	ok(worst < 1e-12, "plane quadric = w * distance^2 (max dev %.2g)",
 	    worst);
@@ -57,9 +57,9 @@ test_algebra(void)
 			vd[k] = v[k] - d[k];
 		}
 		r = q;
-		q_translate(&r, d);
-		worst2 = fmax(worst2, fabs(q_eval(&r, vd) - q_eval(&q, v)) /
-		    (1 + fabs(q_eval(&q, v))));
+		quadric_translate(&r, d);
+		worst2 = fmax(worst2, fabs(quadric_eval(&r, vd) - quadric_eval(&q, v)) /
+		    (1 + fabs(quadric_eval(&q, v))));
 	}
 	ok(worst2 < 1e-12, "translation identity Q'(v-d) = Q(v) "
 	    "(max rel dev %.2g)", worst2);
@@ -69,8 +69,8 @@ test_algebra(void)
 		quadric q;
 		double p0[3] = { 0, 0, 0 }, p1[3] = { 30, 0, 3 },
 		       p2[3] = { 0, 20, -4 }, area, n[3], l, off[3];
-		q_zero(&q);
-		area = q_add_triangle(&q, p0, p1, p2, 1);
+		quadric_zero(&q);
+		area = quadric_add_triangle(&q, p0, p1, p2, 1);
 		/* n = (p1 - p0) x (p2 - p0) */
 		n[0] = 0 * (-4) - 3 * 20;
 		n[1] = 3 * 0 - 30 * (-4);
@@ -78,9 +78,9 @@ test_algebra(void)
 		l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 		for (int k = 0; k < 3; k++)
 			off[k] = 5 * n[k] / l;
-		ok(fabs(area - l / 2) < 1e-9 && fabs(q_eval(&q, p1)) < 1e-9 &&
-		    fabs(q_eval(&q, p2)) < 1e-9 &&
-		    fabs(q_eval(&q, off) - area * 25) < 1e-6 * area,
+		ok(fabs(area - l / 2) < 1e-9 && fabs(quadric_eval(&q, p1)) < 1e-9 &&
+		    fabs(quadric_eval(&q, p2)) < 1e-9 &&
+		    fabs(quadric_eval(&q, off) - area * 25) < 1e-6 * area,
 		    "triangle quadric: 0 at corners, area*d^2 at distance d");
 	}
 
@@ -90,7 +90,7 @@ test_algebra(void)
 		quadric q;
 		double w[3], V[3][3], v[3], g[3], a[3][3];
 		rand_quadric(&q, &s);
-		q_eigen(q.a, w, V);
+		quadric_eigen(q.a, w, V);
 		a[0][0] = q.a[0], a[0][1] = a[1][0] = q.a[1];
 		a[0][2] = a[2][0] = q.a[2], a[1][1] = q.a[3];
 		a[1][2] = a[2][1] = q.a[4], a[2][2] = q.a[5];
@@ -101,7 +101,7 @@ test_algebra(void)
 					r += V[i][k] * w[k] * V[j][k];
 				worst3 = fmax(worst3, fabs(r - a[i][j]));
 			}
-		q_min_3d(&q, 1e-9, v);
+		quadric_min_3d(&q, 1e-9, v);
 		for (int i = 0; i < 3; i++)
 			g[i] = a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2] +
 			    q.b[i];
@@ -115,9 +115,9 @@ test_algebra(void)
 		quadric q;
 		double n[3] = { 0, 0, 1 }, v[3];
 		int rank;
-		q_zero(&q);
-		q_add_plane(&q, n, -7, 2);
-		rank = q_min_3d(&q, 1e-3, v);
+		quadric_zero(&q);
+		quadric_add_plane(&q, n, -7, 2);
+		rank = quadric_min_3d(&q, 1e-3, v);
 		ok(rank == 1 && v[0] == 0 && v[1] == 0 && fabs(v[2] - 7) < 1e-12,
 		    "flat quadric: rank 1, x = y = 0, z on the plane");
 	}
@@ -126,11 +126,11 @@ test_algebra(void)
 		quadric q;
 		double n1[3] = { 0.6, 0, 0.8 }, n2[3] = { -0.6, 0, 0.8 }, v[3];
 		int rank;
-		q_zero(&q);
+		quadric_zero(&q);
 		/* planes z = -0.75 (x - 2) and z = 0.75 (x - 2): ridge x = 2 */
-		q_add_plane(&q, n1, -0.6 * 2, 1);
-		q_add_plane(&q, n2, 0.6 * 2, 1);
-		rank = q_min_3d(&q, 1e-3, v);
+		quadric_add_plane(&q, n1, -0.6 * 2, 1);
+		quadric_add_plane(&q, n2, 0.6 * 2, 1);
+		rank = quadric_min_3d(&q, 1e-3, v);
 		ok(rank == 2 && fabs(v[0] - 2) < 1e-12 && fabs(v[1]) < 1e-12 &&
 		    fabs(v[2]) < 1e-12, "ridge quadric: rank 2, on the crest, "
 		    "y free and kept at 0 (v = %g %g %g)", v[0], v[1], v[2]);
@@ -191,7 +191,7 @@ plane_pyramid(const filter_kernel *k, int W, int H, double *worst3d)
 		unsigned seed = 7;
 		for (size_t i = 0; i < (size_t)W * H; i++) {
 			double d[3] = { 0, 0, 5 * urand(&seed) };
-			q_translate(&lev[i].q, d);
+			quadric_translate(&lev[i].q, d);
 			lev[i].z += d[2];
 		}
 	}
@@ -261,12 +261,12 @@ test_folds(int level, int W, int H, double reach)
 				reach * sy * urand(&seed), 3 * urand(&seed) };
 			double ns[3][3] = { { 0.3, 0, 1 }, { -0.2, 0.4, 1 },
 				{ 0, -0.5, 1 } };
-			q_zero(&in[i].q);
+			quadric_zero(&in[i].q);
 			for (int k = 0; k < 3; k++) {
 				double *nn = ns[k], l = sqrt(nn[0] * nn[0] +
 				    nn[1] * nn[1] + 1);
 				double u[3] = { nn[0] / l, nn[1] / l, 1 / l };
-				q_add_plane(&in[i].q, u, -(u[0] * p[0] +
+				quadric_add_plane(&in[i].q, u, -(u[0] * p[0] +
 				    u[1] * p[1] + u[2] * p[2]), 1);
 			}
 			in[i].z = 100, in[i].v = 1;

@@ -1,6 +1,7 @@
 /* filter.c - kernels and the separable, streaming quadric filter. */
 #include "core/filter.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -46,14 +47,15 @@ add_moved(quadric *q, const quadric *r, double dx, double dy, double dz,
 	quadric t = *r;
 	double d[3] = { dx, dy, dz };
 
-	q_translate(&t, d);
-	q_add(q, &t, w);
+	quadric_translate(&t, d);
+	quadric_add(q, &t, w);
 }
 
 int
 filter_init(filter_state *f, const filter_kernel *k, int level, int fw, int fh,
     int w0, int h0, const geo_metric *m, tl_err *e)
 {
+	assert(k->radius >= 0 && k->radius <= FILTER_MAX_RADIUS);
 	memset(f, 0, sizeof *f);
 	f->w0 = w0, f->h0 = h0;
 	f->k = k;
@@ -106,6 +108,7 @@ filter_push(filter_state *f, const fqm_vertex *fine)
 	size_t st = sizeof *fine / sizeof(double);
 	double vw;
 
+	assert(j < f->fh); /* fine rows 0 .. fh-1, in order */
 	f->tag[slot] = j;
 	geo_row_sx(f->m, (double)((long)j << f->level), sx);
 	for (int c = 0; c < f->cw; c++) {
@@ -150,6 +153,7 @@ held(const filter_state *f, int i)
 {
 	int slot = i % f->nring;
 
+	assert(i >= 0 && i < f->fh && f->tag[slot] == i);
 	return f->tag[slot] == i ? f->ring + (size_t)slot * f->cw : NULL;
 }
 
@@ -180,9 +184,12 @@ void
 filter_pull(filter_state *f, fqm_vertex *coarse)
 {
 	const filter_kernel *k = f->k;
-	int m = f->out++, j0 = 2 * m;
+	int m = f->out, j0 = 2 * m;
 	double vw, y0[GEO_MAX_NODES], y[2 * FILTER_MAX_RADIUS + 1][GEO_MAX_NODES];
 
+	/* every fine row the taps reach is in the ring */
+	assert(filter_ready(f));
+	f->out++;
 	/* geo_y of the coarse row and of each tap's fine row (rows are
 	 * measured along the coarse vertex's column) */
 	geo_row_y(f->m, (double)((long)j0 << f->level), y0);

@@ -1,12 +1,17 @@
 /* fqm.c - FQM and vertex-map headers and rows (see fqm.h, fqm(5)). */
 #include "core/fqm.h"
 
+#include <assert.h>
 #include <string.h>
 
 static const char *const qch[10] = {
 	"Q.a11", "Q.a12", "Q.a13", "Q.a22", "Q.a23", "Q.a33",
 	"Q.b1", "Q.b2", "Q.b3", "Q.c",
 };
+_Static_assert(sizeof qch / sizeof qch[0] ==
+    sizeof ((fqm_layout *)0)->q / sizeof ((fqm_layout *)0)->q[0],
+    "one channel per quadric coefficient");
+_Static_assert(FQM_BAND0_DOUBLES == 4 * 6, "4 corners x a[6]");
 
 int
 fqm_level_size(int n0, int level)
@@ -103,9 +108,20 @@ fqm_layout_of(const rs_header *h, fqm_layout *L, const char *what, tl_err *e)
 	return 0;
 }
 
+/* A layout from fqm_layout_of: every channel found. */
+static int
+layout_ok(const fqm_layout *L)
+{
+	for (int k = 0; k < 10; k++)
+		if (L->q[k] < 0)
+			return 0;
+	return L->z >= 0 && L->s >= 0 && L->v >= 0;
+}
+
 void
 fqm_decode(const fqm_layout *L, const float *row, int w, fqm_vertex *out)
 {
+	assert(layout_ok(L));
 	for (int i = 0; i < w; i++) {
 		fqm_vertex *o = &out[i];
 		for (int k = 0; k < 6; k++)
@@ -122,6 +138,7 @@ fqm_decode(const fqm_layout *L, const float *row, int w, fqm_vertex *out)
 void
 fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w, float *row)
 {
+	assert(layout_ok(L));
 	for (int i = 0; i < w; i++) {
 		const fqm_vertex *o = &in[i];
 		for (int k = 0; k < 6; k++)
@@ -168,20 +185,22 @@ fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
 		int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
 		quadric t[4], total;
 
-		q_zero(&total);
+		quadric_zero(&total);
 		for (int k = 0; k < 4; k++) {
 			const int *c = celltri[k];
-			q_zero(&t[k]);
+			quadric_zero(&t[k]);
 			if (ok[c[0]] && ok[c[1]] && ok[c[2]])
-				q_add_triangle(&t[k], p[c[0]], p[c[1]], p[c[2]],
-				    0.5);
-			q_add(&total, &t[k], 1);
+				quadric_add_triangle(&t[k], p[c[0]], p[c[1]],
+				    p[c[2]], 0.5);
+			quadric_add(&total, &t[k], 1);
 		}
 		for (int k = 0; k < 4; k++)
 			for (int c = 0; c < 6; c++)
 				out[k * 6 + c] = total.a[c] - t[without[k]].a[c];
 	}
 }
+
+#define BAND FQM_BAND0_DOUBLES
 
 void
 fqm_row0(const double *above, const double *below, const float *z,
@@ -191,12 +210,16 @@ fqm_row0(const double *above, const double *below, const float *z,
 		fqm_vertex *o = &out[i];
 		/* (band, cell, corner) touching vertex i */
 		const double *c[4] = {
-			above && i > 0 ? above + (size_t)(i - 1) * 24 + 2 * 6 : NULL,
-			above && i + 1 < w ? above + (size_t)i * 24 + 3 * 6 : NULL,
-			below && i > 0 ? below + (size_t)(i - 1) * 24 + 1 * 6 : NULL,
-			below && i + 1 < w ? below + (size_t)i * 24 + 0 * 6 : NULL,
+			above && i > 0 ? above + (size_t)(i - 1) * BAND + 2 * 6 :
+			    NULL,
+			above && i + 1 < w ? above + (size_t)i * BAND + 3 * 6 :
+			    NULL,
+			below && i > 0 ? below + (size_t)(i - 1) * BAND + 1 * 6 :
+			    NULL,
+			below && i + 1 < w ? below + (size_t)i * BAND + 0 * 6 :
+			    NULL,
 		};
-		q_zero(&o->q);
+		quadric_zero(&o->q);
 		for (int k = 0; k < 4; k++)
 			if (c[k] != NULL)
 				for (int a = 0; a < 6; a++)

@@ -6,7 +6,7 @@
 
 #include <GeographicLib/Geodesic.hpp>
 
-struct tl_geod {
+struct geodesy {
 	GeographicLib::Geodesic g;
 };
 
@@ -38,34 +38,34 @@ distance(const GeographicLib::Geodesic &g, double lat1, double lon1,
 }
 
 extern "C" int
-tl_geod_inverse(double lat1, double lon1, double lat2, double lon2,
+geodesy_inverse(double lat1, double lon1, double lat2, double lon2,
     double *s12)
 {
 	return distance(GeographicLib::Geodesic::WGS84(), lat1, lon1, lat2,
 	    lon2, s12);
 }
 
-extern "C" tl_geod *
-tl_geod_new(double a, double f)
+extern "C" geodesy *
+geodesy_new(double a, double f)
 {
 	if (!(std::isfinite(a) && a > 0 && std::isfinite(f) && f < 1))
 		return nullptr;
 	try {
-		return new tl_geod{ GeographicLib::Geodesic(a, f) };
+		return new geodesy{ GeographicLib::Geodesic(a, f) };
 	} catch (...) {
 		return nullptr;
 	}
 }
 
 extern "C" int
-tl_geod_distance(const tl_geod *g, double lat1, double lon1, double lat2,
+geodesy_distance(const geodesy *g, double lat1, double lon1, double lat2,
     double lon2, double *s12)
 {
 	return distance(g->g, lat1, lon1, lat2, lon2, s12);
 }
 
 extern "C" void
-tl_geod_free(tl_geod *g)
+geodesy_free(geodesy *g)
 {
 	delete g;
 }

@@ -3,6 +3,7 @@
  * scales measured once with PROJ and GeographicLib. */
 #include "core/georef.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,13 +33,13 @@ metric_geographic(geo_metric *m, const georef *g, tl_err *e)
 
 	for (int j = 0; j < m->height; j++) {
 		lat = row_lat(g, j);
-		if (tl_geod_inverse(lat, 0, lat, sx, &m->dx[j]) < 0)
+		if (geodesy_inverse(lat, 0, lat, sx, &m->dx[j]) < 0)
 			return tl_fail(e, "row %d: latitude %.9g outside "
 			    "-90..90 or pixel size %g invalid", j, lat, sx);
 		if (j + 1 == m->height)
 			break;
 		next = row_lat(g, j + 1);
-		if (tl_geod_inverse(lat, 0, next, 0, &d) < 0)
+		if (geodesy_inverse(lat, 0, next, 0, &d) < 0)
 			return tl_fail(e, "row %d: latitude %.9g outside "
 			    "-90..90", j + 1, next);
 		m->y[j + 1] = m->y[j] + d;
@@ -81,7 +82,7 @@ geo_metric_const(geo_metric *m, int height, double dx, double dy, tl_err *e)
 typedef struct {
 	PJ_CONTEXT *ctx;
 	PJ *crs, *geo, *op;
-	tl_geod *geod;
+	geodesy *geod;
 	char name[80]; /* the CRS for messages */
 } proj_state;
 
@@ -99,7 +100,7 @@ proj_done(proj_state *p)
 	proj_destroy(p->crs);
 	if (p->ctx != NULL)
 		proj_context_destroy(p->ctx);
-	tl_geod_free(p->geod);
+	geodesy_free(p->geod);
 }
 
 /* The CRS's name for messages, shortened. */
@@ -172,7 +173,7 @@ proj_open(proj_state *p, const georef *g, tl_err *e)
 		return tl_fail(e, "CRS %s: cannot find its ellipsoid", p->name);
 	}
 	proj_destroy(ell);
-	if ((p->geod = tl_geod_new(a, rf > 0 ? 1 / rf : (a - b) / a)) == NULL)
+	if ((p->geod = geodesy_new(a, rf > 0 ? 1 / rf : (a - b) / a)) == NULL)
 		return tl_fail(e, "CRS %s: cannot use its ellipsoid (a %g, "
 		    "1/f %g)", p->name, a, rf);
 	op = proj_create_crs_to_crs_from_pj(p->ctx, p->crs, p->geo, NULL, NULL);
@@ -229,9 +230,9 @@ lattice_row(geo_metric *m, const georef *g, proj_state *p, int ky,
 			return tl_fail(e, "CRS %s: cannot inverse-project grid "
 			    "point (%d, %g) to longitude and latitude", p->name,
 			    kx * m->cs, J);
-		if (tl_geod_distance(p->geod, q[0].lp.phi, q[0].lp.lam,
+		if (geodesy_distance(p->geod, q[0].lp.phi, q[0].lp.lam,
 		    q[1].lp.phi, q[1].lp.lam, &m->sx[n]) < 0 ||
-		    tl_geod_distance(p->geod, q[2].lp.phi, q[2].lp.lam,
+		    geodesy_distance(p->geod, q[2].lp.phi, q[2].lp.lam,
 		    q[3].lp.phi, q[3].lp.lam, &m->sy[n]) < 0 ||
 		    !(m->sx[n] > 0 && m->sy[n] > 0))
 			return tl_fail(e, "CRS %s: cannot measure the grid "
@@ -398,6 +399,7 @@ node_of(const geo_metric *m, double t, int n, int *k, double *u)
 		*k = n - 2, *u = 1;
 	else
 		*k = (int)s, *u = s - *k;
+	assert(*k >= 0 && *k <= n - 2);
 }
 
 /* v (a node array) on node row ky, linear in the column between kx and
@@ -407,6 +409,7 @@ along_row(const geo_metric *m, const double *v, int kx, double u, int ky)
 {
 	const double *r = v + (size_t)ky * m->nx + kx;
 
+	assert(ky >= 0 && ky < m->ny && kx >= 0 && kx + 1 < m->nx);
 	return r[0] + u * (r[1] - r[0]);
 }
 
@@ -416,6 +419,7 @@ along_col(const geo_metric *m, const double *v, int ky, double u, int kx)
 {
 	const double *r = v + (size_t)ky * m->nx + kx;
 
+	assert(ky >= 0 && ky + 1 < m->ny && kx >= 0 && kx < m->nx);
 	return r[0] + u * (r[m->nx] - r[0]);
 }
 

@@ -5,20 +5,20 @@
 #include <string.h>
 
 void
-q_zero(quadric *q)
+quadric_zero(quadric *q)
 {
 	memset(q, 0, sizeof *q);
 }
 
 void
-q_add_plane(quadric *q, const double n[3], double d, double w)
+quadric_add_plane(quadric *q, const double n[3], double d, double w)
 {
-	q->a[Q_A11] += w * n[0] * n[0];
-	q->a[Q_A12] += w * n[0] * n[1];
-	q->a[Q_A13] += w * n[0] * n[2];
-	q->a[Q_A22] += w * n[1] * n[1];
-	q->a[Q_A23] += w * n[1] * n[2];
-	q->a[Q_A33] += w * n[2] * n[2];
+	q->a[QUADRIC_A11] += w * n[0] * n[0];
+	q->a[QUADRIC_A12] += w * n[0] * n[1];
+	q->a[QUADRIC_A13] += w * n[0] * n[2];
+	q->a[QUADRIC_A22] += w * n[1] * n[1];
+	q->a[QUADRIC_A23] += w * n[1] * n[2];
+	q->a[QUADRIC_A33] += w * n[2] * n[2];
 	q->b[0] += w * n[0] * d;
 	q->b[1] += w * n[1] * d;
 	q->b[2] += w * n[2] * d;
@@ -26,7 +26,7 @@ q_add_plane(quadric *q, const double n[3], double d, double w)
 }
 
 double
-q_add_triangle(quadric *q, const double p0[3], const double p1[3],
+quadric_add_triangle(quadric *q, const double p0[3], const double p1[3],
     const double p2[3], double w)
 {
 	double e1[3], e2[3], n[3], len;
@@ -43,13 +43,13 @@ q_add_triangle(quadric *q, const double p0[3], const double p1[3],
 		return 0;
 	for (int k = 0; k < 3; k++)
 		n[k] /= len;
-	q_add_plane(q, n, -(n[0] * p0[0] + n[1] * p0[1] + n[2] * p0[2]),
+	quadric_add_plane(q, n, -(n[0] * p0[0] + n[1] * p0[1] + n[2] * p0[2]),
 	    w * 0.5 * len);
 	return 0.5 * len;
 }
 
 void
-q_add(quadric *q, const quadric *r, double w)
+quadric_add(quadric *q, const quadric *r, double w)
 {
 	for (int k = 0; k < 6; k++)
 		q->a[k] += w * r->a[k];
@@ -62,13 +62,16 @@ q_add(quadric *q, const quadric *r, double w)
 static void
 mul_a(const double a[6], const double x[3], double y[3])
 {
-	y[0] = a[Q_A11] * x[0] + a[Q_A12] * x[1] + a[Q_A13] * x[2];
-	y[1] = a[Q_A12] * x[0] + a[Q_A22] * x[1] + a[Q_A23] * x[2];
-	y[2] = a[Q_A13] * x[0] + a[Q_A23] * x[1] + a[Q_A33] * x[2];
+	y[0] = a[QUADRIC_A11] * x[0] + a[QUADRIC_A12] * x[1] +
+	    a[QUADRIC_A13] * x[2];
+	y[1] = a[QUADRIC_A12] * x[0] + a[QUADRIC_A22] * x[1] +
+	    a[QUADRIC_A23] * x[2];
+	y[2] = a[QUADRIC_A13] * x[0] + a[QUADRIC_A23] * x[1] +
+	    a[QUADRIC_A33] * x[2];
 }
 
 void
-q_translate(quadric *q, const double d[3])
+quadric_translate(quadric *q, const double d[3])
 {
 	double ad[3];
 
@@ -80,7 +83,7 @@ q_translate(quadric *q, const double d[3])
 }
 
 double
-q_eval(const quadric *q, const double v[3])
+quadric_eval(const quadric *q, const double v[3])
 {
 	double av[3];
 
@@ -90,23 +93,23 @@ q_eval(const quadric *q, const double v[3])
 }
 
 int
-q_min_z(const quadric *q, double x, double y, double *z)
+quadric_min_z(const quadric *q, double x, double y, double *z)
 {
-	double a33 = q->a[Q_A33];
+	double a33 = q->a[QUADRIC_A33];
 
 	if (!(a33 > 0) || !isfinite(a33))
 		return -1;
-	*z = -(q->b[2] + q->a[Q_A13] * x + q->a[Q_A23] * y) / a33;
+	*z = -(q->b[2] + q->a[QUADRIC_A13] * x + q->a[QUADRIC_A23] * y) / a33;
 	return isfinite(*z) ? 0 : -1;
 }
 
 void
-q_eigen(const double a[6], double w[3], double V[3][3])
+quadric_eigen(const double a[6], double w[3], double V[3][3])
 {
 	double m[3][3] = {
-		{ a[Q_A11], a[Q_A12], a[Q_A13] },
-		{ a[Q_A12], a[Q_A22], a[Q_A23] },
-		{ a[Q_A13], a[Q_A23], a[Q_A33] },
+		{ a[QUADRIC_A11], a[QUADRIC_A12], a[QUADRIC_A13] },
+		{ a[QUADRIC_A12], a[QUADRIC_A22], a[QUADRIC_A23] },
+		{ a[QUADRIC_A13], a[QUADRIC_A23], a[QUADRIC_A33] },
 	};
 
 	for (int i = 0; i < 3; i++)
@@ -150,13 +153,13 @@ q_eigen(const double a[6], double w[3], double V[3][3])
 }
 
 int
-q_min_3d(const quadric *q, double rel, double v[3])
+quadric_min_3d(const quadric *q, double rel, double v[3])
 {
 	double w[3], V[3][3], wmax = 0;
 	int rank = 0;
 
 	v[0] = v[1] = v[2] = 0;
-	q_eigen(q->a, w, V);
+	quadric_eigen(q->a, w, V);
 	for (int k = 0; k < 3; k++)
 		if (w[k] > wmax)
 			wmax = w[k];

@@ -14,36 +14,44 @@ typedef struct {
 	double c;
 } quadric;
 
-enum { Q_A11, Q_A12, Q_A13, Q_A22, Q_A23, Q_A33 };
+/* The FQM stores a quadric as its 10 Q.* channels (fqm.h). */
+_Static_assert(sizeof(quadric) == 10 * sizeof(double),
+    "a quadric is a[6], b[3], c");
 
-void q_zero(quadric *q);
+/* The order of A's coefficients in a[]. */
+enum {
+	QUADRIC_A11, QUADRIC_A12, QUADRIC_A13, QUADRIC_A22, QUADRIC_A23,
+	QUADRIC_A33
+};
+
+void quadric_zero(quadric *q);
 /* q += w * (n.v + d)^2 */
-void q_add_plane(quadric *q, const double n[3], double d, double w);
+void quadric_add_plane(quadric *q, const double n[3], double d, double w);
 /* q += w * area * (plane of p0 p1 p2)^2, the Garland-Heckbert face
  * quadric; returns the area (0 for a degenerate triangle, which adds
  * nothing). Points are in q's frame. */
-double q_add_triangle(quadric *q, const double p0[3], const double p1[3],
+double quadric_add_triangle(quadric *q, const double p0[3], const double p1[3],
     const double p2[3], double w);
-void q_add(quadric *q, const quadric *r, double w); /* q += w r */
+void quadric_add(quadric *q, const quadric *r, double w); /* q += w r */
 /* Re-express q in a frame whose origin is point d of the old frame:
  * A' = A, b' = b + A d, c' = c + 2 b.d + d.A d. */
-void q_translate(quadric *q, const double d[3]);
-double q_eval(const quadric *q, const double v[3]);
+void quadric_translate(quadric *q, const double d[3]);
+double quadric_eval(const quadric *q, const double v[3]);
 
 /* The z minimising Q at fixed (x, y): -(b3 + a13 x + a23 y) / a33. Returns
  * -1 (z untouched) when a33 is not positive, i.e. no plane constrains z. A
  * height field's planes are never vertical, so a33 > 0 wherever any
  * triangle contributed. */
-int q_min_z(const quadric *q, double x, double y, double *z);
+int quadric_min_z(const quadric *q, double x, double y, double *z);
 
 /* The minimum-norm minimiser of Q (v = -A^+ b): eigen-decomposition of A,
  * eigenvalues below rel * (largest) treated as zero, so flat (rank 1) and
  * ridge-like (rank 2) quadrics keep their free directions at the frame
  * origin. Returns the rank used (0: v = 0). */
-int q_min_3d(const quadric *q, double rel, double v[3]);
+int quadric_min_3d(const quadric *q, double rel, double v[3]);
 
 /* Eigen-decomposition of the symmetric 3x3 A (Jacobi): eigenvalues w[k],
  * unit eigenvectors in columns V[.][k]. */
-void q_eigen(const double a[6], double w[3], double V[3][3]);
+void quadric_eigen(const double a[6], double w[3], double V[3][3]);
 
 #endif

@@ -26,6 +26,7 @@ solve_mode_parse(const char *s, enum solve_mode *m)
 const char *
 solve_mode_name(enum solve_mode m)
 {
+	assert((unsigned)m <= SOLVE_SUBSAMPLE);
 	return mode_names[m];
 }
 
@@ -131,6 +132,7 @@ at(const solve_state *s, int j, const solve_vertex *cur, int i, int r)
 {
 	if (r == j)
 		return &cur[i];
+	assert(i >= 0 && i < s->w);
 	if (r < j && j - r <= 2)
 		return &s->hist[j - r - 1][i];
 	return NULL;
@@ -144,9 +146,12 @@ tri_ok(const solve_state *s, int j, const solve_vertex *cur, const int v[3][2])
 	double g[3][2], p[3][2], ga, pa;
 	int i0 = v[0][0], r0 = v[0][1] - j + 2;
 
+	assert(r0 >= 0 && r0 < 5);
 	for (int k = 0; k < 3; k++) {
 		const solve_vertex *o = at(s, j, cur, v[k][0], v[k][1]);
 		int r = v[k][1] - j + 2;
+		/* the metric cache holds rows j-2 .. j+2 */
+		assert(r >= 0 && r < 5);
 		/* in the frame of v[0], as geo_local puts it (georef.h) */
 		g[k][0] = (row0(s, v[k][0]) - row0(s, i0)) * s->msx[r][i0];
 		g[k][1] = s->my[r][i0] - s->my[r0][i0];
@@ -217,7 +222,7 @@ place3d(const solve_state *s, int i, int j, const fqm_vertex *in,
 	double v[3], hx, hy, up, down;
 	long step = 1L << s->level;
 
-	q_min_3d(&in->q, s->rel, v);
+	quadric_min_3d(&in->q, s->rel, v);
 	hx = 0.5 * (double)step * s->msx[2][i];
 	up = j > 0 ? s->my[2][i] - s->my[1][i] : INFINITY;
 	down = s->my[3][i] - s->my[2][i];
@@ -254,6 +259,7 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 {
 	int j = s->row++;
 
+	assert(j < s->h); /* rows 0 .. h-1, in order */
 	if (s->mode == SOLVE_QEM3D)
 		cache_metric(s, j);
 	for (int i = 0; i < s->w; i++) {
@@ -279,7 +285,7 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 		for (int i = 0; i < s->w; i++) {
 			double z = 0;
 			/* no plane at all (a void region): the reference height */
-			if (q_min_z(&in[i].q, out[i].x, out[i].y, &z) < 0)
+			if (quadric_min_z(&in[i].q, out[i].x, out[i].y, &z) < 0)
 				z = 0;
 			out[i].z = in[i].z + z;
 		}

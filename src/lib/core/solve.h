@@ -16,7 +16,7 @@ typedef struct {
 
 typedef struct {
 	enum solve_mode mode;
-	double rel;   /* 3D: eigenvalue cut (q_min_3d) */
+	double rel;   /* 3D: eigenvalue cut (quadric_min_3d) */
 	double shrink; /* 3D: a cell's triangles keep at least this fraction
 	                * of their grid area (no fold-over, no slivers) */
 	int level, w, h;
