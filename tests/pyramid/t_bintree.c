@@ -51,23 +51,23 @@ emit(void *ctx, const int t[3][2])
 	}
 }
 
-int
-main(void)
+/* Children's parents include the vertex; m is the midpoint of its
+ * diamond's hypotenuses. */
+static void
+relations(void)
 {
-	long inconsistent = 0, leaves;
-	unsigned s = 5;
+	long inconsistent = 0;
 
-	/* parents and children are inverse relations */
 	for (int j = 0; j < N; j++)
 		for (int i = 0; i < N; i++) {
 			int c[4][2], p[2][2], nc = bt_children(i, j, c);
+			int tri[2][3][2], nt = bt_diamond(i, j, tri);
 			for (int k = 0; k < nc; k++) {
 				int np = bt_parents(c[k][0], c[k][1], p), found = 0;
 				for (int q = 0; q < np; q++)
 					found |= p[q][0] == i && p[q][1] == j;
 				inconsistent += !found;
 			}
-			int tri[2][3][2], nt = bt_diamond(i, j, tri);
 			for (int k = 0; k < nt; k++)
 				inconsistent += tri[k][0][0] + tri[k][1][0] != 2 * i ||
 				    tri[k][0][1] + tri[k][1][1] != 2 * j;
@@ -75,16 +75,12 @@ main(void)
 	ok(inconsistent == 0, "children's parents include the vertex; "
 	    "m is the midpoint of its diamond's hypotenuses (%ld bad)",
 	    inconsistent);
+}
 
-	tau = -1;
-	for (int j = 0; j < N; j++)
-		for (int i = 0; i < N; i++)
-			E[j][i] = 1;
-	leaves = bt_select(0, 0, split, NULL, NULL, NULL);
-	ok(leaves == 2L * BT_CELLS * BT_CELLS, "full refinement: %ld "
-	    "triangles, 2 per cell", leaves);
-
-	/* random local errors, saturated bottom-up by scale */
+/* Random local errors, saturated bottom-up by scale; corners FLT_MAX. */
+static void
+saturated_errors(unsigned s)
+{
 	for (int j = 0; j < N; j++)
 		for (int i = 0; i < N; i++) {
 			s = s * 1103515245u + 12345u;
@@ -108,30 +104,62 @@ main(void)
 	for (int j = 0; j < N; j += BT_CELLS)
 		for (int i = 0; i < N; i += BT_CELLS)
 			E[j][i] = FLT_MAX;
+}
+
+/* Selected vertices that are no triangle's corner, or whose parent is
+ * not selected, at the current tau. */
+static void
+unused_orphans(long *unused, long *orphans)
+{
+	*unused = *orphans = 0;
+	for (int j = 0; j < N; j++)
+		for (int i = 0; i < N; i++) {
+			int p[2][2], np = bt_parents(i, j, p);
+			if (E[j][i] <= tau)
+				continue;
+			*unused += !used[j][i];
+			for (int q = 0; q < np; q++)
+				if (in(p[q][0], p[q][1]) &&
+				    E[p[q][1]][p[q][0]] <= tau)
+					(*orphans)++;
+		}
+}
+
+/* At a sweep of taus the 2x2 blocks' selections match. */
+static void
+matching(void)
+{
 	for (tau = 0; tau < 64000; tau = tau * 3 + 100) {
-		long unused = 0, orphans = 0, tris = 0;
+		long unused, orphans, tris = 0;
 		memset(used, 0, sizeof used);
 		area2 = bad_tri = 0;
 		for (int bj = 0; bj < 2; bj++)
 			for (int bi = 0; bi < 2; bi++)
-				tris += bt_select(bi * BT_CELLS, bj * BT_CELLS, split,
-				    NULL, emit, NULL);
-		for (int j = 0; j < N; j++)
-			for (int i = 0; i < N; i++) {
-				int p[2][2], np = bt_parents(i, j, p);
-				if (E[j][i] <= tau)
-					continue;
-				unused += !used[j][i];
-				for (int q = 0; q < np; q++)
-					if (in(p[q][0], p[q][1]) &&
-					    E[p[q][1]][p[q][0]] <= tau)
-						orphans++;
-			}
+				tris += bt_select(bi * BT_CELLS, bj * BT_CELLS,
+				    split, NULL, emit, NULL);
+		unused_orphans(&unused, &orphans);
 		ok(unused == 0 && orphans == 0 && bad_tri == 0 &&
 		    area2 == 2L * 4 * BT_CELLS * BT_CELLS,
 		    "tau %g: %ld triangles, matching (unused %ld, orphans %ld, "
 		    "T-vertices %ld, area ok %d)", tau, tris, unused, orphans,
 		    bad_tri, area2 == 2L * 4 * BT_CELLS * BT_CELLS);
 	}
+}
+
+int
+main(void)
+{
+	long leaves;
+
+	relations();
+	tau = -1;
+	for (int j = 0; j < N; j++)
+		for (int i = 0; i < N; i++)
+			E[j][i] = 1;
+	leaves = bt_select(0, 0, split, NULL, NULL, NULL);
+	ok(leaves == 2L * BT_CELLS * BT_CELLS, "full refinement: %ld "
+	    "triangles, 2 per cell", leaves);
+	saturated_errors(5);
+	matching();
 	return tap_done();
 }

@@ -1,0 +1,312 @@
+/* t_tiles - the errors of a level's blocks (tiles.h), through its
+ * callbacks: E derived by hand for a spike (as t_tilepack.sh has them
+ * through the programs), the same E on a displaced level with zero
+ * offsets, a tilted plane's E and base errors 0 on levels 0 and 1, every
+ * block handed out once in row order with shared borders identical and
+ * padding copied, rows asked for in order once each, and a failing
+ * callback's error passed on. */
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/fqm.h"
+#include "pyramid/tiles.h"
+#include "tap.h"
+#include "tiff.h"
+
+static char tmp[PATH_MAX - 64];
+
+/* The level's rows, row-major w x h (offsets 0 on displaced levels). */
+typedef struct {
+	const float *z;
+	int w, h;
+	int next, bad_order;
+	int fail_at; /* a row whose read fails, or -1 */
+} rows;
+
+static int
+row_fn(void *ctx, int r, float *z, float *x, float *y, tl_err *e)
+{
+	rows *R = ctx;
+
+	R->bad_order += r != R->next++;
+	if (r == R->fail_at)
+		return tl_fail(e, "row %d: cannot", r);
+	memcpy(z, R->z + (size_t)r * R->w, (size_t)R->w * sizeof *z);
+	if (x != NULL) {
+		memset(x, 0, (size_t)R->w * sizeof *x);
+		memset(y, 0, (size_t)R->w * sizeof *y);
+	}
+	return 0;
+}
+
+/* The blocks handed out: E and Z gathered on the level's padded grid. */
+typedef struct {
+	int bx, by, gw;
+	float *z, *e;         /* gw x (128 by + 1) */
+	int *seen;            /* per block */
+	double *base, *emax, *zmin, *zmax;
+	int last, bad_order;  /* blocks in row order */
+	int bad_border;       /* a shared vertex that differs */
+	int fail_at;          /* a block whose write fails, or -1 */
+} sink;
+
+static int
+block_fn(void *ctx, const pyramid_block *b, tl_err *e)
+{
+	sink *s = ctx;
+	int k = b->bj * s->bx + b->bi;
+
+	if (k == s->fail_at)
+		return tl_fail(e, "block %d: cannot", k);
+	s->bad_order += k != s->last + 1;
+	s->last = k;
+	s->seen[k]++;
+	s->base[k] = b->base, s->emax[k] = b->emax;
+	s->zmin[k] = b->zmin, s->zmax[k] = b->zmax;
+	for (int r = 0; r < BT_SIZE; r++)
+		for (int c = 0; c < BT_SIZE; c++) {
+			size_t g = (size_t)(b->bj * BT_CELLS + r) * s->gw +
+			    b->bi * BT_CELLS + c;
+			int q = r * BT_SIZE + c;
+			int shared = (r == 0 && b->bj > 0) ||
+			    (c == 0 && b->bi > 0);
+			if (shared &&
+			    (s->z[g] != b->z[q] || s->e[g] != b->e[q]))
+				s->bad_border++;
+			s->z[g] = b->z[q], s->e[g] = b->e[q];
+		}
+	return 0;
+}
+
+typedef struct {
+	tiles_stats st;
+	sink s;
+	rows R;
+	int r;
+	tl_err e;
+} run;
+
+/* Level `level` (w x h, z row-major) of the DEM at path; row fail_row
+ * and block fail_block (-1: none) fail. */
+static void
+run_level(run *u, const char *path, int level, int w, int h,
+    const float *z, int displaced, int fail_row, int fail_block)
+{
+	static const dem_opts none;
+	tiles_level L = { 0 };
+	geo_metric m = { 0 };
+	size_t nb, ng;
+	dem *d;
+
+	memset(u, 0, sizeof *u);
+	u->r = -1;
+	u->R.z = z, u->R.w = w, u->R.h = h, u->R.fail_at = fail_row;
+	u->s.bx = pyramid_nblocks(w), u->s.by = pyramid_nblocks(h);
+	u->s.gw = u->s.bx * BT_CELLS + 1;
+	u->s.last = -1, u->s.fail_at = fail_block;
+	nb = (size_t)u->s.bx * u->s.by;
+	ng = (size_t)u->s.gw * (u->s.by * BT_CELLS + 1);
+	u->s.z = calloc(ng, sizeof *u->s.z);
+	u->s.e = calloc(ng, sizeof *u->s.e);
+	u->s.seen = calloc(nb, sizeof *u->s.seen);
+	u->s.base = calloc(nb, sizeof *u->s.base);
+	u->s.emax = calloc(nb, sizeof *u->s.emax);
+	u->s.zmin = calloc(nb, sizeof *u->s.zmin);
+	u->s.zmax = calloc(nb, sizeof *u->s.zmax);
+	if ((d = dem_open(path, &none, &u->e)) == NULL ||
+	    geo_metric_init(&m, dem_georef(d), &u->e) < 0)
+		goto done;
+	L.level = level, L.size[0] = w, L.size[1] = h;
+	L.displaced = displaced, L.m = &m;
+	L.row = row_fn, L.row_ctx = &u->R;
+	L.block = block_fn, L.block_ctx = &u->s;
+	u->r = tiles_run(&L, d, &u->st, &u->e);
+done:
+	if (d != NULL)
+		dem_close(d);
+	geo_metric_free(&m);
+}
+
+static void
+run_free(run *u)
+{
+	free(u->s.z), free(u->s.e), free(u->s.seen);
+	free(u->s.base), free(u->s.emax), free(u->s.zmin), free(u->s.zmax);
+}
+
+static float
+E(const run *u, int i, int j)
+{
+	return u->s.e[(size_t)j * u->s.gw + i];
+}
+
+/* Every block handed out once, in row order, borders identical. */
+static int
+blocks_ok(const run *u)
+{
+	int once = 1;
+
+	for (int k = 0; k < u->s.bx * u->s.by; k++)
+		once &= u->s.seen[k] == 1;
+	return u->r == 0 && once && !u->s.bad_order && !u->s.bad_border &&
+	    !u->R.bad_order && u->R.next == u->R.h;
+}
+
+/* A DEM of w x h samples from z, as a TIFF in tmp. */
+static int
+dem_file(char *path, size_t n, const char *name, int w, int h,
+    const float *z)
+{
+	snprintf(path, n, "%s/%s.tif", tmp, name);
+	return write_tiff(path, w, h, z);
+}
+
+/* The spike: one 129x129 block, height 0 but 10 m at s = (64,64). E by
+ * hand (t_tilepack.sh derives each): (64,64)'s diamond is the roots,
+ * whose corners are 0: 10. (64,0) (hypotenuse (0,0)-(128,0), apex s):
+ * the weight of s at samples (63..65, 63) is 63/64: 9.84375; likewise
+ * (0,64), (128,64), (64,128) and the square (96,96). (65,64), a leaf
+ * between s and (66,64): 5. (1,0), (127,127): nothing nonzero in reach,
+ * 0. Corners FLT_MAX. */
+static void
+test_spike(void)
+{
+	static const struct {
+		int i, j;
+		float e;
+	} want[] = {
+		{ 64, 64, 10 }, { 64, 0, 9.84375f }, { 0, 64, 9.84375f },
+		{ 128, 64, 9.84375f }, { 64, 128, 9.84375f },
+		{ 96, 96, 9.84375f }, { 65, 64, 5 }, { 1, 0, 0 },
+		{ 127, 127, 0 }, { 0, 0, FLT_MAX }, { 128, 128, FLT_MAX },
+	};
+	static float z[BT_SIZE * BT_SIZE];
+	char path[PATH_MAX];
+	run u, v;
+	int bad = 0;
+
+	z[64 * BT_SIZE + 64] = 10;
+	if (dem_file(path, sizeof path, "spike", BT_SIZE, BT_SIZE, z) < 0) {
+		ok(0, "spike: the DEM");
+		return;
+	}
+	run_level(&u, path, 0, BT_SIZE, BT_SIZE, z, 0, -1, -1);
+	ok(blocks_ok(&u) && u.s.bx == 1 && u.s.by == 1, "spike: one block, "
+	    "every row read once in order (%s)", u.r ? u.e.msg : "ok");
+	for (size_t q = 0; q < sizeof want / sizeof want[0]; q++)
+		if (E(&u, want[q].i, want[q].j) != want[q].e && bad++ < 4)
+			printf("# E(%d,%d) = %.9g, not %.9g\n", want[q].i,
+			    want[q].j, E(&u, want[q].i, want[q].j), want[q].e);
+	ok(bad == 0, "spike: E as derived by hand at 11 vertices");
+	ok(u.s.zmin[0] == 0 && u.s.zmax[0] == 10 && u.s.base[0] == 0 &&
+	    u.s.emax[0] == 10, "spike: the block's z range 0..10, base error "
+	    "0, largest finite E 10");
+	ok(u.st.max_e == 10 && u.st.max_base == 0 &&
+	    u.st.samples == BT_SIZE * BT_SIZE, "spike: stats: max E 10, "
+	    "max base 0, %lld samples", u.st.samples);
+	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 1, -1, -1);
+	ok(blocks_ok(&v) && memcmp(u.s.e, v.s.e, (size_t)u.s.gw * BT_SIZE *
+	    sizeof *u.s.e) == 0, "spike: a displaced level with zero offsets "
+	    "has the same E");
+	run_free(&v);
+	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 0, 70, -1);
+	ok(v.r < 0 && strstr(v.e.msg, "row 70: cannot") != NULL, "a row "
+	    "that cannot be read: failed with its message (%s)", v.e.msg);
+	run_free(&v);
+	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 0, -1, 0);
+	ok(v.r < 0 && strstr(v.e.msg, "block 0: cannot") != NULL, "a block "
+	    "that cannot be written: failed with its message (%s)", v.e.msg);
+	run_free(&v);
+	run_free(&u);
+}
+
+/* A tilted plane, exact in float32 at every grid point and midpoint:
+ * every triangle interpolates it, so where no padding is in reach (a
+ * level of whole blocks) E and the base errors are 0; padding copies the
+ * last real row and column. */
+static double
+plane(double I, double J)
+{
+	return 100 + 0.5 * I - 0.25 * J;
+}
+
+static void
+test_plane_level(const char *path, int W, int H, int level)
+{
+	int w = fqm_level_size(W, level), h = fqm_level_size(H, level);
+	float *z = malloc((size_t)w * h * sizeof *z);
+	int nonzero = 0, pad = 0;
+	double base = 0;
+	run u;
+
+	for (int j = 0; j < h; j++)
+		for (int i = 0; i < w; i++)
+			z[(size_t)j * w + i] = (float)plane((double)i *
+			    (1 << level), (double)j * (1 << level));
+	run_level(&u, path, level, w, h, z, 0, -1, -1);
+	for (int j = 0; j <= u.s.by * BT_CELLS; j++)
+		for (int i = 0; i < u.s.gw; i++) {
+			int corner = i % BT_CELLS == 0 && j % BT_CELLS == 0;
+			int ri = i < w ? i : w - 1, rj = j < h ? j : h - 1;
+			nonzero += !corner && E(&u, i, j) != 0;
+			pad += u.s.z[(size_t)j * u.s.gw + i] !=
+			    z[(size_t)rj * w + ri];
+		}
+	for (int k = 0; k < u.s.bx * u.s.by; k++)
+		base = fmax(base, u.s.base[k]);
+	ok(blocks_ok(&u), "plane level %d: %dx%d blocks, each once in row "
+	    "order, shared borders identical", level, u.s.bx, u.s.by);
+	if ((w - 1) % BT_CELLS == 0 && (h - 1) % BT_CELLS == 0)
+		ok(nonzero == 0 && base == 0 && u.st.max_e == 0, "plane level "
+		    "%d, no padding: E 0 but at corners (%d not), base errors "
+		    "0 (%g)", level, nonzero, base);
+	ok(pad == 0, "plane level %d: Z of every vertex, padding the last "
+	    "real one (%d differ)", level, pad);
+	run_free(&u);
+	free(z);
+}
+
+static void
+test_plane(int W, int H)
+{
+	float *z = malloc((size_t)W * H * sizeof *z);
+	char path[PATH_MAX], name[32];
+
+	for (int j = 0; j < H; j++)
+		for (int i = 0; i < W; i++)
+			z[(size_t)j * W + i] = (float)plane(i, j);
+	snprintf(name, sizeof name, "plane%dx%d", W, H);
+	if (dem_file(path, sizeof path, name, W, H, z) < 0) {
+		ok(0, "plane: the DEM");
+		free(z);
+		return;
+	}
+	free(z);
+	test_plane_level(path, W, H, 0);
+	test_plane_level(path, W, H, 1);
+}
+
+int
+main(void)
+{
+	char cmd[PATH_MAX + 16];
+
+	snprintf(tmp, sizeof tmp, "%s/tltiles.XXXXXX",
+	    getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+	if (mkdtemp(tmp) == NULL) {
+		ok(0, "set up");
+		return tap_done();
+	}
+	test_spike();
+	test_plane(300, 200); /* 3x2 blocks, padded */
+	test_plane(257, 257); /* 2x2 blocks, then 1 */
+	snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
+	if (system(cmd) != 0)
+		printf("# kept %s\n", tmp);
+	return tap_done();
+}
