@@ -129,7 +129,8 @@ test_padding(void)
 	for (int y = 0; y < f.ch; y++)
 		for (int c = 0; c < f.cw; c++) {
 			int past = 2 * c > W - 1 || 2 * y > H - 1;
-			double zi = 10 * (2 * y) + 2 * c; /* the plane, extended */
+			/* the plane, extended past the edge */
+			double zi = 10 * (2 * y) + 2 * c;
 			pad += past;
 			bad += past ? coarse[y][c].v != 0 : coarse[y][c].v != 1;
 			bad += fabs(coarse[y][c].z - zi) > 1e-12;
