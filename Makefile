@@ -39,19 +39,20 @@ ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) -Isrc/lib \
             $(call pkgcf,geographiclib)
 SYSLIBS  = -lstdc++ -lm -lpthread -ldl
 
-LAYERS  := core pyramid play
+LAYERS  := core pyramid play run
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 CORE_A  := $(B)/libcore.a
 PYR_A   := $(B)/libpyramid.a
 PLAY_A  := $(B)/libplay.a
+RUN_A   := $(B)/librun.a
 CORE_LD  = $(CORE_A) -Wl,--as-needed $(call pkglibs,$(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
 PYR_LD   = $(PYR_A) $(CORE_A) -Wl,--as-needed $(call pkglibs,$(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
 PLAY_LD  = $(PLAY_A) $(PYR_A) $(CORE_A) -Wl,--as-needed \
            $(call pkglibs,$(PLAY_PKGS) $(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
-ALL_LD   = $(PLAY_LD) $(call pkglibs,$(TEST_PKGS))
+RUN_LD   = $(RUN_A) $(CORE_LD)
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
@@ -61,8 +62,7 @@ TESTC   := $(wildcard tests/*/t_*.c)
 TESTBIN := $(TESTC:tests/%.c=$(B)/tests/%)
 TOOLC   := $(wildcard tests/tools/*.c)
 TOOLBIN := $(TOOLC:tests/tools/%.c=$(B)/tools/%)
-SCRIPTS := dem2vgis
-MAN1    := $(PROGS:%=man/%.1) $(SCRIPTS:%=man/%.1)
+MAN1    := $(PROGS:%=man/%.1)
 MAN5    := $(wildcard man/*.5)
 
 all: $(PROGS:%=$(B)/%) $(PLUGIN)
@@ -94,7 +94,8 @@ $(PLUGIN): src/lib/core/oiio_plugin.cpp src/lib/core/oiio_plugin.h | $(B)/.deps
 $(CORE_A): $(call objs,core)
 $(PYR_A): $(call objs,pyramid)
 $(PLAY_A): $(call objs,play)
-$(CORE_A) $(PYR_A) $(PLAY_A):
+$(RUN_A): $(call objs,run)
+$(CORE_A) $(PYR_A) $(PLAY_A) $(RUN_A):
 	rm -f $@
 	ar rcs $@ $^
 
@@ -109,6 +110,8 @@ $(B)/tilepack $(B)/tilecheck: $(B)/%: $(B)/cmd/%.o $(PYR_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PYR_LD)
 $(B)/tileplay: $(B)/%: $(B)/cmd/%.o $(PLAY_A) $(PYR_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD)
+$(B)/dem2vgis: $(B)/%: $(B)/cmd/%.o $(RUN_A) $(CORE_A)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(RUN_LD)
 
 TESTFLAGS = $(ALLCFLAGS) -Itests
 TEST_LD  = $(call pkglibs,$(TEST_PKGS))
@@ -121,10 +124,13 @@ $(B)/tests/pyramid/%: tests/pyramid/%.c tests/tap.h $(PYR_A) $(CORE_A)
 $(B)/tests/play/%: tests/play/%.c tests/tap.h $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)
 	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD) $(TEST_LD)
+$(B)/tests/run/%: tests/run/%.c tests/tap.h $(RUN_A) $(CORE_A)
+	@mkdir -p $(@D)
+	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(RUN_LD) $(TEST_LD)
 
 $(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(ALL_LD)
+	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD) $(TEST_LD)
 
 tests: all $(TESTBIN) $(TOOLBIN)
 
@@ -142,7 +148,7 @@ bench: all $(TOOLBIN)
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
 	install -m 644 $(PLUGIN) $(DESTDIR)$(LIBDIR)
-	install -m 755 $(PROGS:%=$(B)/%) $(SCRIPTS:%=scripts/%) $(DESTDIR)$(BINDIR)
+	install -m 755 $(PROGS:%=$(B)/%) $(DESTDIR)$(BINDIR)
 	install -m 644 $(MAN1) $(DESTDIR)$(MANDIR)/man1
 	install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5
 

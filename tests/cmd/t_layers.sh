@@ -1,5 +1,5 @@
-# t_layers - the library's layers depend one way: core <- pyramid <- play
-# <- the programs. Checked on the sources (project #includes), on the
+# t_layers - the library's layers depend one way: core <- pyramid <- play,
+# core <- run (the supervisor), and the programs above them. Checked on the sources (project #includes), on the
 # archives (no symbol a lower layer needs is defined by a higher one) and on
 # the programs (each links only its layers' libraries: no GL or JSON where
 # no layer asks for it).
@@ -11,9 +11,10 @@ allowed() {	# allowed LAYER: the layers its files may include
 	core) echo "core" ;;
 	pyramid) echo "core pyramid" ;;
 	play) echo "core pyramid play" ;;
+	run) echo "core run" ;;
 	esac
 }
-for layer in core pyramid play; do
+for layer in core pyramid play run; do
 	bad=""
 	for f in "$L/$layer"/*.[ch] "$L/$layer"/*.cpp; do
 		[ -e "$f" ] || continue
@@ -46,18 +47,19 @@ check_up() {	# check_up LOWER HIGHER...
 		[ -z "$up" ]; ok $? "lib$low.a needs nothing from lib$high.a"
 	done
 }
-for layer in core pyramid play; do
+for layer in core pyramid play run; do
 	a=$B/lib$layer.a
 	[ -f "$a" ]; ok $? "build/lib$layer.a exists"
 	defined "$a" >"$T/d.$layer"
 	undef "$a" >"$T/u.$layer"
 done
-check_up core pyramid play
-check_up pyramid play
+check_up core pyramid play run
+check_up pyramid play run
+check_up run pyramid play
 
 # programs: the shared libraries they need
 needs() { readelf -d "$B/$1" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p'; }
-for p in dem2fqm fqmfilter fqmsolve; do
+for p in dem2fqm fqmfilter fqmsolve dem2vgis; do
 	n=$(needs $p | grep -E 'jansson|glfw|epoxy|EGL|GL\.' | tr '\n' ' ')
 	[ -z "$n" ]; ok $? "$p (core) links no JSON or GL library ($n)"
 done
@@ -66,7 +68,7 @@ for p in tilepack tilecheck; do
 	[ -z "$n" ]; ok $? "$p (pyramid) links no GL library ($n)"
 done
 needs tileplay | grep -q glfw; ok $? "tileplay (play) links GLFW"
-for p in dem2fqm fqmfilter fqmsolve tilepack tilecheck tileplay; do
+for p in dem2fqm fqmfilter fqmsolve tilepack tilecheck tileplay dem2vgis; do
 	n=$(needs $p | grep -i OpenImageIO | tr '\n' ' ')
 	[ -z "$n" ]; ok $? "$p does not link OpenImageIO (a plugin: $n)"
 done

@@ -1,0 +1,296 @@
+/* pipeline.c - DEM to pyramid as supervised stages (pipeline.h). */
+#include <assert.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <libgen.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "run/graph.h"
+#include "run/pipeline.h"
+#include "run/scratch.h"
+
+#define MAXLEVELS 32 /* levels of a DEM of 2^31 x 2^31 samples: 25 */
+#define MAXWORDS (PIPELINE_MAXOPTS + MAXLEVELS + 16)
+#define PATHMAX 4200
+
+typedef char vpath_t[PATHMAX];
+
+/* An argv under construction; the words are not copied (graph_exec
+ * copies the whole argv). */
+typedef struct {
+	const char *w[MAXWORDS + 1];
+	int n;
+} words;
+
+static void
+say(words *a, const char *w)
+{
+	assert(a->n < MAXWORDS);
+	a->w[a->n++] = w;
+	a->w[a->n] = NULL;
+}
+
+static void
+say_demopts(words *a, const pipeline_opts *o)
+{
+	for (int i = 0; i < o->ndemopt; i++)
+		say(a, o->demopt[i]);
+}
+
+/* Runs one stage alone: its usage error (exit 2) is returned as -1 with
+ * status 2; other failures only when fatal is set. */
+static int
+alone(const pipeline_opts *o, words *a, int in, int fatal, char *cap,
+    size_t ncap, int *status, tl_err *e)
+{
+	graph *g = graph_new(o->prog, o->bindir, e);
+	int k, r = -1, st = 1;
+
+	if (g == NULL)
+		goto done;
+	if ((k = graph_exec(g, (char *const *)a->w, in, -1, e)) < 0 ||
+	    (cap != NULL && graph_capture(g, k, cap, ncap, e) < 0))
+		goto done;
+	r = graph_run(g, &st, e);
+	if (r < 0 && !fatal && st == 1)
+		r = 0; /* not a usage error: the real run will say */
+done:
+	graph_free(g);
+	*status = r < 0 ? st : 0;
+	return r;
+}
+
+/* The options passed on, tried before any work: each stage on no input. */
+static int
+precheck(const pipeline_opts *o, int *status, tl_err *e)
+{
+	words a = { 0 };
+
+	say(&a, "fqmsolve"), say(&a, "-m"), say(&a, o->mode);
+	if (o->cut != NULL)
+		say(&a, "-r"), say(&a, o->cut);
+	say(&a, "-"), say(&a, "-");
+	if (alone(o, &a, -1, 0, NULL, 0, status, e) < 0)
+		return -1;
+	a.n = 0;
+	say(&a, "fqmfilter"), say(&a, "-k"), say(&a, o->kernel);
+	say(&a, "-"), say(&a, "-");
+	return alone(o, &a, -1, 0, NULL, 0, status, e);
+}
+
+/* A DEM on stdin is read twice (quadrics, then errors): a copy in
+ * scratch, under the name -n gives, which GDAL may need (N44W072.hgt). */
+static int
+spool_stdin(const pipeline_opts *o, const scratch *s, char *path, size_t n,
+    tl_err *e)
+{
+	char base[256], dir[PATHMAX], buf[1 << 16];
+	long long off = 0;
+	ssize_t r;
+	int fd;
+
+	snprintf(base, sizeof base, "%s", o->name ? o->name : "stdin");
+	snprintf(dir, sizeof dir, "%s/in", s->path);
+	if (mkdir(dir, 0700) < 0)
+		return tl_failsys(e, "%s", dir);
+	if (snprintf(path, n, "%s/%s", dir, basename(base)) >= (int)n)
+		return tl_fail(e, "%s: name too long", base);
+	if ((fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC,
+	    0600)) < 0)
+		return tl_failsys(e, "%s", path);
+	while ((r = read(0, buf, sizeof buf)) != 0) {
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0 ? tl_failsys(e, "stdin") < 0 :
+		    tl_pwrite(fd, buf, (size_t)r, off, path, e) < 0) {
+			close(fd);
+			return -1;
+		}
+		off += r;
+	}
+	return close(fd) < 0 ? tl_failsys(e, "%s", path) : 0;
+}
+
+/* Our own failure (not a stage's, which names itself): "prog: what". */
+static int
+ours(const pipeline_opts *o, tl_err *e)
+{
+	char m[sizeof e->msg];
+
+	snprintf(m, sizeof m, "%s", e->msg);
+	return tl_fail(e, "%s: %s", o->prog, m);
+}
+
+/* The level count from the reader itself ("dem2fqm -I"); its message is
+ * ours if it cannot read the DEM. */
+static int
+level_count(const pipeline_opts *o, const char *dem, int *levels,
+    int *status, tl_err *e)
+{
+	char info[4096], *p;
+	words a = { 0 };
+	int in = -1, r;
+
+	say(&a, "dem2fqm");
+	say_demopts(&a, o);
+	if (o->name != NULL && strcmp(o->dem, "-") != 0)
+		say(&a, "-n"), say(&a, o->name);
+	say(&a, "-I");
+	if (strcmp(o->dem, "-") == 0 && o->name == NULL) {
+		/* its messages say stdin, as the user gave it */
+		say(&a, "-");
+		if ((in = open(dem, O_RDONLY | O_CLOEXEC)) < 0)
+			return tl_failsys(e, "%s: %s", o->prog, dem);
+	} else
+		say(&a, dem);
+	r = alone(o, &a, in, 1, info, sizeof info, status, e);
+	if (in >= 0)
+		close(in);
+	if (r < 0)
+		return -1;
+	for (p = info; p != NULL && *p; p = strchr(p, '\n'), p = p ? p + 1 : p)
+		if (sscanf(p, "levels %d", levels) == 1 && *levels >= 1 &&
+		    *levels <= MAXLEVELS)
+			return 0;
+	*status = 1;
+	return tl_fail(e, "%s: %s: dem2fqm -I gave no level count", o->prog,
+	    dem);
+}
+
+/* The filter chain and one solver per level, all at once. */
+static int
+quadrics(const pipeline_opts *o, const char *dem, int levels,
+    vpath_t *vpath, int *status, tl_err *e)
+{
+	graph *g = graph_new(o->prog, o->bindir, e);
+	words a = { 0 };
+	int up[2], r = -1;
+
+	if (g == NULL || graph_pipe(g, up, e) < 0)
+		goto done;
+	say(&a, "dem2fqm");
+	say_demopts(&a, o);
+	if (o->name != NULL && strcmp(o->dem, "-") != 0)
+		say(&a, "-n"), say(&a, o->name);
+	say(&a, dem), say(&a, "-");
+	if (graph_exec(g, (char *const *)a.w, -1, up[1], e) < 0)
+		goto done;
+	for (int l = 0; l < levels; l++) {
+		int q[2], f[2], v;
+		if (graph_pipe(g, q, e) < 0 ||
+		    (v = graph_open(g, vpath[l], O_WRONLY | O_CREAT | O_EXCL,
+		    0600, e)) < 0)
+			goto done;
+		a.n = 0;
+		say(&a, "fqmsolve"), say(&a, "-m"), say(&a, o->mode);
+		if (o->cut != NULL)
+			say(&a, "-r"), say(&a, o->cut);
+		say(&a, "-"), say(&a, "-");
+		if (graph_exec(g, (char *const *)a.w, q[0], v, e) < 0)
+			goto done;
+		if (l == levels - 1) { /* the top: no filter above it */
+			if (graph_tee(g, up[0], q[1], -1, e) < 0)
+				goto done;
+			break;
+		}
+		if (graph_pipe(g, f, e) < 0 ||
+		    graph_tee(g, up[0], q[1], f[1], e) < 0)
+			goto done;
+		a.n = 0;
+		say(&a, "fqmfilter"), say(&a, "-k"), say(&a, o->kernel);
+		say(&a, "-"), say(&a, "-");
+		if (graph_pipe(g, up, e) < 0 ||
+		    graph_exec(g, (char *const *)a.w, f[0], up[1], e) < 0)
+			goto done;
+	}
+	r = graph_run(g, status, e);
+done:
+	if (r < 0 && *status == 0)
+		*status = 1;
+	graph_free(g);
+	return r;
+}
+
+static int
+pack(const pipeline_opts *o, const char *dem, int levels,
+    vpath_t *vpath, int *status, tl_err *e)
+{
+	graph *g = graph_new(o->prog, o->bindir, e);
+	words a = { 0 };
+	int r = -1;
+
+	say(&a, "tilepack");
+	if (o->force)
+		say(&a, "-f");
+	if (o->quiet)
+		say(&a, "-q");
+	if (o->jobs != NULL)
+		say(&a, "-j"), say(&a, o->jobs);
+	say_demopts(&a, o);
+	if (o->name != NULL && strcmp(o->dem, "-") != 0)
+		say(&a, "-n"), say(&a, o->name);
+	say(&a, dem), say(&a, o->out);
+	for (int l = 0; l < levels; l++)
+		say(&a, vpath[l]);
+	if (g != NULL && graph_exec(g, (char *const *)a.w, -1, -1, e) >= 0)
+		r = graph_run(g, status, e);
+	else
+		*status = 1;
+	graph_free(g);
+	return r;
+}
+
+static int
+stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
+    int *status, tl_err *e)
+{
+	char spool[PATHMAX];
+	const char *dem = o->dem;
+	int levels;
+
+	*status = 1;
+	if (strcmp(dem, "-") == 0) {
+		if (spool_stdin(o, s, spool, sizeof spool, e) < 0)
+			return ours(o, e);
+		dem = spool;
+	} else if (access(dem, F_OK) < 0)
+		return tl_failsys(e, "%s: %s", o->prog, dem);
+	if (level_count(o, dem, &levels, status, e) < 0)
+		return -1;
+	for (int l = 0; l < levels; l++)
+		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", s->path, l);
+	if (quadrics(o, dem, levels, vpath, status, e) < 0)
+		return -1;
+	return pack(o, dem, levels, vpath, status, e);
+}
+
+int
+pipeline_run(const pipeline_opts *o, int *status, tl_err *e)
+{
+	vpath_t *vpath;
+	scratch s;
+	int r;
+
+	if (precheck(o, status, e) < 0)
+		return -1;
+	*status = 1;
+	if ((vpath = tl_alloc(MAXLEVELS, sizeof *vpath, e)) == NULL)
+		return ours(o, e);
+	if (scratch_begin(&s, o->prog, e) < 0) {
+		free(vpath);
+		return ours(o, e);
+	}
+	r = stages(o, &s, vpath, status, e);
+	scratch_end(&s);
+	free(vpath);
+	if (graph_signal() && r == 0) {
+		*status = 128 + graph_signal();
+		r = tl_fail(e, "%s: stopped by signal %d", o->prog,
+		    graph_signal());
+	}
+	return r;
+}

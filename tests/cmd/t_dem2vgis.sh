@@ -1,0 +1,107 @@
+# t_dem2vgis - the supervisor: usage errors of the stages found before any
+# work (exit 2, in seconds); the first failing stage's message alone; the
+# stages' warnings passed on; SIGKILL or SIGTERM of the driver at ten
+# moments takes every stage down and leaves the old pyramid or the new
+# one, never a mix, and no temporary; a killed run's scratch is swept by
+# the next run; stdin with -n.
+. "$(dirname "$0")/../lib.sh"
+
+dem=$DATA/N44W072.hgt
+export TMPDIR=$T/tmp
+mkdir -p "$TMPDIR"
+dv() { "$B/dem2vgis" "$@"; }
+nothing_left() {	# DIR: no output, no temporary beside it, no scratch
+	[ ! -e "$1" ] && [ -z "$(ls -A "$(dirname "$1")" | grep '^\.')" ] &&
+	    [ -z "$(ls -A "$TMPDIR")" ]
+}
+
+# usage errors of the options passed on: before any work, in seconds
+for o in "-r 2" "-k foo" "-j 0" "-e bogus" "-N x" "-s -1" "-Z"; do
+	start=$(date +%s)
+	# shellcheck disable=SC2086
+	dv $o "$dem" "$T/u" >"$T/out" 2>"$T/err"; s=$?
+	took=$(( $(date +%s) - start ))
+	[ $s -eq 2 ] && [ $took -le 10 ] && { [ "$o" = -Z ] || [ "$(wc -l <"$T/err")" -eq 1 ]; } &&
+	    nothing_left "$T/u"
+	ok $? "dem2vgis $o: exit 2 in ${took} s, one line: $(head -c 80 "$T/err")"
+done
+fails "-r 2: fqmsolve's own message" 2 "^fqmsolve: -r 2: not a number" dv -r 2 "$dem" "$T/u"
+fails "-k foo: fqmfilter's own message" 2 "^fqmfilter: -k foo: unknown kernel" dv -k foo "$dem" "$T/u"
+fails "no such DEM: exit 1, named" 1 "^dem2vgis: $T/none.hgt: No such file" dv "$T/none.hgt" "$T/u"
+fails "one operand: usage" 2 "^usage: dem2vgis " dv "$dem"
+dv --help >"$T/h" 2>&1; s=$?
+[ $s -eq 0 ] && grep -q "^usage: dem2vgis" "$T/h" && [ "$(grep -c '^  -' "$T/h")" -ge 7 ]
+ok $? "--help: usage and every option on stdout, exit 0"
+[ "$(dv -V)" = "dem2vgis $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/core/util.h")" ]
+ok $? "-V: name and version"
+
+# a reference build, then stdin (the copy named by -n) gives the same
+run "reference pyramid of $(basename "$dem")" dv -q "$dem" "$T/ref"
+cat "$dem" | dv -q -n N44W072.hgt - "$T/in" 2>"$T/err"
+diff -r "$T/ref" "$T/in" >/dev/null; ok $? "stdin with -n: the same pyramid"
+
+# a stage that fails mid-way: its message alone, every stage down, nothing
+# left (fake stages: the real ones, but a solver that dies at level 2)
+mkdir -p "$T/fake"
+for p in dem2fqm fqmfilter tilepack; do ln -s "$B/$p" "$T/fake/$p"; done
+cat >"$T/fake/fqmsolve" <<EOS
+#!/bin/sh
+# the fourth solver started fails after reading a little (mkdir: atomic)
+n=0; while ! mkdir "$T/fake/s\$n" 2>/dev/null; do n=\$((n + 1)); done
+if [ "\$n" -eq 3 ]; then head -c 100000 >/dev/null; echo "fqmsolve: level 3: made to fail" >&2; exit 1; fi
+exec "$B/fqmsolve" "\$@"
+EOS
+chmod +x "$T/fake/fqmsolve"
+start=$(date +%s)
+TL_BIN=$T/fake dv -q "$dem" "$T/f" >"$T/out" 2>"$T/err"; s=$?
+took=$(( $(date +%s) - start ))
+[ $s -eq 1 ] && [ "$(cat "$T/err")" = "fqmsolve: level 3: made to fail" ]
+ok $? "a stage fails: exit 1 ($s), its message alone ($(tr '\n' '|' <"$T/err" | head -c 200))"
+nothing_left "$T/f"; ok $? "a stage fails: no output, no temporary, no scratch (${took} s)"
+
+# warnings of stages that succeed are passed on, once (a DEM without
+# georeferencing: dem2fqm says what it assumed)
+/usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" >/dev/null 2>&1 &&
+    GDAL_PAM_ENABLED=NO gdal_translate -q -of PNG -ot UInt16 -scale 0 1000 0 1000 \
+    "$T/hills.tif" "$T/plain.png" 2>/dev/null
+dv -q "$T/plain.png" "$T/w" 2>"$T/err"; s=$?
+[ $s -eq 0 ] && [ "$(grep -c . "$T/err")" -eq 1 ] &&
+    grep -q "^dem2fqm: .*plain.png: not georeferenced" "$T/err"
+ok $? "a stage's warning is passed on once, exit 0 ($(tr '\n' '|' <"$T/err" | head -c 160))"
+
+# SIGKILL / SIGTERM at ten moments, over an old pyramid: afterwards no
+# stage alive, the old pyramid or the new one (never a mix), no temporary
+cp -r "$T/ref" "$T/old"
+dv -q -3 "$dem" "$T/new3"	# what a finished run leaves
+full=$( { /usr/bin/time -f %e "$B/dem2vgis" -q -3 -f "$dem" "$T/timing" ; } 2>&1 | tail -1)
+for k in 1 2 3 4 5 6 7 8 9 10; do
+	sig=KILL; [ $((k % 3)) -eq 0 ] && sig=TERM
+	at=$(awk -v f="$full" -v k="$k" 'BEGIN { printf "%.2f", f * (k - 0.5) / 10 }')
+	rm -rf "$T/p"; cp -r "$T/old" "$T/p"
+	"$B/dem2vgis" -q -3 "$dem" "$T/p" 2>/dev/null & pid=$!
+	sleep "$at"
+	kids=$(ps -eo pid,ppid | awk -v p=$pid '$2 == p { print $1 }')
+	kill -$sig $pid 2>/dev/null
+	wait $pid 2>/dev/null
+	sleep 1.5
+	alive=0
+	for c in $kids; do
+		[ -d /proc/$c ] && [ "$(awk '{ print $3 }' /proc/$c/stat)" != Z ] &&
+		    alive=$((alive + 1))
+	done
+	state=mixed
+	diff -r "$T/p" "$T/old" >/dev/null 2>&1 && state=old
+	diff -r "$T/p" "$T/new3" >/dev/null 2>&1 && state=new
+	hidden=$(ls -A "$T" | grep -c '^\.' || true)
+	[ $alive -eq 0 ] && [ $state != mixed ] && [ "$hidden" -eq 0 ]
+	ok $? "SIG$sig at ${at} s of ${full} s: $alive stages alive, pyramid $state, $hidden temporaries"
+done
+# a killed run's scratch is swept by the next run
+rm -rf "$TMPDIR"/*; "$B/dem2vgis" -q "$dem" "$T/s1" 2>/dev/null & pid=$!
+sleep 0.5; kill -KILL $pid; wait $pid 2>/dev/null; sleep 1
+n1=$(ls "$TMPDIR" | grep -c '^dem2vgis\.' || true)
+dv -q -f "$dem" "$T/s2"
+n2=$(ls "$TMPDIR" | grep -c '^dem2vgis\.' || true)
+[ "$n1" -ge 1 ] && [ "$n2" -eq 0 ]
+ok $? "scratch of a SIGKILLed run ($n1) removed by the next run ($n2 left)"
+done_testing
