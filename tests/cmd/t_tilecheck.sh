@@ -16,6 +16,12 @@ fails "--tau not numbers: exit 2" 2 '^tilecheck: --tau 1,x: ' \
 fails "bad DEM option: exit 2" 2 '^tilecheck: -e ' tilecheck -e nosuch x
 fails "missing directory: exit 3" 3 "^tilecheck: $T/none/index.json: " \
     tilecheck "$T/none"
+# named after argv[0]'s last component, getopt's messages and its own alike
+fails "run by its path: an unknown option, exit 2" 2 \
+    "^tilecheck: (invalid|unrecognized) option" "$B/tilecheck" -Q x
+grep -q "^usage: tilecheck " "$T/err"; ok $? "... and the usage, both under the name tilecheck"
+run "-V exits 0" tilecheck -V
+grep -q '^tilecheck [0-9]' "$T/out"; ok $? "-V prints the version"
 
 # No GL library linked (the viewer's libraries stay in tileplay).
 if command -v ldd >/dev/null; then

@@ -88,6 +88,23 @@ fails "a truncated vertex map" 1 "^tilepack: .*cut.fqm: .*truncat" \
     tilepack "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/cut.fqm"
 nothing_left "$T/o"; ok $? "failed runs leave nothing in the output directory"
 fails "too few operands" 2 "usage: tilepack" tilepack "$T/hills.tif" "$T/o/p"
+# the DEM read with other options than its levels were made with
+fails "the DEM read with -s 2: georeferencing (cell) differs" 1 \
+    "^tilepack: .*hv0.exr: georeferencing \(cell\) differs from the DEM's" \
+    tilepack -s 2 "$T/hills.tif" "$T/o/p" "$T/hv0.exr"
+fails "-j not a number: exit 2" 2 "^tilepack: -j x: expected a number >= 1" \
+    tilepack -j x "$T/hills.tif" "$T/o/p" "$T/hv0.exr"
+fails "stdin for two inputs: exit 2" 2 "^tilepack: stdin can feed only one input" \
+    tilepack "$T/hills.tif" "$T/o/p" - -
+nothing_left "$T/o"; ok $? "refused runs leave nothing in the output directory"
+run "--help exits 0" tilepack --help
+grep -q '^usage: tilepack \[-fq\]' "$T/out"; ok $? "--help prints the usage on stdout"
+run "-V exits 0" tilepack -V
+grep -q '^tilepack [0-9]' "$T/out"; ok $? "-V prints the version"
+# named after argv[0]'s last component, getopt's messages and its own alike
+fails "run by its path: an unknown option" 2 "^tilepack: (invalid|unrecognized) option" \
+    "$B/tilepack" -Q "$T/hills.tif" "$T/o/p" "$T/hv0.exr"
+grep -q "^usage: tilepack " "$T/err"; ok $? "... and the usage, both under the name tilepack"
 
 mkdir "$T/o/keep" && touch "$T/o/keep/precious"
 fails "a directory that is not a pyramid is not replaced" 1 "not a pyramid" \

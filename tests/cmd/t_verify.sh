@@ -1,7 +1,8 @@
-# t_verify - tileplay --verify as a program: usage, and real pyramids made
-# by dem2vgis (1D and QEM-3D, projected and geographic with voids) that
-# must pass every check against their DEM. (t_verify.c tests the checker
-# itself on hand-built and corrupted pyramids.)
+# t_verify - the checker on real pyramids: tileplay --verify's usage (the
+# alias), then every DEM's pyramids made by dem2vgis (1D and QEM-3D,
+# projected and geographic with voids) passing every check of tilecheck
+# against their DEM. (tests/pyramid/t_verify*.c test the checker itself
+# on hand-built and corrupted pyramids, t_tilecheck.sh its program.)
 . "$(dirname "$0")/../lib.sh"
 
 run "--help exits 0" tileplay --help
@@ -18,14 +19,15 @@ fails "--tau negative: exit 2" 2 '^tileplay: --tau -1: ' \
 fails "no pyramid: exit 1" 1 "^tileplay: $T/none/index.json: " \
     tileplay --verify "$T/none"
 
-if [ ! -x "$B/tilepack" ] || [ ! -x "$TOP/scripts/dem2vgis" ]; then
-	echo "ok $((_n + 1)) - # SKIP tilepack or scripts/dem2vgis not built"
+if [ ! -x "$B/tilepack" ] || [ ! -x "$B/tilecheck" ] ||
+    [ ! -x "$TOP/scripts/dem2vgis" ]; then
+	echo "ok $((_n + 1)) - # SKIP tilepack, tilecheck or scripts/dem2vgis not built"
 	_n=$((_n + 1))
 	done_testing
 	exit
 fi
 
-# verify NAME DEM [dem2vgis options]: make the pyramid, check it
+# verify NAME DEM [dem2vgis options]: make the pyramid, tilecheck it
 verify() {
 	_name=$1 _dem=$2; shift 2
 	_vo=""; case $* in *"-s 60"*) _vo="-s 60" ;; esac
@@ -37,7 +39,7 @@ verify() {
 	fi
 	_t0=$(date +%s)
 	# shellcheck disable=SC2086
-	tileplay --verify "$T/$_name" --dem "$_dem" $_vo >"$T/$_name.txt" 2>&1
+	tilecheck --dem "$_dem" $_vo "$T/$_name" >"$T/$_name.txt" 2>&1
 	_s=$?
 	[ $_s -eq 0 ] && : || { grep '^result' "$T/$_name.txt"
 	    grep '^  level' "$T/$_name.txt" | head -8; } | sed 's/^/#   /'
