@@ -71,12 +71,12 @@ test_stream(const char *name, int fw, int fh)
 	fqm_vertex *fine = calloc(fw, sizeof *fine), *coarse;
 	geo_metric m;
 	filter_state f;
-	int pushes = 0, pulls = 0, late = 0, early = 0;
+	int pushes = 0, pulls = 0, late = 0, early = 0, r;
 
 	geo_metric_const(&m, 4 * fh, 30, 20, NULL);
-	ok(filter_init(&f, k, 0, fw, fh, fw, fh, &m, NULL) == 0 &&
-	    f.cw == fqm_level_size(fw, 1) && f.ch == fqm_level_size(fh, 1) &&
-	    f.nring == (k->radius > 0 ? 2 * k->radius + 1 : 2),
+	r = filter_init(&f, k, 0, fw, fh, fw, fh, &m, NULL);
+	ok(r == 0 && f.cw == fqm_level_size(fw, 1) &&
+	    f.ch == fqm_level_size(fh, 1) && f.nring == (k->radius > 0 ? 2 * k->radius + 1 : 2),
 	    "%s %dx%d: coarse %dx%d, ring of %d rows", name, fw, fh, f.cw,
 	    f.ch, f.nring);
 	coarse = calloc(f.cw, sizeof *coarse);
