@@ -13,6 +13,8 @@
 #include "core/georef.h"
 #include "core/raster.h"
 
+/* The vgis:* attributes: what the file says it is, and the index's z
+ * range and base error. */
 static void
 check_vgis(vf_lv *v, const rs_header *h, int bi, int bj)
 {
@@ -46,6 +48,8 @@ check_vgis(vf_lv *v, const rs_header *h, int bi, int bj)
 		    v->L->zmax[k]);
 }
 
+/* The geo:* and fqm:* attributes carried over from the vertex map: the
+ * index's georeferencing, level, size0, mode and kernel. */
 static void
 check_fqm(vf_lv *v, const rs_header *h, int bi, int bj)
 {
@@ -79,6 +83,8 @@ check_fqm(vf_lv *v, const rs_header *h, int bi, int bj)
 		    s ? s : "missing", v->L->kernel);
 }
 
+/* Where each vertex stands in level-0 columns and rows: its grid place
+ * plus, displaced, its offsets through the metric embedding of fqm(5). */
 static void
 positions(vf_lv *v, vf_blk *b, int bi, int bj)
 {
@@ -94,6 +100,7 @@ positions(vf_lv *v, vf_blk *b, int bi, int bj)
 	}
 }
 
+/* E Z, or E X Y Z on displaced levels, in any order. */
 static int
 channels_ok(const vf_lv *v, const rs_header *h)
 {
@@ -171,6 +178,8 @@ done:
 	rs_close(rd);
 }
 
+/* Z, X, Y finite; the z range and largest finite E those the index
+ * lists. */
 void
 vf_block_content(vf_lv *v, const vf_blk *b, int bi, int bj)
 {

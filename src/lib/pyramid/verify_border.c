@@ -39,8 +39,8 @@ differ(float a, float b)
 
 /* Vertex ka of block a and kb of block b are one level vertex. */
 static void
-border_pair(vf_lv *v, const vf_blk *a, int ai, int aj, int ka, const vf_blk *b,
-    int bi, int bj, int kb)
+border_pair(vf_lv *v, const vf_blk *a, int ai, int aj, int ka,
+    const vf_blk *b, int bi, int bj, int kb)
 {
 	char buf[160];
 	size_t n = 0;

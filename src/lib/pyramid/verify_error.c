@@ -11,8 +11,8 @@
 /* Largest deviation of triangle (x, y, z)[3] from the valid DEM samples
  * it holds (closed); marks them covered when cover is set. */
 static void
-tri_dev(const vf_checker *c, vf_dwin *w, const double x[3], const double y[3],
-    const double z[3], int cover, vf_devmax *d)
+tri_dev(const vf_checker *c, vf_dwin *w, const double x[3],
+    const double y[3], const double z[3], int cover, vf_devmax *d)
 {
 	double det = (x[1] - x[0]) * (y[2] - y[0]) -
 	    (y[1] - y[0]) * (x[2] - x[0]);
@@ -72,8 +72,10 @@ vf_error_tri(const vf_blk *b, const vf_node *d, double x[3], double y[3],
 		x[q] = b->px[k[q]], y[q] = b->py[k[q]], z[q] = b->z[k[q]];
 }
 
+/* The worst sample of node d's triangle in block b: the count inside. */
 static int
-node_dev(vf_lv *v, const vf_blk *b, const vf_node *d, int cover, vf_devmax *m)
+node_dev(vf_lv *v, const vf_blk *b, const vf_node *d, int cover,
+    vf_devmax *m)
 {
 	double x[3], y[3], z[3];
 

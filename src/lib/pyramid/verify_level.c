@@ -2,6 +2,7 @@
  * sweep, the blocks read, each check run on them, stray files. */
 #include "pyramid/verify_impl.h"
 
+#include <assert.h>
 #include <dirent.h>
 #include <float.h>
 #include <math.h>
@@ -9,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The level's taus: --tau's (0 first), or 0 and a geometric sweep up to
+ * the largest finite E. */
 static int
 make_taus(vf_lv *v)
 {
@@ -89,6 +92,8 @@ lv_free(vf_lv *v)
 	free(v->tau);
 }
 
+/* Level l's state: two block rows of blocks, the selections' scratch,
+ * the DEM rows of each block row. */
 static int
 lv_init(vf_lv *v, vf_checker *c, int l)
 {
@@ -155,12 +160,16 @@ check_strays(vf_lv *v)
 	closedir(d);
 }
 
+/* Block row bj: each block read and checked on its own and against its
+ * neighbours left and above, then against the DEM, then each tau's
+ * selection; this row then becomes the one above. */
 static int
 check_row(vf_lv *v, int bj)
 {
 	vf_blk *tmp = v->row[0];
 	unsigned char *bot;
 
+	assert(bj >= 0 && bj < v->by);
 	v->row[0] = v->row[1], v->row[1] = tmp;
 	for (int bi = 0; bi < v->bx; bi++) {
 		vf_blk *b = &v->row[1][bi];

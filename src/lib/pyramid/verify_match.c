@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+/* Twice the signed grid area of node d's triangle. */
 static long long
 cross2(const vf_node *d)
 {
@@ -30,6 +31,7 @@ mark_edge(unsigned char *in, const unsigned char p[2],
 		in[j * BT_SIZE + i] = 1;
 }
 
+/* Displaced corners keep the triangle's orientation and area. */
 static void
 check_fold(vf_lv *v, const vf_blk *b, const vf_node *d, int bi, int bj,
     double tau)
@@ -46,6 +48,9 @@ check_fold(vf_lv *v, const vf_blk *b, const vf_node *d, int bi, int bj,
 		    bj * BT_CELLS + d->b[1], s / 2, cross2(d) / 2.0);
 }
 
+/* The n emitted triangles (v->emit) of block (bi, bj) at tau t: the
+ * vertices they use and hold strictly inside an edge, their area, fold
+ * and error; the level's largest error and tightness at t. */
 static void
 emitted(vf_lv *v, const vf_blk *b, int bi, int bj, int t, long n)
 {
