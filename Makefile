@@ -132,7 +132,20 @@ $(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)
 	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD) $(TEST_LD)
 
-tests: all $(TESTBIN) $(TOOLBIN)
+# Fuzz targets (tests/fuzz/fz_*.c): in make check each is replayed over its
+# seeds and regression inputs by an ordinary build (replay.c); make fuzz
+# runs each under libFuzzer for FUZZ_TIME seconds on a clang
+# ASan+UBSan build of its own (build-fuzz/).
+FUZZC   := $(wildcard tests/fuzz/fz_*.c)
+FUZZ    := $(FUZZC:tests/fuzz/fz_%.c=%)
+FUZZREPLAY := $(FUZZ:%=$(B)/tests/fuzz/fz_%)
+$(B)/tests/fuzz/fz_%: tests/fuzz/fz_%.c tests/fuzz/fuzz.c tests/fuzz/replay.c \
+    tests/fuzz/fuzz.h $(PYR_A) $(CORE_A)
+	@mkdir -p $(@D)
+	$(CC) $(TESTFLAGS) -Itests/fuzz $(LDFLAGS) -o $@ $< tests/fuzz/fuzz.c \
+	    tests/fuzz/replay.c $(PYR_LD)
+
+tests: all $(TESTBIN) $(TOOLBIN) $(FUZZREPLAY)
 
 check: tests
 	@sh tests/run
@@ -162,7 +175,36 @@ check-tsan:
 	    CXXFLAGS='-O1 -g -fsanitize=thread' LDFLAGS=-fsanitize=thread all
 	sh tests/tsan build-tsan
 
+FUZZ_TIME ?= 60
+FZ_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
+           -fno-sanitize-recover=undefined
+fuzz:
+	$(MAKE) B=build-fuzz CC=clang CXX=clang++ \
+	    CFLAGS='$(FZ_FLAGS) -fsanitize=fuzzer-no-link' \
+	    CXXFLAGS='$(FZ_FLAGS) -fsanitize=fuzzer-no-link' \
+	    LDFLAGS='-fsanitize=address,undefined' fuzz-targets
+	sh tests/fuzz/run build-fuzz $(FUZZ_TIME) $(FUZZ)
+
+fuzz-targets: all $(FUZZ:%=$(B)/fuzz/fz_%)
+$(B)/fuzz/fz_%: tests/fuzz/fz_%.c tests/fuzz/fuzz.c tests/fuzz/fuzz.h \
+    $(PYR_A) $(CORE_A)
+	@mkdir -p $(@D)
+	$(CC) $(TESTFLAGS) -Itests/fuzz -fsanitize=fuzzer -o $@ $< \
+	    tests/fuzz/fuzz.c $(PYR_LD)
+
+# The whole suite on an AddressSanitizer + UndefinedBehaviorSanitizer build
+# of its own (build-asan/): any report fails the test that caused it.
+ASAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
+             -fno-sanitize-recover=undefined
+check-asan:
+	$(MAKE) B=build-asan CFLAGS='$(ASAN_FLAGS)' CXXFLAGS='$(ASAN_FLAGS)' \
+	    LDFLAGS='-fsanitize=address,undefined' tests
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:exitcode=66:suppressions=$(CURDIR)/tests/asan.supp \
+	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:exitcode=66 \
+	TL_BUILD=build-asan sh tests/run
+
 -include $(shell find $(B) -name '*.d' 2>/dev/null)
 
-.PHONY: all tests check check-tsan example bench install clean
+.PHONY: all tests check check-tsan check-asan fuzz fuzz-targets example bench install clean
 .SECONDARY:
