@@ -139,7 +139,7 @@ write_block(void *ctx, const pyramid_block *b, tl_err *e)
 }
 
 /* What every worker shares: read-only but for the next level to take and
- * the first failure, under the lock. */
+ * the failure of the lowest level, under the lock. */
 typedef struct {
 	const pack_args *a;
 	dem *d;
@@ -148,7 +148,7 @@ typedef struct {
 	const geo_metric *m;
 	pack_level *out;
 	pthread_mutex_t lock;
-	int next, failed;
+	int next, failed; /* failed: the lowest level that did, or -1 */
 	tl_err err;
 } work;
 
@@ -208,7 +208,9 @@ done:
 /* --- the levels on threads ---------------------------------------------- */
 
 /* A worker takes levels in order (level 0, the largest, first) until
- * none is left or one failed. */
+ * none is left or one failed. Every level below a failed one has been
+ * taken, so the lowest failure, the one reported, does not depend on
+ * the threads' timing. */
 static void *
 worker(void *arg)
 {
@@ -218,15 +220,16 @@ worker(void *arg)
 	for (;;) {
 		int l;
 		pthread_mutex_lock(&w->lock);
-		l = w->failed ? w->a->nlevels : w->next++;
+		l = w->failed >= 0 ? w->a->nlevels : w->next++;
 		pthread_mutex_unlock(&w->lock);
 		if (l >= w->a->nlevels)
 			return NULL;
 		if (pack_level_run(w, l, &e) < 0) {
 			pthread_mutex_lock(&w->lock);
-			if (!w->failed)
+			if (w->failed < 0 || l < w->failed) {
 				w->err = e;
-			w->failed = 1;
+				w->failed = l;
+			}
 			pthread_mutex_unlock(&w->lock);
 			return NULL;
 		}
@@ -242,6 +245,7 @@ run_levels(work *w, tl_err *e)
 
 	if (n > PACK_MAXJOBS)
 		n = PACK_MAXJOBS;
+	w->failed = -1;
 	pthread_mutex_init(&w->lock, NULL);
 	for (int k = 1; k < n; k++)
 		if (pthread_create(&t[started], NULL, worker, w) == 0)
@@ -250,7 +254,7 @@ run_levels(work *w, tl_err *e)
 	for (int k = 0; k < started; k++)
 		pthread_join(t[k], NULL);
 	pthread_mutex_destroy(&w->lock);
-	if (w->failed) {
+	if (w->failed >= 0) {
 		*e = w->err;
 		return -1;
 	}

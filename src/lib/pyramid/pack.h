@@ -36,8 +36,9 @@ typedef struct {
 } pack_level;
 
 /* Makes a->dir, or leaves nothing; out[0 .. a->nlevels-1] is filled
- * when it returns 0. Levels are checked before their count, whose fault
- * says less than theirs. */
+ * when it returns 0. On failure e says why the lowest failing level did,
+ * whatever the threads' timing; levels are checked before their count,
+ * whose fault says less than theirs. */
 int pack_run(const pack_args *a, pack_level *out, tl_err *e);
 
 /* One line per level: "prog: level l: WxH vertices, BXxBY blocks, 1D,
