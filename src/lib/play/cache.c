@@ -6,7 +6,7 @@
  * does, when the next queued block does not fit. */
 #include "play/cache.h"
 
-#include <math.h>
+#include <assert.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +14,20 @@
 
 #define QMAX 1024 /* queued loads; more are asked again next frame */
 #define FMAX 256  /* blocks that failed to load, never asked again */
+/* A block's bookkeeping (this struct, the renderer's), a fixed count so
+ * that the cap's arithmetic and the byte counts printed do not move with
+ * struct layouts. */
+#define BOOKKEEPING 224
+
+struct cblock {
+	int level, bi, bj;
+	pyramid_block blk;
+	mesh_verts v;
+	size_t bytes;   /* block + vertices + the renderer's, in the cap */
+	void *user;     /* the renderer's, freed by the release function */
+	long used;      /* last frame it was asked for */
+	cblock *next;   /* the loader's finished list */
+};
 
 typedef struct {
 	int level, bi, bj;
@@ -48,7 +62,7 @@ struct cache {
 static size_t
 fixed_bytes(int displaced)
 {
-	return sizeof(cblock) + (size_t)PYRAMID_N * sizeof(float) *
+	return BOOKKEEPING + (size_t)PYRAMID_N * sizeof(float) *
 	    (displaced ? 4 : 2) + (size_t)MESH_NV * sizeof(float) * 8;
 }
 
@@ -58,6 +72,7 @@ slot_of(const cache *c, int l, int bi, int bj)
 	size_t h = (size_t)l * 73856093u ^ (size_t)bi * 19349663u ^
 	    (size_t)bj * 83492791u;
 
+	assert((c->tsize & (c->tsize - 1)) == 0); /* masks, not modulo */
 	return h & (c->tsize - 1);
 }
 
@@ -66,6 +81,7 @@ find(cache *c, int l, int bi, int bj)
 {
 	size_t s = slot_of(c, l, bi, bj);
 
+	assert(c->count < c->tsize); /* a free slot ends every probe */
 	for (;; s = (s + 1) & (c->tsize - 1)) {
 		cblock *b = c->table[s];
 		if (b == NULL || (b->level == l && b->bi == bi && b->bj == bj))
@@ -77,6 +93,7 @@ find(cache *c, int l, int bi, int bj)
 static void
 unlink_slot(cache *c, size_t s)
 {
+	assert(c->table[s] != NULL);
 	c->table[s] = NULL;
 	for (s = (s + 1) & (c->tsize - 1); c->table[s] != NULL;
 	    s = (s + 1) & (c->tsize - 1)) {
@@ -86,13 +103,23 @@ unlink_slot(cache *c, size_t s)
 	}
 }
 
+/* The cache's part of a block; the renderer's went to release. */
 static void
 block_free(cblock *b)
 {
 	pyramid_block_free(&b->blk);
 	mesh_verts_free(&b->v);
-	mesh_tris_free(&b->tris);
 	free(b);
+}
+
+static void
+release_user(cache *c, cblock *b)
+{
+	if (b->user != NULL) {
+		assert(c->release != NULL);
+		c->release(b->user, c->ctx);
+		b->user = NULL;
+	}
 }
 
 /* --- the loader ------------------------------------------------------ */
@@ -110,7 +137,6 @@ load(const world *w, key k, char *err, size_t n)
 		return NULL;
 	}
 	b->level = k.level, b->bi = k.bi, b->bj = k.bj;
-	b->tau = NAN;
 	pyramid_block_path(path, sizeof path, w->dir, k.level, k.bi, k.bj);
 	if (pyramid_block_alloc(&b->blk, L->displaced, &e) < 0)
 		goto fail;
@@ -211,8 +237,7 @@ drop(cache *c, size_t s)
 
 	unlink_slot(c, s);
 	c->count--;
-	if (c->release != NULL)
-		c->release(b, c->ctx);
+	release_user(c, b);
 	pthread_mutex_lock(&c->mu);
 	c->bytes -= b->bytes;
 	c->evictions++;
@@ -234,8 +259,7 @@ cache_free(cache *c)
 	pthread_join(c->thread, NULL);
 	for (size_t s = 0; s < c->tsize; s++)
 		if (c->table[s] != NULL) {
-			if (c->release != NULL)
-				c->release(c->table[s], c->ctx);
+			release_user(c, c->table[s]);
 			block_free(c->table[s]);
 		}
 	for (b = c->done; b != NULL; b = n)
@@ -343,8 +367,10 @@ cache_frame(cache *c)
 cblock *
 cache_get(cache *c, int level, int bi, int bj)
 {
-	cblock *b = *find(c, level, bi, bj);
+	cblock *b;
 
+	assert(world_block_exists(c->w, level, bi, bj));
+	b = *find(c, level, bi, bj);
 	if (b != NULL) {
 		b->used = c->frame;
 		return b;
@@ -376,24 +402,54 @@ queued:
 }
 
 int
-cache_account(cache *c, cblock *cb)
+cache_account(cache *c, cblock *b, size_t bytes)
 {
-	size_t want = fixed_bytes(cb->blk.displaced) +
-	    cb->tris.cap * sizeof *cb->tris.idx;
+	size_t fixed = fixed_bytes(b->blk.displaced), want = fixed + bytes;
+	int kept = 1;
 
-	if (want > cb->bytes && !make_room(c, want - cb->bytes, c->frame)) {
-		/* no room even for these triangles: draw nothing of it */
-		mesh_tris_free(&cb->tris);
-		cb->tau = NAN;
-		want = fixed_bytes(cb->blk.displaced);
+	assert(*find(c, b->level, b->bi, b->bj) == b);
+	if (want > b->bytes && !make_room(c, want - b->bytes, c->frame)) {
+		/* no room even for these: the renderer frees them */
+		want = fixed;
+		kept = 0;
 	}
 	pthread_mutex_lock(&c->mu);
-	c->bytes = c->bytes - cb->bytes + want;
+	c->bytes = c->bytes - b->bytes + want;
 	if (c->bytes > c->peak)
 		c->peak = c->bytes;
 	pthread_mutex_unlock(&c->mu);
-	cb->bytes = want;
-	return cb->tris.idx != NULL;
+	b->bytes = want;
+	return kept;
+}
+
+const pyramid_block *
+cache_block_data(const cblock *b)
+{
+	return &b->blk;
+}
+
+const mesh_verts *
+cache_block_verts(const cblock *b)
+{
+	return &b->v;
+}
+
+void
+cache_block_verts_done(cblock *b)
+{
+	mesh_verts_free(&b->v);
+}
+
+void *
+cache_block_user(const cblock *b)
+{
+	return b->user;
+}
+
+void
+cache_block_set_user(cblock *b, void *user)
+{
+	b->user = user;
 }
 
 void

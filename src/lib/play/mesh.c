@@ -1,6 +1,7 @@
 /* mesh.c - block geometry, selections and skirts (see mesh.h). */
 #include "play/mesh.h"
 
+#include <assert.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -11,23 +12,16 @@
 static uint32_t
 floor_of(int side, int t)
 {
+	assert(side >= 0 && side < 4 && t >= 0 && t < MESH_SIDE);
 	return (uint32_t)(PYRAMID_N + side * MESH_SIDE + t);
 }
 
-int
-mesh_verts_build(const world *w, const pyramid_block *b, mesh_verts *v,
-    tl_err *e)
+/* Positions relative to the block's centre, heights and errors. */
+static void
+place(const world *w, const pyramid_block *b, mesh_verts *v)
 {
 	double s = (double)(1L << b->level), p[3];
 
-	memset(v, 0, sizeof *v);
-	v->pos = tl_alloc(MESH_NV * 3, sizeof *v->pos, e);
-	v->nrm = tl_alloc(MESH_NV * 3, sizeof *v->nrm, e);
-	v->val = tl_alloc(MESH_NV * 2, sizeof *v->val, e);
-	if (!v->pos || !v->nrm || !v->val) {
-		mesh_verts_free(v);
-		return -1;
-	}
 	world_pos(w, (b->bi * BT_CELLS + BT_CELLS / 2) * s,
 	    (b->bj * BT_CELLS + BT_CELLS / 2) * s, 0, 0, 0, v->origin);
 	for (int r = 0; r < BT_SIZE; r++)
@@ -47,8 +41,13 @@ mesh_verts_build(const world *w, const pyramid_block *b, mesh_verts *v,
 			v->val[2 * k] = b->z[k];
 			v->val[2 * k + 1] = b->e[k];
 		}
-	/* normals: central differences of the full grid (one-sided at the
-	 * edges), so coarse selections still shade with every detail */
+}
+
+/* Normals: central differences of the full grid (one-sided at the
+ * edges), so coarse selections still shade with every detail. */
+static void
+normals(mesh_verts *v)
+{
 	for (int r = 0; r < BT_SIZE; r++)
 		for (int c = 0; c < BT_SIZE; c++) {
 			int c0 = c > 0 ? c - 1 : c, c1 = c < BT_CELLS ? c + 1 : c;
@@ -68,8 +67,13 @@ mesh_verts_build(const world *w, const pyramid_block *b, mesh_verts *v,
 				v->nrm[3 * (r * BT_SIZE + c) + q] =
 				    (float)(len > 0 ? n[q] / len : q == 2);
 		}
-	/* skirt floors: under each border vertex, at the world's floor,
-	 * shaded as the vertex above */
+}
+
+/* Skirt floors: under each border vertex, at the world's floor, shaded
+ * as the vertex above. */
+static void
+floors(const world *w, mesh_verts *v)
+{
 	for (int side = 0; side < 4; side++)
 		for (int t = 0; t < BT_SIZE; t++) {
 			int c = side < 2 ? t : side == 2 ? 0 : BT_CELLS;
@@ -81,6 +85,23 @@ mesh_verts_build(const world *w, const pyramid_block *b, mesh_verts *v,
 			v->val[2 * f] = v->val[2 * k];
 			v->val[2 * f + 1] = v->val[2 * k + 1];
 		}
+}
+
+int
+mesh_verts_build(const world *w, const pyramid_block *b, mesh_verts *v,
+    tl_err *e)
+{
+	memset(v, 0, sizeof *v);
+	v->pos = tl_alloc(MESH_NV * 3, sizeof *v->pos, e);
+	v->nrm = tl_alloc(MESH_NV * 3, sizeof *v->nrm, e);
+	v->val = tl_alloc(MESH_NV * 2, sizeof *v->val, e);
+	if (!v->pos || !v->nrm || !v->val) {
+		mesh_verts_free(v);
+		return -1;
+	}
+	place(w, b, v);
+	normals(v);
+	floors(w, v);
 	return 0;
 }
 

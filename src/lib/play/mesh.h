@@ -15,7 +15,7 @@
 
 #include <stdint.h>
 
-#include "play/view.h"
+#include "play/world.h"
 
 #define MESH_SIDE (BT_SIZE)          /* border vertices per side */
 #define MESH_NV (PYRAMID_N + 4 * MESH_SIDE) /* grid, then skirt floors */
