@@ -836,24 +836,33 @@ remove_fixtures(void)
 	system(cmd);
 }
 
-/* The repository top: build/tests/t_dem is two levels below it. */
+/* This program is TOP/BUILD/tests/core/t_dem, BUILD any build directory
+ * (make B=...): the plugin is BUILD's, the data beside TOP. */
 static void
 find_top(void)
 {
 	ssize_t n = readlink("/proc/self/exe", top, sizeof top - 1);
-	char so[PATH_MAX + 32];
+	char so[PATH_MAX + 32], *t, *slash;
 
-	if (n <= 0 || strstr(top, "/build/tests/") == NULL) {
-		getcwd(top, sizeof top);
-	} else {
+	if (n > 0)
 		top[n] = '\0';
-		*strstr(top, "/build/tests/") = '\0';
+	if (n <= 0 || (t = strstr(top, "/tests/")) == NULL ||
+	    (*t = '\0', slash = strrchr(top, '/')) == NULL) {
+		if (getcwd(top, sizeof top) == NULL)
+			snprintf(top, sizeof top, ".");
+		snprintf(so, sizeof so, "%s/build/tl_oiio.so", top);
+	} else {
+		snprintf(so, sizeof so, "%s/tl_oiio.so", top);
+		*slash = '\0';
 	}
+	/* a build directory outside the tree: the tree is where we run */
+	snprintf(data, sizeof data, "%s/tests/tap.h", top);
+	if (access(data, F_OK) != 0 && getcwd(top, sizeof top) == NULL)
+		snprintf(top, sizeof top, ".");
 	if (getenv("DATA"))
 		snprintf(data, sizeof data, "%s", getenv("DATA"));
 	else
 		snprintf(data, sizeof data, "%s/../shared/data", top);
-	snprintf(so, sizeof so, "%s/build/tl_oiio.so", top);
 	setenv("TL_OIIO_PLUGIN", so, 0);
 }
 

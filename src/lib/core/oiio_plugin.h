@@ -1,10 +1,12 @@
 /* oiio_plugin.h - the C interface of tl_oiio.so, the OpenImageIO reader
  * that the DEM reader loads with dlopen only for what GDAL does not read
- * (EXR) and the viewer for writing PNGs. Linking OpenImageIO costs ~130 MB of RSS, hence the plugin.
+ * (EXR) and the viewer for writing PNGs. Linking OpenImageIO costs ~130
+ * MB of RSS, hence the plugin.
  *
  * The plugin exports one C function, TL_OIIO_ENTRY, returning a table of
- * function pointers (ABI 2 added write_u8, for tileplay's screenshots). Errors come back as strings in the caller's buffer;
- * no C++ exception crosses the interface. Pixels are delivered in their
+ * function pointers (ABI 2 added write_u8, for tileplay's screenshots).
+ * Errors come back as strings in the caller's buffer; no C++ exception
+ * crosses the interface. Pixels are delivered in their
  * native type (OpenImageIO would normalise integers), half as float. */
 #ifndef TL_OIIO_PLUGIN_H
 #define TL_OIIO_PLUGIN_H
