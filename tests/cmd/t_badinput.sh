@@ -91,11 +91,22 @@ fails "unknown option" 2 "usage: fqmfilter" fqmfilter -Q
 fails "unknown kernel" 2 "^fqmfilter: -k lanczos: unknown kernel" fqmfilter -k lanczos
 fails "unknown mode" 2 "^fqmsolve: -m 2d: unknown mode" fqmsolve -m 2d
 fails "too many operands" 2 "usage: dem2fqm" dem2fqm a b c
+fails "bad compression" 2 "^dem2fqm: -z lzw: unknown compression" dem2fqm -z lzw a b
+fails "bad DEM option value" 2 "^dem2fqm: -s 0: " dem2fqm -s 0 a b
+fails "missing option argument" 2 "^fqmsolve: option requires an argument" fqmsolve -m
 for p in dem2fqm fqmfilter fqmsolve; do
 	$p --help >"$T/help" && grep -q "^usage: $p" "$T/help"
 	ok $? "$p --help prints usage on stdout, exit 0"
-	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/core/util.h")" ]
-	ok $? "$p --version"
+	$p -h >"$T/h" && cmp -s "$T/h" "$T/help"
+	ok $? "$p -h is --help"
+	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/core/util.h")" ] &&
+	    [ "$($p -V)" = "$($p --version)" ]
+	ok $? "$p --version and -V"
+	# called by a path: getopt's message and ours name it the same way
+	"$B/$p" -Q 2>"$T/err" >/dev/null; s=$?
+	[ $s -eq 2 ] && head -1 "$T/err" | grep -q "^$p: " &&
+	    ! grep -q "$B" "$T/err" && grep -q "^usage: $p " "$T/err"
+	ok $? "$B/$p -Q: exit 2, named $p in every message ($(head -1 "$T/err"))"
 done
 # The same file as input and output: refused, the input untouched.
 cp "$T/hills.tif" "$T/same.tif" && cp "$T/h0.exr" "$T/same.exr"
