@@ -1,7 +1,7 @@
 # t_plane - a tilted plane (dx != dy) through the real programs and files:
 # every level's QEM-1D and QEM-3D surface stays on the plane, within what
 # float32 storage of quadrics and heights allows (the algebra alone, in
-# double, is exact to 1e-13 m: t_quadric).
+# double, is exact to 1e-9 m: t_filter).
 . "$(dirname "$0")/../lib.sh"
 
 /usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; done_testing; exit 1; }
