@@ -6,8 +6,8 @@
  * The plugin exports one C function, TL_OIIO_ENTRY, returning a table of
  * function pointers (ABI 2 added write_u8, for tileplay's screenshots).
  * Errors come back as strings in the caller's buffer; no C++ exception
- * crosses the interface. Pixels are delivered in their
- * native type (OpenImageIO would normalise integers), half as float. */
+ * crosses the interface. Pixels are delivered in their native type
+ * (OpenImageIO would normalise integers), half as float. */
 #ifndef TL_OIIO_PLUGIN_H
 #define TL_OIIO_PLUGIN_H
 
