@@ -1,5 +1,5 @@
 # t_tileplay - the viewer, headless (EGL; llvmpipe in CI), on pyramids of
-# the real DEMs: pictures that are not blank (the terrain's footprint where
+# the real DEMs: options scoped to their mode, pictures that are not blank (the terrain's footprint where
 # the camera puts it, heights in their colours), no cracks where blocks of
 # different levels meet (and cracks without skirts), triangles against the
 # tolerance, the cache's cap along a flight over the largest pyramid, and
@@ -17,6 +17,72 @@ fails "--shot with --fly: exit 2" 2 '^tileplay: --shot and --fly: ' \
     tileplay --shot x.png --fly 3 d
 fails "--probe without --shot: exit 2" 2 '^tileplay: --probe: only with' \
     tileplay --probe 1,2 d
+
+# Options scoped to their mode (tileplay(1), "Modes and their options"):
+# one of another mode is a usage error naming the option and the mode,
+# found before any pyramid is opened (d does not exist).
+# foreign OPTION MODE ARGS...
+foreign() {
+	_opt=$1 _mode=$2; shift 2
+	fails "$_opt with $_mode: exit 2, both named" 2 \
+	    "^tileplay: $_opt: only with .*, not with $_mode\$" tileplay "$@"
+}
+# the player's options with the checker
+foreign --wire --verify --verify d --wire
+foreign --size --verify --verify d --size 320x200
+foreign --cache --verify --verify d --cache 16
+foreign --view --verify --verify d --view overview
+foreign --stats --verify --verify d --stats
+foreign --probe --verify --verify d --probe 1,2
+foreign --path --verify --verify d --path p
+foreign --frames --verify --verify d --frames 2
+# the checker's options with the player
+foreign --dem --shot --dem foo --tau 1 --shot y.png d
+foreign --tau --fly --tau 1 --fly 2 d
+foreign -s "the window" -s 30 d
+foreign -D --shot -D egm96 --shot y.png d
+# a flight's camera is its path's; it prints its own statistics
+foreign --view --fly --fly 2 --view overview d
+foreign --eye --fly --fly 2 --eye 1,2,3 d
+foreign --target --fly --target 1,2,3 --fly 2 d
+foreign --stats --fly --fly 2 --stats d
+# one mode's own options in another
+foreign --probe "the window" --probe 1,2 d
+foreign --readout "the window" --readout d
+foreign --wait "the window" --wait d
+foreign --path "the window" --path p d
+foreign --frames --shot --shot x.png --frames 3 d
+foreign --path --shot --shot x.png --path p d
+foreign --wait --shot --wait --shot x.png d
+foreign --probe --fly --fly 2 --probe 1,2 d
+foreign --readout --fly --fly 2 --readout d
+foreign --frames --fly --fly 2 --frames 3 d
+fails "the first foreign option is named" 2 \
+    '^tileplay: --wire: only with the window, --shot or --fly, not with --verify$' \
+    tileplay --verify d --wire --frames 2
+grep -q -- '--frames' "$T/err"; ok $(( ! $? )) "... and only it"
+# two modes at once, in the order given
+fails "--verify with --shot: exit 2" 2 '^tileplay: --verify and --shot: one at a time$' \
+    tileplay --verify d --shot x.png
+fails "--fly with --verify: exit 2" 2 '^tileplay: --fly and --verify: one at a time$' \
+    tileplay --fly 2 --verify d
+# every option of a mode together passes the options: the missing
+# pyramid is what fails (exit 1), not the usage
+fails "the window's options: accepted" 1 "^tileplay: $T/none/index.json: " \
+    tileplay --view overview --eye 1,2,3 --target 4,5,6 --size 320x200 \
+    --pixels 2 --color level --wire --no-skirts --no-light \
+    --background 1,2,3 --cache 16 --stats --frames 2 "$T/none"
+fails "--shot's options: accepted" 1 "^tileplay: $T/none/index.json: " \
+    tileplay --shot "$T/x.png" --view overview --eye 1,2,3 --target 4,5,6 \
+    --size 320x200 --pixels 2 --color error --wire --no-skirts --no-light \
+    --background 1,2,3 --cache 16 --stats --readout --probe 1,2 "$T/none"
+fails "--fly's options: accepted" 1 "^tileplay: $T/none/index.json: " \
+    tileplay --fly 2 --path p --wait --size 320x200 --pixels 2 \
+    --color level --wire --no-skirts --no-light --background 1,2,3 \
+    --cache 16 "$T/none"
+fails "--verify's options: accepted" 1 "^tileplay: $T/none/index.json: " \
+    tileplay --verify "$T/none" --dem x.tif --tau 1,2 -D egm96 -e grey \
+    -H egm96 -N -9999 -n x.hgt -s 30
 fails "--size 10: exit 2" 2 '^tileplay: --size 10: expected WxH' \
     tileplay --size 10 --shot x.png d
 fails "--color hue: exit 2" 2 '^tileplay: --color hue: expected' \
@@ -67,6 +133,22 @@ hostile nolevels "ix['levels'] = []"
 hostile 26levels "ix['levels'] = ix['levels'] + [ix['levels'][-1]] * 21"
 hostile bigsize "ix['size0'] = [1 << 30, 643]"
 hostile wrongsize "ix['levels'][1]['size'] = [5, 5]"
+
+# Every option of a mode at once, on a real pyramid.
+run "bt: --shot with all its options" tileplay "$T/bt" --shot "$T/all.png" \
+    --view overview --size 320x200 --pixels 2 --color level --wire \
+    --no-skirts --no-light --background 1,2,3 --cache 64 --stats --readout \
+    --probe 100,100
+grep -q '^stats: ' "$T/err" && grep -q '^probe 100,100: ' "$T/out"
+ok $? "... its stats and its probe"
+printf '%s\n' '# eye target' '-9000 -9000 6000 0 0 500' \
+    '9000 -9000 6000 0 0 500' >"$T/bt.path"
+run "bt: --fly with all its options" tileplay "$T/bt" --fly 3 \
+    --path "$T/bt.path" --wait --size 320x200 --pixels 2 --color error \
+    --wire --no-skirts --no-light --background 1,2,3 --cache 64
+[ "$(grep -c '^[0-9]' "$T/out")" -eq 3 ]; ok $? "... three frames"
+run "bt: --verify with its options" tileplay --verify "$T/bt" --tau 1,10
+grep -q '^result: pass$' "$T/out"; ok $? "... result: pass"
 
 # The picture checks, in numpy over GDAL's reading of the PNG.
 cat >"$T/px.py" <<'EOF'
