@@ -168,6 +168,8 @@ level_entry(pyramid_level *pl, int l, const vmap *v, tl_err *e)
 	return 0;
 }
 
+/* Level l: its vertex map checked and read, its blocks computed and
+ * written into the directory being built, its index entry filled. */
 static int
 pack_level_run(work *w, int l, tl_err *e)
 {
