@@ -21,6 +21,15 @@
 
 static char dir[PATH_MAX / 2];
 
+/* Under AddressSanitizer an impossible calloc returns NULL, as in libc,
+ * instead of ending the test. */
+const char *__asan_default_options(void);
+const char *
+__asan_default_options(void)
+{
+	return "allocator_may_return_null=1";
+}
+
 static const char *
 tmp(const char *name)
 {
