@@ -18,6 +18,7 @@
 #include "pyramid/pyramid.h"
 #include "pyramid/verify.h"
 #include "tap.h"
+#include "tmpdir.h"
 #include "tiff.h"
 
 #define W 200
@@ -344,11 +345,7 @@ test_clean(void)
 int
 main(void)
 {
-	char cmd[PATH_MAX + 16];
-
-	snprintf(tmp, sizeof tmp, "%s/tlpack.XXXXXX",
-	    getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-	if (mkdtemp(tmp) == NULL) {
+	if (tmpdir_make(tmp, sizeof tmp, "tlpack") < 0) {
 		ok(0, "set up");
 		return tap_done();
 	}
@@ -357,11 +354,6 @@ main(void)
 	test_check_dir();
 	test_run();
 	test_clean();
-	if (tap_failed == 0) {
-		snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-		if (system(cmd) != 0)
-			printf("# kept %s\n", tmp);
-	} else
-		printf("# kept %s\n", tmp);
+	tmpdir_done(tmp);
 	return tap_done();
 }

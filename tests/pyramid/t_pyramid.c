@@ -16,6 +16,7 @@
 #include "indextext.h"
 #include "pyramid/pyramid.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 static char tmp[PATH_MAX - 64];
 
@@ -251,11 +252,7 @@ test_block(int displaced)
 int
 main(void)
 {
-	char cmd[PATH_MAX + 16];
-
-	snprintf(tmp, sizeof tmp, "%s/tlpyramid.XXXXXX",
-	    getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-	if (mkdtemp(tmp) == NULL) {
+	if (tmpdir_make(tmp, sizeof tmp, "tlpyramid") < 0) {
 		ok(0, "set up");
 		return tap_done();
 	}
@@ -264,8 +261,6 @@ main(void)
 	test_hostile();
 	test_block(0);
 	test_block(1);
-	snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-	if (system(cmd) != 0)
-		printf("# kept %s\n", tmp);
+	tmpdir_done(tmp);
 	return tap_done();
 }

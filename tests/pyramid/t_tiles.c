@@ -16,6 +16,7 @@
 #include "core/fqm.h"
 #include "pyramid/tiles.h"
 #include "tap.h"
+#include "tmpdir.h"
 #include "tiff.h"
 
 static char tmp[PATH_MAX - 64];
@@ -294,19 +295,13 @@ test_plane(int W, int H)
 int
 main(void)
 {
-	char cmd[PATH_MAX + 16];
-
-	snprintf(tmp, sizeof tmp, "%s/tltiles.XXXXXX",
-	    getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-	if (mkdtemp(tmp) == NULL) {
+	if (tmpdir_make(tmp, sizeof tmp, "tltiles") < 0) {
 		ok(0, "set up");
 		return tap_done();
 	}
 	test_spike();
 	test_plane(300, 200); /* 3x2 blocks, padded */
 	test_plane(257, 257); /* 2x2 blocks, then 1 */
-	snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-	if (system(cmd) != 0)
-		printf("# kept %s\n", tmp);
+	tmpdir_done(tmp);
 	return tap_done();
 }

@@ -16,6 +16,7 @@
 #include "handmade.h"
 #include "pyramid/verify.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 static char tmp[PATH_MAX - 64];
 
@@ -417,9 +418,7 @@ main(void)
 {
 	static const int exact[] = { 0, 1 }, padded[] = { 0, 1, 1 };
 
-	snprintf(tmp, sizeof tmp, "%s/tlverify.XXXXXX",
-	    getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-	if (mkdtemp(tmp) == NULL) {
+	if (tmpdir_make(tmp, sizeof tmp, "tlverify") < 0) {
 		ok(0, "set up");
 		return tap_done();
 	}
@@ -430,11 +429,6 @@ main(void)
 	/* 3x2 blocks with padding, displaced levels 1 and 2 */
 	one("padded", 300, 200, padded, 3, 1);
 	vf_report_free(&rep);
-	if (tap_failed == 0) {
-		char cmd[PATH_MAX + 16];
-		snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-		run(cmd);
-	} else
-		printf("# kept %s\n", tmp);
+	tmpdir_done(tmp);
 	return tap_done();
 }

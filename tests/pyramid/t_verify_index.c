@@ -13,6 +13,7 @@
 #include "indextext.h"
 #include "pyramid/verify.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 static char tmp[PATH_MAX - 64];
 
@@ -124,18 +125,12 @@ test_refused(void)
 int
 main(void)
 {
-	char cmd[PATH_MAX + 16];
-
-	snprintf(tmp, sizeof tmp, "%s/tlvfindex.XXXXXX",
-	    getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-	if (mkdtemp(tmp) == NULL) {
+	if (tmpdir_make(tmp, sizeof tmp, "tlvfindex") < 0) {
 		ok(0, "set up");
 		return tap_done();
 	}
 	test_good();
 	test_refused();
-	snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-	if (system(cmd) != 0)
-		printf("# kept %s\n", tmp);
+	tmpdir_done(tmp);
 	return tap_done();
 }
