@@ -41,7 +41,15 @@ struct graph {
 	stage st[GRAPH_MAXSTAGES];
 	int n;
 	pid_t self;
+	graph_progress_fn progress;  /* or NULL */
+	void *progress_ctx;
+	int prog_fd[2];              /* the stages' progress pipe, or -1 */
+	char pline[512];             /* a progress line being read */
+	size_t npline;
 };
+
+/* The fd a stage reports progress on (TL_PROGRESS_FD). */
+#define PROGRESS_FD 3
 
 /* The one piece of process state: the signal that asks the supervisor to
  * stop, set by its handler (a handler can reach nothing else). */
@@ -61,6 +69,7 @@ graph_new(const char *prog, const char *bindir, tl_err *e)
 	if (g == NULL)
 		return NULL;
 	g->prog = prog, g->bindir = bindir, g->self = getpid();
+	g->prog_fd[0] = g->prog_fd[1] = -1;
 	return g;
 }
 
@@ -81,11 +90,20 @@ close_owned(graph *g)
 }
 
 void
+graph_progress(graph *g, graph_progress_fn fn, void *ctx)
+{
+	g->progress = fn, g->progress_ctx = ctx;
+}
+
+void
 graph_free(graph *g)
 {
 	if (g == NULL)
 		return;
 	close_owned(g);
+	for (int i = 0; i < 2; i++)
+		if (g->prog_fd[i] >= 0)
+			close(g->prog_fd[i]);
 	for (int k = 0; k < g->n; k++) {
 		free_argv(g->st[k].argv);
 		if (g->st[k].err >= 0)
@@ -251,7 +269,9 @@ place(int fd, int target, int flags)
 {
 	if (fd < 0 && (fd = open("/dev/null", flags)) < 0)
 		return -1;
-	return fd == target ? 0 : dup2(fd, target) < 0 ? -1 : 0;
+	if (fd == target) /* dup2 would keep its close-on-exec */
+		return fcntl(fd, F_SETFD, 0);
+	return dup2(fd, target) < 0 ? -1 : 0;
 }
 
 static void
@@ -267,7 +287,13 @@ child(const graph *g, const stage *s, int errw)
 	    place(s->out, 1, O_WRONLY) < 0 ||
 	    (s->kind == TEE && place(s->out2, 3, O_WRONLY) < 0))
 		_exit(1);
-	close_range(s->kind == TEE ? 4 : 3, ~0U, 0);
+	if (s->kind == EXEC && g->prog_fd[1] >= 0) {
+		if (place(g->prog_fd[1], PROGRESS_FD, O_WRONLY) < 0)
+			_exit(1);
+		setenv("TL_PROGRESS_FD", "3", 1);
+	} else
+		unsetenv("TL_PROGRESS_FD"); /* not the supervisor's own */
+	close_range(s->kind == TEE || g->prog_fd[1] >= 0 ? 4 : 3, ~0U, 0);
 	for (int sig = 1; sig < NSIG; sig++)
 		signal(sig, SIG_DFL);
 	sigemptyset(&none);
@@ -317,11 +343,43 @@ drain(int *fd, char *buf, size_t *n, size_t max)
 	*n += k;
 }
 
+/* Lines "LABEL\tDONE\tTOTAL" from the stages (util.h), each passed on
+ * whole; a line longer than the buffer is dropped. */
+static void
+read_progress(graph *g)
+{
+	char buf[4096], *tab1, *tab2;
+	ssize_t r = read(g->prog_fd[0], buf, sizeof buf);
+
+	if (r < 0 && (errno == EINTR || errno == EAGAIN))
+		return;
+	if (r <= 0) {
+		close(g->prog_fd[0]);
+		g->prog_fd[0] = -1;
+		return;
+	}
+	for (ssize_t i = 0; i < r; i++) {
+		if (buf[i] != '\n') {
+			if (g->npline < sizeof g->pline - 1)
+				g->pline[g->npline++] = buf[i];
+			continue;
+		}
+		g->pline[g->npline] = '\0';
+		g->npline = 0;
+		if ((tab1 = strchr(g->pline, '\t')) == NULL ||
+		    (tab2 = strchr(tab1 + 1, '\t')) == NULL)
+			continue;
+		*tab1 = '\0';
+		g->progress(g->progress_ctx, g->pline, atoll(tab1 + 1),
+		    atoll(tab2 + 1));
+	}
+}
+
 static void
 poll_output(graph *g, int ms)
 {
-	struct pollfd p[2 * GRAPH_MAXSTAGES];
-	int who[2 * GRAPH_MAXSTAGES], np = 0;
+	struct pollfd p[2 * GRAPH_MAXSTAGES + 1];
+	int who[2 * GRAPH_MAXSTAGES + 1], np = 0;
 
 	for (int k = 0; k < g->n; k++) {
 		if (g->st[k].err >= 0)
@@ -331,6 +389,8 @@ poll_output(graph *g, int ms)
 			p[np] = (struct pollfd){ g->st[k].cap, POLLIN, 0 },
 			who[np++] = 2 * k + 1;
 	}
+	if (g->prog_fd[0] >= 0)
+		p[np] = (struct pollfd){ g->prog_fd[0], POLLIN, 0 }, who[np++] = -1;
 	if (np == 0) {
 		if (ms > 0)
 			nanosleep(&(struct timespec){ 0, ms * 1000000L }, NULL);
@@ -339,9 +399,13 @@ poll_output(graph *g, int ms)
 	if (poll(p, np, ms) <= 0)
 		return;
 	for (int i = 0; i < np; i++) {
-		stage *s = &g->st[who[i] / 2];
 		if (!(p[i].revents & (POLLIN | POLLHUP | POLLERR)))
 			continue;
+		if (who[i] < 0) {
+			read_progress(g);
+			continue;
+		}
+		stage *s = &g->st[who[i] / 2];
 		if (who[i] & 1)
 			drain(&s->cap, s->capbuf, &s->ncap, s->capmax);
 		else
@@ -409,8 +473,8 @@ say_warnings(stage *s)
 	if (s->done != 1 || failed(s) || s->err >= 0)
 		return;
 	trim(s->msg, &s->nmsg);
-	if (s->nmsg > 0)
-		fprintf(stderr, "%s\n", s->msg);
+	if (s->nmsg > 0) /* over a progress line on a terminal, not after it */
+		fprintf(stderr, "%s%s\n", isatty(2) ? "\r\033[K" : "", s->msg);
 	s->done = 2;
 }
 
@@ -473,7 +537,7 @@ supervise(graph *g, int *status, tl_err *e)
 			signal_all(g, SIGKILL);
 			deadline = 0;
 		}
-		int open = 0;
+		int open = g->prog_fd[0] >= 0;
 		for (int k = 0; k < g->n; k++)
 			open += g->st[k].err >= 0 || g->st[k].cap >= 0;
 		if (running == 0 && open == 0)
@@ -505,9 +569,13 @@ graph_run(graph *g, int *status, tl_err *e)
 	sigemptyset(&sa.sa_mask);
 	for (int i = 0; i < 3; i++)
 		sigaction(sigs[i], &sa, NULL);
+	if (g->progress != NULL && pipe2(g->prog_fd, O_CLOEXEC) < 0)
+		r = tl_failsys(e, "pipe");
 	for (int k = 0; k < g->n && r == 0 && !stop_signal; k++)
 		r = start(g, &g->st[k], e);
 	close_owned(g); /* the stages hold their ends now */
+	if (g->prog_fd[1] >= 0)
+		close(g->prog_fd[1]), g->prog_fd[1] = -1;
 	if (r < 0) { /* the stages started are stopped; e says why */
 		signal_all(g, SIGTERM);
 		supervise(g, &st, &later);

@@ -39,6 +39,13 @@ int graph_tee(graph *g, int in, int out1, int out2, tl_err *e);
  * the graph has run (for a stage like "dem2fqm -I"). */
 int graph_capture(graph *g, int k, char *buf, size_t n, tl_err *e);
 
+/* Progress of the stages: each EXEC stage gets TL_PROGRESS_FD (util.h)
+ * and fn is called with every line it reports ("LABEL", done, total), in
+ * the supervisor, as they come. */
+typedef void (*graph_progress_fn)(void *ctx, const char *label,
+    long long done, long long total);
+void graph_progress(graph *g, graph_progress_fn fn, void *ctx);
+
 /* Starts every stage and waits for all. Returns 0 when all exit 0.
  * Otherwise -1 and e holds the failing stage's message (its stderr, or
  * how it died); *status (if not NULL) is its exit status (2 for a usage

@@ -19,6 +19,38 @@
 
 typedef char vpath_t[PATHMAX];
 
+/* The whole pipeline's one progress line, from what the stages report:
+ * the quadric chain runs at dem2fqm's pace, then tilepack's levels, each
+ * a pass over the DEM. The weights are the two phases' shares of the
+ * time (scripts/bench-pyramid). */
+#define QUADRIC_SHARE 0.3
+
+typedef struct {
+	tl_progress bar;
+	int levels;
+	double quad, lev[MAXLEVELS]; /* fractions done */
+} meter;
+
+static void
+on_progress(void *ctx, const char *label, long long done, long long total)
+{
+	meter *m = ctx;
+	double f = total > 0 ? (double)done / (double)total : 0, sum = 0;
+	int l;
+
+	if (strcmp(label, "dem2fqm") == 0)
+		m->quad = f;
+	else if (sscanf(label, "tilepack: level %d", &l) == 1 && l >= 0 &&
+	    l < m->levels)
+		m->lev[l] = f;
+	else
+		return;
+	for (l = 0; l < m->levels; l++)
+		sum += m->lev[l];
+	f = QUADRIC_SHARE * m->quad + (1 - QUADRIC_SHARE) * sum / m->levels;
+	tl_progress_step(&m->bar, (long long)(1000 * f));
+}
+
 /* An argv under construction; the words are not copied (graph_exec
  * copies the whole argv). */
 typedef struct {
@@ -164,7 +196,7 @@ level_count(const pipeline_opts *o, const char *dem, int *levels,
 /* The filter chain and one solver per level, all at once. */
 static int
 quadrics(const pipeline_opts *o, const char *dem, int levels,
-    vpath_t *vpath, int *status, tl_err *e)
+    vpath_t *vpath, meter *m, int *status, tl_err *e)
 {
 	graph *g = graph_new(o->prog, o->bindir, e);
 	words a = { 0 };
@@ -172,6 +204,7 @@ quadrics(const pipeline_opts *o, const char *dem, int levels,
 
 	if (g == NULL || graph_pipe(g, up, e) < 0)
 		goto done;
+	graph_progress(g, on_progress, m);
 	say(&a, "dem2fqm");
 	say_demopts(&a, o);
 	if (o->name != NULL && strcmp(o->dem, "-") != 0)
@@ -217,12 +250,14 @@ done:
 
 static int
 pack(const pipeline_opts *o, const char *dem, int levels,
-    vpath_t *vpath, int *status, tl_err *e)
+    vpath_t *vpath, meter *m, int *status, tl_err *e)
 {
 	graph *g = graph_new(o->prog, o->bindir, e);
 	words a = { 0 };
 	int r = -1;
 
+	if (g != NULL)
+		graph_progress(g, on_progress, m);
 	say(&a, "tilepack");
 	if (o->force)
 		say(&a, "-f");
@@ -250,7 +285,8 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 {
 	char spool[PATHMAX];
 	const char *dem = o->dem;
-	int levels;
+	meter m = { 0 };
+	int levels, r;
 
 	*status = 1;
 	if (strcmp(dem, "-") == 0) {
@@ -263,9 +299,16 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 		return -1;
 	for (int l = 0; l < levels; l++)
 		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", s->path, l);
-	if (quadrics(o, dem, levels, vpath, status, e) < 0)
-		return -1;
-	return pack(o, dem, levels, vpath, status, e);
+	m.levels = levels;
+	tl_progress_start(&m.bar, o->prog, 1000);
+	r = quadrics(o, dem, levels, vpath, &m, status, e);
+	if (r == 0)
+		r = pack(o, dem, levels, vpath, &m, status, e);
+	if (r == 0)
+		tl_progress_end(&m.bar);
+	else if (m.bar.on && m.bar.last >= 0)
+		fputs("\r\033[K", stderr); /* the message goes where it was */
+	return r;
 }
 
 int
