@@ -19,11 +19,12 @@ CFLAGS  ?= -O2 -g
 CXXFLAGS ?= -O2 -g
 WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 
-# The library is three layers, each an archive, dependencies one way:
+# The library is four layers, each an archive, dependencies one way:
 # core (rasters, DEM input, georeferencing, quadrics) <- pyramid (bintree,
-# blocks, checker) <- play (camera, meshes, cache, GL). A program links the
-# layers it uses and their packages only (tests/t_layers.sh checks the
-# includes). Package flags are resolved when a recipe runs, i.e. after
+# blocks, checker) <- play (camera, meshes, cache, GL); core <- jobs (the
+# supervisor of process graphs, scratch, the DEM-to-pyramid pipeline). A
+# program links the layers it uses and their packages only
+# (tests/cmd/t_layers.sh checks includes, archives and links). Package flags are resolved when a recipe runs, i.e. after
 # $(B)/.deps has installed them.
 CORE_PKGS := OpenEXR gdal geographiclib proj zlib
 PYR_PKGS  := jansson
@@ -39,18 +40,18 @@ ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) -Isrc/lib \
             $(call pkgcf,geographiclib)
 SYSLIBS  = -lstdc++ -lm -lpthread -ldl
 
-LAYERS  := core pyramid play run
+LAYERS  := core pyramid play jobs
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 CORE_A  := $(B)/libcore.a
 PYR_A   := $(B)/libpyramid.a
 PLAY_A  := $(B)/libplay.a
-RUN_A   := $(B)/librun.a
+JOBS_A  := $(B)/libjobs.a
 CORE_LD  = $(CORE_A) -Wl,--as-needed $(call pkglibs,$(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
 PYR_LD   = $(PYR_A) $(CORE_A) -Wl,--as-needed $(call pkglibs,$(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
 PLAY_LD  = $(PLAY_A) $(PYR_A) $(CORE_A) -Wl,--as-needed \
            $(call pkglibs,$(PLAY_PKGS) $(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
-RUN_LD   = $(RUN_A) $(CORE_LD)
+JOBS_LD  = $(JOBS_A) $(CORE_LD)
 
 PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
@@ -94,8 +95,8 @@ $(PLUGIN): src/lib/core/oiio_plugin.cpp src/lib/core/oiio_plugin.h | $(B)/.deps
 $(CORE_A): $(call objs,core)
 $(PYR_A): $(call objs,pyramid)
 $(PLAY_A): $(call objs,play)
-$(RUN_A): $(call objs,run)
-$(CORE_A) $(PYR_A) $(PLAY_A) $(RUN_A):
+$(JOBS_A): $(call objs,jobs)
+$(CORE_A) $(PYR_A) $(PLAY_A) $(JOBS_A):
 	rm -f $@
 	ar rcs $@ $^
 
@@ -110,8 +111,8 @@ $(B)/tilepack $(B)/tilecheck: $(B)/%: $(B)/cmd/%.o $(PYR_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PYR_LD)
 $(B)/tileplay: $(B)/%: $(B)/cmd/%.o $(PLAY_A) $(PYR_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD)
-$(B)/dem2vgis: $(B)/%: $(B)/cmd/%.o $(RUN_A) $(CORE_A)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(RUN_LD)
+$(B)/dem2vgis: $(B)/%: $(B)/cmd/%.o $(JOBS_A) $(CORE_A)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(JOBS_LD)
 
 TESTFLAGS = $(ALLCFLAGS) -Itests
 TEST_LD  = $(call pkglibs,$(TEST_PKGS))
@@ -124,9 +125,9 @@ $(B)/tests/pyramid/%: tests/pyramid/%.c tests/tap.h $(PYR_A) $(CORE_A)
 $(B)/tests/play/%: tests/play/%.c tests/tap.h $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)
 	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD) $(TEST_LD)
-$(B)/tests/run/%: tests/run/%.c tests/tap.h $(RUN_A) $(CORE_A)
+$(B)/tests/jobs/%: tests/jobs/%.c tests/tap.h $(JOBS_A) $(CORE_A)
 	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(RUN_LD) $(TEST_LD)
+	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(JOBS_LD) $(TEST_LD)
 
 $(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)

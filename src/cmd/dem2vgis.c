@@ -1,5 +1,5 @@
 /* dem2vgis - a DEM in, its VGIS block pyramid out, in one command: the
- * supervisor of the whole pipeline (run/pipeline.h). */
+ * supervisor of the whole pipeline (jobs/pipeline.h). */
 #include <limits.h>
 #include <signal.h>
 #include <stdio.h>
@@ -8,8 +8,8 @@
 #include <unistd.h>
 
 #include "core/cli.h"
-#include "run/graph.h"
-#include "run/pipeline.h"
+#include "jobs/graph.h"
+#include "jobs/pipeline.h"
 
 static const char usage[] =
     "[-3fq] [-j jobs] [-k kernel] [-r cut] [-D datum] [-e encoding]\n"

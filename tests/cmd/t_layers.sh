@@ -1,5 +1,5 @@
 # t_layers - the library's layers depend one way: core <- pyramid <- play,
-# core <- run (the supervisor), and the programs above them. Checked on the sources (project #includes), on the
+# core <- jobs (the supervisor), and the programs above them. Checked on the sources (project #includes), on the
 # archives (no symbol a lower layer needs is defined by a higher one) and on
 # the programs (each links only its layers' libraries: no GL or JSON where
 # no layer asks for it).
@@ -11,10 +11,10 @@ allowed() {	# allowed LAYER: the layers its files may include
 	core) echo "core" ;;
 	pyramid) echo "core pyramid" ;;
 	play) echo "core pyramid play" ;;
-	run) echo "core run" ;;
+	jobs) echo "core jobs" ;;
 	esac
 }
-for layer in core pyramid play run; do
+for layer in core pyramid play jobs; do
 	bad=""
 	for f in "$L/$layer"/*.[ch] "$L/$layer"/*.cpp; do
 		[ -e "$f" ] || continue
@@ -47,15 +47,15 @@ check_up() {	# check_up LOWER HIGHER...
 		[ -z "$up" ]; ok $? "lib$low.a needs nothing from lib$high.a"
 	done
 }
-for layer in core pyramid play run; do
+for layer in core pyramid play jobs; do
 	a=$B/lib$layer.a
 	[ -f "$a" ]; ok $? "build/lib$layer.a exists"
 	defined "$a" >"$T/d.$layer"
 	undef "$a" >"$T/u.$layer"
 done
-check_up core pyramid play run
-check_up pyramid play run
-check_up run pyramid play
+check_up core pyramid play jobs
+check_up pyramid play jobs
+check_up jobs pyramid play
 
 # programs: the shared libraries they need
 needs() { readelf -d "$B/$1" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p'; }

@@ -13,7 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "run/graph.h"
+#include "jobs/graph.h"
 
 #define MAXFDS (4 * GRAPH_MAXSTAGES)
 #define ERRMAX 8192 /* stderr kept per stage: its message and warnings */

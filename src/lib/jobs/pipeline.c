@@ -9,9 +9,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "run/graph.h"
-#include "run/pipeline.h"
-#include "run/scratch.h"
+#include "jobs/graph.h"
+#include "jobs/pipeline.h"
+#include "jobs/scratch.h"
 
 #define MAXLEVELS 32 /* levels of a DEM of 2^31 x 2^31 samples: 25 */
 #define MAXWORDS (PIPELINE_MAXOPTS + MAXLEVELS + 16)

@@ -13,7 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "run/scratch.h"
+#include "jobs/scratch.h"
 
 static const char *
 tmpdir(void)
