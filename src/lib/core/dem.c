@@ -1,7 +1,7 @@
 /* dem.c - DEM input: the dem object, stdin, the conversion of source
- * samples to metres, the options. The formats are the adapters' business:
- * GDAL reads every raster it knows (dem_gdal.c), OpenImageIO the EXRs
- * GDAL 3.6 cannot read (dem_oiio.c).
+ * samples to metres (the options are dem_opts.c's). The formats are the
+ * adapters' business: GDAL reads every raster it knows (dem_gdal.c),
+ * OpenImageIO the EXRs GDAL 3.6 cannot read (dem_oiio.c).
  *
  * The source is converted once to float32 rows in an anonymous scratch
  * file, voids as NaN. Voids are then filled for geometry (dem_fill.c) and
@@ -398,79 +398,4 @@ dem_close(dem *d)
 		close(d->fd);
 	free(d->rowvoid);
 	free(d);
-}
-
-/* --- options --------------------------------------------------------- */
-
-static int
-parse_cell(const char *s, double cell[2])
-{
-	char buf[64], *comma;
-
-	if (strlen(s) >= sizeof buf)
-		return -1;
-	strcpy(buf, s);
-	if ((comma = strchr(buf, ',')) != NULL)
-		*comma++ = '\0';
-	if (tl_parse_double(buf, &cell[0]) < 0 || cell[0] <= 0)
-		return -1;
-	cell[1] = cell[0];
-	if (comma != NULL && (tl_parse_double(comma, &cell[1]) < 0 ||
-	    cell[1] <= 0))
-		return -1;
-	return 0;
-}
-
-static int
-encoding_option(dem_opts *o, const char *arg, tl_err *e)
-{
-	static const struct {
-		const char *name;
-		enum dem_encoding enc;
-	} encs[] = {
-		{ "auto", DEM_ENC_AUTO }, { "grey", DEM_ENC_GREY },
-		{ "gray", DEM_ENC_GREY }, { "terrainrgb", DEM_ENC_TERRAINRGB },
-		{ "terrarium", DEM_ENC_TERRARIUM },
-	};
-
-	for (size_t k = 0; k < sizeof encs / sizeof encs[0]; k++)
-		if (strcmp(arg, encs[k].name) == 0) {
-			o->encoding = encs[k].enc;
-			return 1;
-		}
-	return tl_fail(e, "-e %s: unknown encoding (auto, grey, terrainrgb, "
-	    "terrarium)", arg);
-}
-
-int
-dem_option(dem_opts *o, int c, const char *arg, tl_err *e)
-{
-	switch (c) {
-	case 'e':
-		return encoding_option(o, arg, e);
-	case 'N':
-		if (tl_parse_double(arg, &o->nodata) < 0)
-			return tl_fail(e, "-N %s: not a number", arg);
-		o->has_nodata = 1;
-		return 1;
-	case 'n':
-		o->hgt_name = arg;
-		return 1;
-	case 's':
-		if (parse_cell(arg, o->cell) < 0)
-			return tl_fail(e, "-s %s: expected dx or dx,dy in "
-			    "metres, > 0", arg);
-		return 1;
-	case 'H':
-		if (*arg == '\0')
-			return tl_fail(e, "-H: empty datum");
-		o->heights = arg;
-		return 1;
-	case 'D':
-		if (*arg == '\0')
-			return tl_fail(e, "-D: empty datum");
-		o->vdatum = arg;
-		return 1;
-	}
-	return 0;
 }
