@@ -23,7 +23,7 @@ for o in "-r 2" "-k foo" "-j 0" "-e bogus" "-N x" "-s -1" "-Z"; do
 	took=$(( $(date +%s) - start ))
 	[ $s -eq 2 ] && [ $took -le 10 ] && { [ "$o" = -Z ] || [ "$(wc -l <"$T/err")" -eq 1 ]; } &&
 	    nothing_left "$T/u"
-	ok $? "dem2vgis $o: exit 2 in ${took} s, one line: $(head -c 80 "$T/err")"
+	ok $? "dem2vgis $o: exit 2 in ${took} s, one line: $(head -c 80 "$T/err" | tr '\n' ' ')"
 done
 fails "-r 2: fqmsolve's own message" 2 "^fqmsolve: -r 2: not a number" dv -r 2 "$dem" "$T/u"
 fails "-k foo: fqmfilter's own message" 2 "^fqmfilter: -k foo: unknown kernel" dv -k foo "$dem" "$T/u"

@@ -280,8 +280,10 @@ child(const graph *g, const stage *s, int errw)
 	sigset_t none;
 
 	/* dies with the supervisor, even by SIGKILL: SIGTERM lets the stage
-	 * remove its temporaries */
-	if (prctl(PR_SET_PDEATHSIG, SIGTERM) < 0 || getppid() != g->self)
+	 * remove its temporaries; a group of its own, so that stopping it
+	 * stops whatever it started too */
+	if (prctl(PR_SET_PDEATHSIG, SIGTERM) < 0 || getppid() != g->self ||
+	    setpgid(0, 0) < 0)
 		_exit(1);
 	if (dup2(errw, 2) < 0 || place(s->in, 0, O_RDONLY) < 0 ||
 	    place(s->out, 1, O_WRONLY) < 0 ||
@@ -318,29 +320,31 @@ start(graph *g, stage *s, tl_err *e)
 	}
 	if (s->pid == 0)
 		child(g, s, errp[1]);
+	setpgid(s->pid, s->pid); /* as the child does: no race either way */
 	close(errp[1]);
 	s->err = errp[0];
 	return 0;
 }
 
 /* Reads what is there on fd into buf (up to max, the rest dropped);
- * closes fd at EOF and sets it to -1. */
-static void
+ * closes fd at EOF and sets it to -1. Returns the bytes read. */
+static ssize_t
 drain(int *fd, char *buf, size_t *n, size_t max)
 {
 	char tmp[4096];
 	ssize_t r = read(*fd, tmp, sizeof tmp);
 
 	if (r < 0 && (errno == EINTR || errno == EAGAIN))
-		return;
+		return 0;
 	if (r <= 0) {
 		close(*fd);
 		*fd = -1;
-		return;
+		return 0;
 	}
 	size_t k = (size_t)r < max - *n ? (size_t)r : max - *n;
 	memcpy(buf + *n, tmp, k);
 	*n += k;
+	return r;
 }
 
 /* Lines "LABEL\tDONE\tTOTAL" from the stages (util.h), each passed on
@@ -413,12 +417,35 @@ poll_output(graph *g, int ms)
 	}
 }
 
+/* Every stage's process group: what a stage started goes with it. */
+/* A stage has ended: what it wrote is in its pipes now. Read that and
+ * close them, rather than wait for an end of file that a process it
+ * started and left behind could hold off. */
+static void
+finish_output(stage *s)
+{
+	if (s->err >= 0)
+		fcntl(s->err, F_SETFL, O_NONBLOCK);
+	if (s->cap >= 0)
+		fcntl(s->cap, F_SETFL, O_NONBLOCK);
+	while (s->err >= 0 && drain(&s->err, s->msg, &s->nmsg,
+	    sizeof s->msg - 1) > 0)
+		;
+	while (s->cap >= 0 && drain(&s->cap, s->capbuf, &s->ncap,
+	    s->capmax) > 0)
+		;
+	if (s->err >= 0)
+		close(s->err), s->err = -1;
+	if (s->cap >= 0)
+		close(s->cap), s->cap = -1;
+}
+
 static void
 signal_all(graph *g, int sig)
 {
-	for (int k = 0; k < g->n; k++)
-		if (g->st[k].pid > 0 && !g->st[k].done)
-			kill(g->st[k].pid, sig);
+	for (int k = 0; k < g->n; k++) /* a group ended and reaped may be */
+		if (g->st[k].pid > 0 && !g->st[k].done) /* another's now */
+			kill(-g->st[k].pid, sig);
 }
 
 static int
@@ -443,8 +470,12 @@ reap(graph *g, int stopping)
 			continue;
 		}
 		s->done = 1;
+		/* a writer whose reader is gone: dead of SIGPIPE, or a shell
+		 * saying so (128 + SIGPIPE) */
 		s->weak = stopping || (WIFSIGNALED(s->status) &&
-		    WTERMSIG(s->status) == SIGPIPE);
+		    WTERMSIG(s->status) == SIGPIPE) || (WIFEXITED(s->status) &&
+		    WEXITSTATUS(s->status) == 128 + SIGPIPE);
+		finish_output(s);
 	}
 	return running;
 }
