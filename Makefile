@@ -114,7 +114,7 @@ $(B)/tileplay: $(B)/%: $(B)/cmd/%.o $(PLAY_A) $(PYR_A) $(CORE_A)
 $(B)/dem2vgis: $(B)/%: $(B)/cmd/%.o $(JOBS_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(JOBS_LD)
 
-TESTFLAGS = $(ALLCFLAGS) -Itests
+TESTFLAGS = $(ALLCFLAGS) -Itests -MMD -MP
 TEST_LD  = $(call pkglibs,$(TEST_PKGS))
 $(B)/tests/core/%: tests/core/%.c tests/tap.h $(CORE_A)
 	@mkdir -p $(@D)

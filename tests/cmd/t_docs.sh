@@ -2,7 +2,7 @@
 # lists, and the man pages render without warnings.
 . "$(dirname "$0")/../lib.sh"
 
-PATH=$TOP/scripts:$PATH
+PATH=$B:$PATH
 for p in $(sed -n 's/^\(PROGS\|SCRIPTS\) *:= *//p' "$TOP/Makefile"); do
 	m=$TOP/man/$p.1
 	[ -f "$m" ]; ok $? "$p: man/$p.1 exists"

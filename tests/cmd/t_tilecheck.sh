@@ -32,7 +32,7 @@ if command -v ldd >/dev/null; then
 	    "$T/ldd") of $(wc -l <"$T/ldd") match GL|glfw|epoxy)"
 fi
 
-if [ ! -x "$B/tilepack" ] || [ ! -x "$TOP/scripts/dem2vgis" ] ||
+if [ ! -x "$B/tilepack" ] || [ ! -x "$B/dem2vgis" ] ||
     ! command -v gdal_translate >/dev/null || [ ! -f "$DATA/N44W072.hgt" ]; then
 	echo "ok $((_n + 1)) - # SKIP tilepack, dem2vgis, gdal_translate or N44W072.hgt missing"
 	_n=$((_n + 1))
@@ -43,7 +43,7 @@ fi
 # A 300x260 crop of a real DEM (geographic, WGS84): 3x3 blocks on level 0.
 gdal_translate -q -srcwin 600 500 300 260 "$DATA/N44W072.hgt" "$T/dem.tif"
 ok $? "fixture: gdal_translate -srcwin crop of N44W072.hgt"
-"$TOP/scripts/dem2vgis" -q "$T/dem.tif" "$T/p" >"$T/mk.out" 2>&1
+"$B/dem2vgis" -q "$T/dem.tif" "$T/p" >"$T/mk.out" 2>&1
 ok $? "fixture: dem2vgis"
 
 run "a real pyramid against its DEM: exit 0" tilecheck --dem "$T/dem.tif" "$T/p"

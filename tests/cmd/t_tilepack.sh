@@ -3,7 +3,7 @@
 . "$(dirname "$0")/../lib.sh"
 
 /usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" || { ok 1 "fixtures"; done_testing; exit 1; }
-PATH=$TOP/scripts:$PATH
+PATH=$B:$PATH
 
 # e DIR L GI GJ: the E values stored for a vertex, one per block holding it
 e() { pyget "$@" | awk '{ print $4 }' | sort -u | tr '\n' ' ' | sed 's/ $//'; }

@@ -95,9 +95,9 @@ fails "no pyramid: exit 1" 1 "^tileplay: $T/none/index.json: " \
     tileplay "$T/none" --shot "$T/x.png"
 [ ! -e "$T/x.png" ]; ok $? "no pyramid: no picture left behind"
 
-if [ ! -x "$TOP/scripts/dem2vgis" ] || ! $PY -c 'from osgeo import gdal' \
+if [ ! -x "$B/dem2vgis" ] || ! $PY -c 'from osgeo import gdal' \
     2>/dev/null; then
-	echo "ok $((_n + 1)) - # SKIP scripts/dem2vgis or python3-gdal missing"
+	echo "ok $((_n + 1)) - # SKIP dem2vgis or python3-gdal missing"
 	_n=$((_n + 1))
 	done_testing
 	exit
@@ -106,7 +106,7 @@ fi
 # mk NAME DEM [dem2vgis options]
 mk() {
 	_name=$1 _dem=$2; shift 2
-	"$TOP/scripts/dem2vgis" -q -j 2 "$@" "$DATA/$_dem" "$T/$_name" \
+	"$B/dem2vgis" -q -j 2 "$@" "$DATA/$_dem" "$T/$_name" \
 	    >"$T/mk.out" 2>&1
 	_s=$?
 	[ $_s -eq 0 ] || sed 's/^/#   /' "$T/mk.out" | head -5

@@ -20,8 +20,8 @@ fails "no pyramid: exit 1" 1 "^tileplay: $T/none/index.json: " \
     tileplay --verify "$T/none"
 
 if [ ! -x "$B/tilepack" ] || [ ! -x "$B/tilecheck" ] ||
-    [ ! -x "$TOP/scripts/dem2vgis" ]; then
-	echo "ok $((_n + 1)) - # SKIP tilepack, tilecheck or scripts/dem2vgis not built"
+    [ ! -x "$B/dem2vgis" ]; then
+	echo "ok $((_n + 1)) - # SKIP tilepack, tilecheck or dem2vgis not built"
 	_n=$((_n + 1))
 	done_testing
 	exit
@@ -31,7 +31,7 @@ fi
 verify() {
 	_name=$1 _dem=$2; shift 2
 	_vo=""; case $* in *"-s 60"*) _vo="-s 60" ;; esac
-	if ! "$TOP/scripts/dem2vgis" -q "$@" "$_dem" "$T/$_name" \
+	if ! "$B/dem2vgis" -q "$@" "$_dem" "$T/$_name" \
 	    >"$T/mk.out" 2>&1; then
 		sed 's/^/#   /' "$T/mk.out" | head -5
 		ok 1 "$_name: dem2vgis $*"

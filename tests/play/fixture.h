@@ -1,5 +1,5 @@
 /* fixture.h - what the play tests share: pyramids of the real DEMs made
- * by scripts/dem2vgis (with the programs of the build the test belongs
+ * by dem2vgis (the program of the build the test belongs
  * to) in a temporary directory, worlds opened on them, and a headless GL
  * context when the machine has one. Included by one test file each. */
 #ifndef TL_PLAY_FIXTURE_H
@@ -68,7 +68,8 @@ fx_make(const char *dem, const char *name, const char *opts)
 	char cmd[2048];
 
 	snprintf(cmd, sizeof cmd, "sh -c '\"$0\" -q %s \"$1\" \"$2\"' "
-	    "scripts/dem2vgis %s/%s %s/%s", opts, data, dem, fx_tmp, name);
+	    "%s/dem2vgis %s/%s %s/%s", opts, getenv("TL_BIN"), data, dem,
+	    fx_tmp, name);
 	return system(cmd);
 }
 

@@ -196,8 +196,10 @@ pack_level_run(work *w, int l, tl_err *e)
 	L.m = w->m;
 	L.row = read_row, L.row_ctx = &v;
 	L.block = write_block, L.block_ctx = &k;
-	/* one progress line at a time: only when working alone */
-	if (w->a->jobs == 1 && w->a->prog != NULL) {
+	/* one progress line at a time on a terminal: only when working
+	 * alone; a supervisor reading TL_PROGRESS_FD (util.h) takes all */
+	if (w->a->prog != NULL && (w->a->jobs == 1 ||
+	    getenv("TL_PROGRESS_FD") != NULL)) {
 		snprintf(label, sizeof label, "%s: level %d", w->a->prog, l);
 		L.label = label;
 	}
