@@ -1,7 +1,9 @@
 /* t_util - the shared plumbing (util.h): failure reports, checked
  * allocation, output files and directories that appear complete or not at
- * all (commit, abort, a fatal signal, a full registry), scratch files,
- * pread/pwrite, the filters' operands and number parsing. */
+ * all (commit, abort, a fatal signal, a full registry), the sweep of what
+ * killed runs left, trees of any depth, progress for a supervisor,
+ * scratch files, pread/pwrite, the filters' operands and number
+ * parsing. */
 #include "core/util.h"
 #include "tap.h"
 
@@ -17,6 +19,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 static char dir[PATH_MAX / 2];
@@ -245,6 +248,241 @@ test_outdir(void)
 	rmdir(tmp("pyr"));
 }
 
+/* A child that begins an output (file or directory, with a file inside
+ * the directory) and dies of SIGKILL, or, when live is not NULL, stays
+ * alive until *live is closed (its write end): *pid. */
+static pid_t
+owner(const char *path, int isdir, int *live)
+{
+	int p[2], q[2];
+	char c;
+	pid_t pid;
+
+	if (pipe(p) != 0 || pipe(q) != 0)
+		return -1;
+	if ((pid = fork()) == 0) {
+		tl_outfile o;
+		char f[PATH_MAX];
+		close(p[1]), close(q[0]);
+		if ((isdir ? tl_outdir_begin(&o, path, NULL) :
+		    tl_out_begin(&o, path, NULL)) < 0)
+			_exit(3);
+		if (isdir) {
+			snprintf(f, sizeof f, "%s/block", o.tmp);
+			close(open(f, O_CREAT | O_WRONLY, 0644));
+		}
+		if (write(q[1], "r", 1) != 1)
+			_exit(4);
+		if (live == NULL)
+			kill(getpid(), SIGKILL);
+		if (read(p[0], &c, 1) < 0)
+			_exit(5);
+		_exit(0);
+	}
+	close(p[0]), close(q[1]);
+	if (read(q[0], &c, 1) != 1)
+		pid = -1;
+	close(q[0]);
+	if (live != NULL)
+		*live = p[1];
+	else
+		close(p[1]);
+	return pid;
+}
+
+/* Hidden temporaries ".NAME.XXXXXX" beside NAME in dir. */
+static int
+hidden(const char *name)
+{
+	DIR *D = opendir(dir);
+	struct dirent *de;
+	size_t n = strlen(name);
+	int k = 0;
+
+	if (D == NULL)
+		return -1;
+	while ((de = readdir(D)) != NULL)
+		k += de->d_name[0] == '.' && strncmp(de->d_name + 1, name,
+		    n) == 0 && de->d_name[n + 1] == '.';
+	closedir(D);
+	return k;
+}
+
+/* What killed runs left is removed by the next output to the same path;
+ * what live ones are building is not. */
+static void
+test_sweep(void)
+{
+	tl_outfile o;
+	tl_err e = { "" };
+	char p[PATH_MAX + 8], old[PATH_MAX];
+	struct timespec ts[2] = { { 0, 0 }, { 0, 0 } };
+	int live, st;
+	pid_t pid;
+
+	waitpid(owner(tmp("pyr"), 1, NULL), &st, 0);
+	ok(hidden("pyr") == 1, "a SIGKILLed tl_outdir_begin leaves its "
+	    "temporary tree (%d)", hidden("pyr"));
+	pid = owner(tmp("pyr"), 1, &live);
+	ok(hidden("pyr") == 1, "a live run's tl_outdir_begin sweeps it "
+	    "(%d)", hidden("pyr"));
+	waitpid(owner(tmp("pyr"), 1, NULL), &st, 0);
+	ok(hidden("pyr") == 2, "and a run killed meanwhile does not sweep "
+	    "the live one's (%d)", hidden("pyr"));
+	ok(tl_outdir_begin(&o, tmp("pyr"), &e) == 0 && hidden("pyr") == 2,
+	    "tl_outdir_begin: the dead run's tree swept, the live run's "
+	    "and its own kept (%d)", hidden("pyr"));
+	snprintf(p, sizeof p, "%s/.lock", o.tmp);
+	ok(access(p, F_OK) == 0, "the tree being built holds its lock file");
+	snprintf(p, sizeof p, "%s/one", o.tmp);
+	close(open(p, O_CREAT | O_WRONLY, 0644));
+	ok(tl_outdir_commit(&o, &e) == 0 && entries(tmp("pyr")) == 1,
+	    "tl_outdir_commit: the tree holds what was put there, no lock "
+	    "file (%d entries)", entries(tmp("pyr")));
+	close(live);
+	waitpid(pid, &st, 0);
+	ok(tl_outdir_begin(&o, tmp("pyr"), &e) == 0 && hidden("pyr") == 1,
+	    "the live run ended, its tree is swept by the next");
+	tl_outdir_abort(&o);
+	/* a tree without a lock file: an older run's, or one killed before
+	 * its lock; taken as abandoned after a minute */
+	snprintf(old, sizeof old, "%s/.pyr.abc123", dir);
+	mkdir(old, 0755);
+	snprintf(p, sizeof p, "%s/x", old);
+	mkdir(p, 0755);
+	ok(tl_outdir_begin(&o, tmp("pyr"), &e) == 0 && access(old, F_OK) == 0,
+	    "a fresh tree without a lock file is left alone");
+	tl_outdir_abort(&o);
+	ts[0].tv_sec = ts[1].tv_sec = time(NULL) - 120;
+	utimensat(AT_FDCWD, old, ts, 0);
+	ok(tl_outdir_begin(&o, tmp("pyr"), &e) == 0 && access(old, F_OK) != 0,
+	    "one without a lock file, two minutes old, is swept");
+	tl_outdir_abort(&o);
+	snprintf(old, sizeof old, "%s/.pyrx.abc123", dir);
+	mkdir(old, 0755);
+	utimensat(AT_FDCWD, old, ts, 0);
+	ok(tl_outdir_begin(&o, tmp("pyr"), &e) == 0 && access(old, F_OK) == 0,
+	    "another name's temporaries are not touched");
+	tl_outdir_abort(&o);
+	rmdir(old);
+	/* files: the lock on the temporary itself */
+	waitpid(owner(tmp("f.exr"), 0, NULL), &st, 0);
+	pid = owner(tmp("f.exr"), 0, &live);
+	waitpid(owner(tmp("f.exr"), 0, NULL), &st, 0);
+	ok(hidden("f.exr") == 2, "killed, live, killed tl_out_begin: "
+	    "the first swept by the second, two temporary files (%d)",
+	    hidden("f.exr"));
+	ok(tl_out_begin(&o, tmp("f.exr"), &e) == 0 && hidden("f.exr") == 2,
+	    "tl_out_begin: the dead run's file swept, the live one's kept "
+	    "(%d)", hidden("f.exr"));
+	ok(tl_out_commit(&o, &e) == 0 && hidden("f.exr") == 1,
+	    "tl_out_commit");
+	close(live);
+	waitpid(pid, &st, 0);
+	tl_out_begin(&o, tmp("f.exr"), &e);
+	tl_out_abort(&o);
+	ok(hidden("f.exr") == 0 && entries(dir) == 2, "all gone once the "
+	    "live run has ended");
+	unlink(tmp("f.exr"));
+	unlink(tmp("pyr/one"));
+	rmdir(tmp("pyr"));
+}
+
+/* Trees of any depth go whole; a symbolic link inside is removed, never
+ * followed. */
+static void
+test_deep(void)
+{
+	tl_outfile o;
+	tl_err e = { "" };
+	char p[PATH_MAX], *end;
+	int ok1;
+
+	mkdir(tmp("keep"), 0755);
+	close(open(tmp("keep/file"), O_CREAT | O_WRONLY, 0644));
+	tl_outdir_begin(&o, tmp("deep"), &e);
+	snprintf(p, sizeof p, "%s", o.tmp);
+	end = p + strlen(p);
+	for (int d = 0; d < 200; d++) { /* 200 levels, files on the way */
+		snprintf(end, sizeof p - (end - p), "/d");
+		end += 2;
+		mkdir(p, 0755);
+		snprintf(end, sizeof p - (end - p), "/f");
+		close(open(p, O_CREAT | O_WRONLY, 0644));
+		if (d % 50 == 0) {
+			snprintf(end, sizeof p - (end - p), "/l");
+			ok1 = symlink(tmp("keep"), p);
+			(void)ok1;
+		}
+		*end = '\0';
+	}
+	ok(tl_outdir_commit(&o, &e) == 0, "a tree 200 deep committed");
+	tl_outdir_begin(&o, tmp("deep"), &e);
+	ok(tl_outdir_commit(&o, &e) == 0 && entries(tmp("deep")) == 0 &&
+	    entries(dir) == 2, "replaced: the old tree 200 deep removed whole "
+	    "(%d entries left)", entries(dir));
+	ok(access(tmp("keep/file"), F_OK) == 0, "symbolic links in it "
+	    "removed, their targets untouched");
+	rmdir(tmp("deep"));
+	unlink(tmp("keep/file"));
+	rmdir(tmp("keep"));
+}
+
+/* Progress lines for a supervisor on TL_PROGRESS_FD. */
+static void
+test_progress(void)
+{
+	tl_progress pr;
+	char buf[8192] = "", fdname[16];
+	int p[2], lines = 0, whole = 1, last = -1;
+	ssize_t n;
+
+	if (pipe(p) != 0)
+		return;
+	snprintf(fdname, sizeof fdname, "%d", p[1]);
+	setenv("TL_PROGRESS_FD", fdname, 1);
+	tl_progress_start(&pr, "dem2fqm", 1201);
+	for (int y = 1; y <= 1201; y++)
+		tl_progress_step(&pr, y);
+	tl_progress_end(&pr);
+	n = read(p[0], buf, sizeof buf - 1);
+	buf[n > 0 ? n : 0] = '\0';
+	for (char *l = buf, *nl; (nl = strchr(l, '\n')) != NULL; l = nl + 1) {
+		long long d, t;
+		char lab[64];
+		*nl = '\0';
+		if (sscanf(l, "%63[^\t]\t%lld\t%lld", lab, &d, &t) != 3 ||
+		    strcmp(lab, "dem2fqm") != 0 || t != 1201 || d < last)
+			whole = 0;
+		last = (int)d;
+		lines++;
+	}
+	ok(lines == 101 && whole && last == 1201, "TL_PROGRESS_FD: a line "
+	    "\"LABEL\\tDONE\\tTOTAL\" per percentage and one at the end (%d "
+	    "lines, last %d)", lines, last);
+	tl_progress_start(&pr, "a\tb\nc", 10);
+	tl_progress_end(&pr);
+	n = read(p[0], buf, sizeof buf - 1);
+	buf[n > 0 ? n : 0] = '\0';
+	ok(strcmp(buf, "a b c\t10\t10\n") == 0, "a label's tabs and "
+	    "newlines become spaces");
+	tl_progress_start(&pr, "quiet", 10);
+	pr.on = 0;
+	tl_progress_step(&pr, 5);
+	tl_progress_end(&pr);
+	close(p[1]);
+	ok(read(p[0], buf, sizeof buf) == 0, "a progress turned off reports "
+	    "nothing");
+	close(p[0]);
+	setenv("TL_PROGRESS_FD", "999", 1); /* closed */
+	tl_progress_start(&pr, "x", 10);
+	ok(pr.fd < 0, "TL_PROGRESS_FD naming a closed fd is ignored");
+	setenv("TL_PROGRESS_FD", "3x", 1);
+	tl_progress_start(&pr, "x", 10);
+	ok(pr.fd < 0, "TL_PROGRESS_FD not a number is ignored");
+	unsetenv("TL_PROGRESS_FD");
+}
+
 static void
 test_io(void)
 {
@@ -341,6 +579,9 @@ main(void)
 	test_signal();
 	test_full();
 	test_outdir();
+	test_sweep();
+	test_deep();
+	test_progress();
 	test_io();
 	test_operands();
 	test_parse();
