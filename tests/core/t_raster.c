@@ -616,6 +616,135 @@ test_stream_damage(void)
 	ok(strstr(e.msg, "No such file") != NULL, "missing file: %s", e.msg);
 }
 
+/* --- sizes a file cannot hold ------------------------------------------ */
+
+static void
+put32le(unsigned char *p, uint32_t v)
+{
+	for (int i = 0; i < 4; i++)
+		p[i] = (unsigned char)(v >> (8 * i));
+}
+
+/* A stream header alone, valid CRC: w x h, nch channels "a", "b", ...;
+ * its length. */
+static size_t
+stream_header(unsigned char *b, uint32_t w, uint32_t h, int nch)
+{
+	static const unsigned char magic[8] = { 0x89, 'F', 'Q', 'M', '\r',
+	    '\n', 0x1a, '\n' };
+	size_t n = 8;
+
+	memcpy(b, magic, 8);
+	put32le(b + n, 1), n += 4;
+	put32le(b + n, w), n += 4;
+	put32le(b + n, h), n += 4;
+	put32le(b + n, (uint32_t)nch), n += 4;
+	put32le(b + n, 0), n += 4;
+	for (int c = 0; c < nch; c++)
+		b[n++] = 1, b[n++] = (unsigned char)('a' + c);
+	put32le(b + n, (uint32_t)crc32(0, b, (uInt)n));
+	return n + 4;
+}
+
+/* Opens path, or stdin fed with data by a pipe when path is NULL: the
+ * message of a refusal, or "" when it opened. */
+static const char *
+open_error(const char *path, const unsigned char *data, size_t n, tl_err *e)
+{
+	rs_reader *r;
+	int p[2], save = -1;
+
+	e->msg[0] = '\0';
+	if (path == NULL) {
+		if (pipe(p) != 0 || write(p[1], data, n) != (ssize_t)n)
+			return "pipe";
+		close(p[1]);
+		save = dup(STDIN_FILENO);
+		dup2(p[0], STDIN_FILENO);
+		close(p[0]);
+	}
+	r = rs_open(path != NULL ? path : "-", e);
+	if (save >= 0) {
+		dup2(save, STDIN_FILENO);
+		close(save);
+	}
+	if (r != NULL) {
+		rs_close(r);
+		e->msg[0] = '\0';
+	}
+	return e->msg;
+}
+
+/* Headers declaring more data than the input can hold are refused when
+ * opened, before any row or chunk buffer exists. */
+static void
+test_sizes(void)
+{
+	unsigned char b[256];
+	const char *f = tmp("forged.fqm");
+	rs_header h;
+	tl_err e;
+	size_t n;
+	int fd;
+	struct stat st;
+	long off;
+	char *buf;
+	FILE *F;
+
+	/* a stream declaring 1000 rows of 1 GiB in a 70-byte file */
+	n = stream_header(b, 1 << 24, 1000, 16);
+	fd = open(f, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+	ok(write(fd, b, n) == (ssize_t)n && close(fd) == 0 &&
+	    strstr(open_error(f, NULL, 0, &e), "truncated: the header "
+	    "declares 1000 rows of 1073741824 bytes") != NULL,
+	    "stream file declaring 1000 rows of 1 GiB: refused at open (%s)",
+	    e.msg);
+	/* the same on a pipe: the width is what can be checked */
+	ok(open_error(NULL, b, n, &e)[0] == '\0', "on a pipe, 2^24 columns "
+	    "are still a stream that could be (%s)", e.msg);
+	n = stream_header(b, (1 << 24) + 1, 2, 1);
+	ok(strstr(open_error(NULL, b, n, &e), "rows of 16777217 columns, "
+	    "more than 16777216: refused on a pipe") != NULL,
+	    "stream on a pipe with 2^24 + 1 columns: refused (%s)", e.msg);
+	n = stream_header(b, 100, 3, 2);
+	fd = open(f, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+	ok(write(fd, b, n) == (ssize_t)n && close(fd) == 0 &&
+	    open_error(f, NULL, 0, &e)[0] == '\0', "a short stream file "
+	    "declaring less than 1 MiB opens (its rows say where it ends)");
+
+	/* An EXR declaring 14549001 x 9 pixels of 13 floats (6.8 GB, a 12 GB
+	 * chunk buffer) in a few KB: tests/fuzz/regress/raster/exr-chunk-12g
+	 * rebuilt from a valid 1 x 9 file with a forged data window. */
+	make_header(&h, 1, 9, 13);
+	f = tmp("forged.exr");
+	ok(write_file(f, &h, RS_ZIP, 3, &e) == 0, "a valid 1x9 EXR");
+	rs_header_free(&h);
+	F = fopen(f, "r+b");
+	buf = calloc(1, 1 << 16);
+	n = F != NULL ? fread(buf, 1, 1 << 16, F) : 0;
+	off = -1;
+	for (size_t i = 0; i + 20 < n; i++)
+		if (memcmp(buf + i, "dataWindow\0box2i\0", 17) == 0)
+			off = (long)i + 17 + 4 + 8; /* size, then min */
+	if (F != NULL && off > 0) {
+		unsigned char mx[4];
+		put32le(mx, 14549000);
+		fseek(F, off, SEEK_SET);
+		fwrite(mx, 1, 4, F);
+	}
+	if (F != NULL)
+		fclose(F);
+	free(buf);
+	stat(f, &st);
+	ok(off > 0 && strstr(open_error(f, NULL, 0, &e), "the header "
+	    "declares 14549001x9 pixels of 52 bytes") != NULL &&
+	    strstr(e.msg, "damaged or forged") != NULL, "EXR of %lld bytes "
+	    "declaring 6.8 GB of pixels: refused at open (%s)",
+	    (long long)st.st_size, e.msg);
+	unlink(tmp("forged.fqm"));
+	unlink(f);
+}
+
 static void
 test_exr_damage(void)
 {
@@ -1011,6 +1140,7 @@ main(void)
 	test_stream();
 	test_stream_damage();
 	test_exr_damage();
+	test_sizes();
 	test_foreign();
 	test_abort();
 	test_epipe();

@@ -8,7 +8,13 @@
 #include "core/dem.h"
 #include "core/oiio_plugin.h"
 
+/* Sizes refused before anything is allocated or read: a side, the
+ * samples (2^40 would need 4 TiB of float32 scratch), a row as read
+ * (DEM_SAMPLEBYTES: float64, the widest buffer a row takes). */
 #define DEM_MAXDIM (1 << 26)
+#define DEM_MAXSAMPLES (1LL << 40)
+#define DEM_MAXROW (1LL << 30)
+#define DEM_SAMPLEBYTES 8
 #define DEM_MAXABS 1e6   /* |z| beyond this (metres) is a void */
 
 /* Source samples to metres in the scratch file: float32 rows, top row
@@ -26,11 +32,14 @@ typedef struct {
 	unsigned char *rowvoid;  /* one bit per row: the row has voids */
 	long long voids;
 	struct vdatum_shift *vd;     /* vertical datum conversion, or NULL */
+	int info;                /* the header only (dem_open_info): no
+	                          * scratch file, no samples read */
 } dem_load;
 
 /* Sets up the conversion once size, nodata and units are known (zunit,
  * scale, offset and the flips are set by the caller first; 0 scale = 1).
- * f32: the source is float32, so nodata compares in float. */
+ * f32: the source is float32, so nodata compares in float. With L->info
+ * it checks and describes only: the adapter then reads no sample. */
 int dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
     int f32, tl_err *e);
 

@@ -14,7 +14,9 @@ struct exr_rd {
 	int dec_init;
 	int ymin;     /* data window origin: rows count from it */
 	int lpc;      /* lines per chunk */
+	int cap;      /* rows the chunk buffer holds: min(lpc, height) */
 	int cy, cn;   /* the chunk buffer holds rows cy .. cy+cn-1 */
+	long long px; /* bytes of a pixel as stored, all channels */
 	float *chunk;
 };
 
@@ -44,6 +46,7 @@ get_channels(rs_reader *r, tl_err *e)
 		if (rs_add_channel(&r->h, n, e) < 0)
 			return tl_fail(e, "%s: channel %s: name too long or "
 			    "repeated", r->name, n);
+		x->px += c->pixel_type == EXR_PIXEL_HALF ? 2 : 4;
 	}
 	return 0;
 }
@@ -132,7 +135,7 @@ get_chunk(rs_reader *r, tl_err *e)
 	if (rv)
 		goto fail;
 	if (ci.width != r->h.width || ci.start_y > x->ymin + r->y ||
-	    ci.start_y + ci.height <= x->ymin + r->y || ci.height > x->lpc)
+	    ci.start_y + ci.height <= x->ymin + r->y || ci.height > x->cap)
 		return tl_fail(e, "%s: corrupt chunk at row %d of %d", r->name,
 		    r->y, r->h.height);
 	rs_exr_bind(x->dec.channels, x->dec.channel_count, &r->h, x->chunk);
@@ -180,6 +183,40 @@ exr_close_r(rs_reader *r)
 	r->impl = NULL;
 }
 
+/* The data a header declares must be data the file can hold, before a
+ * chunk buffer is allocated for it: a 4 KB file declaring 9 rows of 14.5
+ * million 13-channel pixels (6.8 GB decoded, a 12 GB chunk buffer) is
+ * refused here, not by the allocator or after hours of work.
+ *
+ * The bound is a compression ratio: no codec this reader decodes for our
+ * data stores more than about 1032 decoded bytes in one stored byte.
+ * ZIP and ZIPS are deflate, whose ratio cannot exceed 1032:1 (a 258-byte
+ * match in at best 2 bits); RLE's runs of at most 128 bytes cost 2 (64:1);
+ * PIZ's Huffman codes runs of at most 271 16-bit values in 10 bits or
+ * more (about 430:1); PXR24 stores floats in 24 bits before deflate
+ * (1376:1); B44 at best 32 bytes of halves in 3 (11:1); NONE 1:1. (DWA
+ * deflates an RLE stream for channels named like alpha, which could
+ * exceed it in theory; no quadric or vertex map is lossy DWA.) So decoded
+ * bytes above 2048 x the file's bytes, plus 1 MiB for tiny files whose
+ * header dominates, cannot come from this file: it is damaged or forged. */
+#define EXR_MAXRATIO 2048
+#define EXR_SLACK (1LL << 20)
+
+static int
+check_ratio(rs_reader *r, tl_err *e)
+{
+	struct exr_rd *x = r->impl;
+	long long bytes = (long long)r->h.width * r->h.height * x->px;
+
+	if (bytes / EXR_MAXRATIO > x->io.size + EXR_SLACK / EXR_MAXRATIO)
+		return tl_fail(e, "%s: the header declares %dx%d pixels of %lld "
+		    "bytes (%lld bytes decoded), more than a file of %lld bytes "
+		    "can hold (%d:1 at most): damaged or forged", r->name,
+		    r->h.width, r->h.height, x->px, bytes, x->io.size,
+		    EXR_MAXRATIO);
+	return 0;
+}
+
 int
 rs_exr_open_read(rs_reader *r, long long base, tl_err *e)
 {
@@ -209,7 +246,10 @@ rs_exr_open_read(rs_reader *r, long long base, tl_err *e)
 		return -1;
 	if ((rv = exr_get_scanlines_per_chunk(x->ctx, 0, &x->lpc)))
 		return rs_exr_fail(e, &x->io, rv, r->name, "header");
-	x->chunk = tl_alloc((size_t)x->lpc * (size_t)r->h.nch,
+	if (check_ratio(r, e) < 0)
+		return -1;
+	x->cap = x->lpc < r->h.height ? x->lpc : r->h.height;
+	x->chunk = tl_alloc((size_t)x->cap * (size_t)r->h.nch,
 	    (size_t)r->h.width * sizeof(float), e);
 	return x->chunk == NULL ? -1 : 0;
 }

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -431,6 +432,45 @@ hget_attr(rs_reader *r, tl_err *e)
 	}
 }
 
+/* The rows a header declares must be rows the input can hold, before
+ * anyone allocates one (a caller allocates a row of rowbytes): a regular
+ * file's size says what follows the header, and a stream declaring more
+ * than that (plus 1 MiB, so that a short file still says at which row it
+ * ends) is refused as truncated now. A pipe's size is unknown: there the
+ * width is bounded instead, so that no row of a forged header costs more
+ * than the 2^24 columns of a genuine level 0 of 10^14 samples would. */
+#define ST_SLACK (1LL << 20)
+#define ST_PIPEDIM (1 << 24)
+
+static int
+check_size(rs_reader *r, tl_err *e)
+{
+	struct st_rd *s = r->impl;
+	long long rows = (long long)r->h.height * ((long long)s->rowbytes + 4)
+	    + 16, left;
+	struct stat st;
+	off_t pos;
+
+	if (fstat(r->fd, &st) == 0 && S_ISREG(st.st_mode) &&
+	    (pos = lseek(r->fd, 0, SEEK_CUR)) >= 0) {
+		left = (long long)st.st_size - (long long)pos +
+		    (long long)(s->len - s->pos);
+		if (rows > left + ST_SLACK)
+			return tl_fail(e, "%s: truncated: the header declares "
+			    "%d rows of %zu bytes (%lld bytes with their "
+			    "checksums and the trailer), the file holds %lld "
+			    "after the header", r->name, r->h.height,
+			    s->rowbytes, rows, left);
+		return 0;
+	}
+	if (r->h.width > ST_PIPEDIM)
+		return tl_fail(e, "%s: rows of %d columns, more than %d: "
+		    "refused on a pipe, where the stream's size cannot be "
+		    "checked (give it as a file)", r->name, r->h.width,
+		    ST_PIPEDIM);
+	return 0;
+}
+
 static int
 read_header(rs_reader *r, tl_err *e)
 {
@@ -469,7 +509,7 @@ read_header(rs_reader *r, tl_err *e)
 	if (stored != sum)
 		return bad(r, "checksum mismatch", e);
 	s->rowbytes = (size_t)r->h.nch * (size_t)r->h.width * 4;
-	return 0;
+	return check_size(r, e);
 }
 
 /* After the last row: the trailer, then nothing at all. */
