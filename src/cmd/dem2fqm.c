@@ -9,9 +9,11 @@
 static const char usage[] =
     "[-I] [-D datum] [-e encoding] [-H datum] [-N nodata] [-n name]\n"
     "               [-s dx[,dy]] [-z compression] [dem [out]]\n"
-    "  -I              print the DEM's size, georeferencing, metric, datum, "
-    "voids\n"
-    "                  and level count; no output\n"
+    "  -I              print the DEM's size, georeferencing, metric, datum "
+    "and\n"
+    "                  level count from its header; no output. -II also "
+    "counts\n"
+    "                  the voids, reading every sample\n"
     "  -D datum        the DEM's vertical datum (EPSG:5773) when it declares "
     "none\n"
     "  -e encoding     auto (default), grey, terrainrgb, terrarium\n"
@@ -25,7 +27,7 @@ static const char usage[] =
     "  out             level-0 FQM: EXR file or - (stream, default)\n";
 
 typedef struct {
-	int info;
+	int info; /* -I given: 1 the header, 2 (-II) the voids too */
 	const char *in, *out;
 } options;
 
@@ -83,7 +85,9 @@ work(const cli *c, const options *o, tl_err *e)
 	dem *d;
 	int r;
 
-	if ((d = dem_open(o->in, &c->dem, e)) == NULL)
+	/* -I reads the header only; -II and the conversion every sample */
+	if ((d = o->info == 1 ? dem_open_info(o->in, &c->dem, e) :
+	    dem_open(o->in, &c->dem, e)) == NULL)
 		return -1;
 	r = o->info ? dem_info_print(d, stdout, e) : convert(c, o, d, e);
 	dem_close(d);
@@ -102,7 +106,7 @@ main(int argc, char **argv)
 	while ((ch = cli_next(&c, argc, argv, "I", NULL)) != -1) {
 		if (ch != 'I')
 			return cli_usage_error(&c);
-		o.info = 1;
+		o.info = o.info < 2 ? o.info + 1 : 2;
 	}
 	if (c.status >= 0)
 		return c.status;

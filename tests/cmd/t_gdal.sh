@@ -15,8 +15,10 @@ GDAL_PAM_ENABLED=NO	# the GDAL tools: no .aux.xml sidecars
 export GDAL_PAM_ENABLED
 HGT=$DATA/N44W072.hgt BT=$DATA/bigtujunga.tif
 
-# info NAME DEM [opts]: dem2fqm -I into $T/NAME.I; key NAME K: its value
+# info NAME DEM [opts]: dem2fqm -I into $T/NAME.I; key NAME K: its value;
+# voids NAME DEM [opts]: dem2fqm -II (the voids too: every sample read)
 info() { i_f=$1; shift; dem2fqm -I "$@" >"$T/$i_f.I" 2>"$T/$i_f.Ierr"; }
+voids() { i_f=$1; shift; dem2fqm -II "$@" >"$T/$i_f.I" 2>"$T/$i_f.Ierr"; }
 key() { awk -v k="$2" '$1 == k { $1 = ""; print substr($0, 2) }' "$T/$1.I"; }
 # near A B TOL: |A - B| <= TOL
 near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(d <= t && -d <= t) }'; }
@@ -110,9 +112,9 @@ $MK mask "$T/n.tif" "$T/mask.tif" &&
 ok $? "mask: fixture with an internal mask, -32768 under it, no nodata (gdalinfo)"
 set -- $($MK stat "$T/mask.tif")	# voids N min X max Y count C
 mvoids=$2 mmin=$4 mmax=$6
-info mask "$T/mask.tif"
+voids mask "$T/mask.tif"
 [ "$(key mask voids)" = "$mvoids" ] && [ "$mvoids" -gt 1000 ]
-ok $? "mask: -I voids = the $mvoids masked samples (got $(key mask voids))"
+ok $? "mask: -II voids = the $mvoids masked samples (got $(key mask voids))"
 if pyramid mask "$T/mask.tif"; then
 	zrange "$T/mask" >"$T/mask.z"
 	awk -v lo="$mmin" -v hi="$mmax" '$1 == 0 && ($2 < lo - 0.001 || $3 > hi + 0.001) { exit 1 }' "$T/mask.z"
@@ -130,9 +132,9 @@ fi
 $MK nan "$T/n.tif" "$T/nan.tif" && gdalinfo "$T/nan.tif" | grep -qi 'NoData Value=nan'
 ok $? "nan: fixture Float32 with NaN samples, nodata nan (gdalinfo)"
 set -- $($MK stat "$T/nan.tif")
-info nan "$T/nan.tif"
+voids nan "$T/nan.tif"
 [ "$(key nan voids)" = "$2" ] && [ "$(key nan nodata)" = nan ]
-ok $? "nan: -I voids $2 and nodata nan (got $(key nan voids), $(key nan nodata))"
+ok $? "nan: -II voids $2 and nodata nan (got $(key nan voids), $(key nan nodata))"
 if pyramid nan "$T/nan.tif"; then
 	tileplay --verify "$T/nan" --dem "$T/nan.tif" >"$T/nan.v" 2>&1
 	grep -q '^result: pass' "$T/nan.v"
@@ -247,7 +249,7 @@ gdal_translate -q -srcwin 300 200 256 200 "$BT" "$T/u2.tif" &&
     [ "$($MK sparse_tiles "$T/sparse.tif")" = 1 ]
 ok $? "sparse: fixture with one absent 128x128 tile (TIFF block offsets)"
 set -- $($MK stat "$T/sparse.tif")
-info sparse "$T/sparse.tif"
+voids sparse "$T/sparse.tif"
 s=$?
 [ $s -eq 0 ] && [ "$(key sparse voids)" = "$2" ] && [ "$2" -ge 16384 ]
 ok $? "sparse: reads (exit $s), voids $2 (got $(key sparse voids))"
@@ -300,5 +302,28 @@ s=$?
 [ $s -eq 0 ] && [ "$(key nD vdatum)" = EPSG:4979 ] &&
     [ "$(zhash "$T/n.tif" -H ellipsoid -D EPSG:5773)" = "$(zhash "$T/egm.tif" -H ellipsoid)" ]
 ok $? "-D EPSG:5773 -H ellipsoid on that crop works, heights as the EGM96-tagged crop's (exit $s)"
+
+# --- 13. -I reads the header only; -II counts the voids -------------------
+voids hgtII "$HGT"
+[ -z "$(key hgt voids)" ] && [ "$(key hgtII voids)" = 0 ] &&
+    [ "$(grep -v '^voids ' "$T/hgtII.I")" = "$(cat "$T/hgt.I")" ] &&
+    [ -n "$(key hgt levels)" ]
+ok $? "-I: no voids line, the levels line; -II: the same lines and voids ($(key hgtII voids))"
+dem2fqm -I -I "$HGT" | cmp -s - "$T/hgtII.I"
+ok $? "-I -I is -II"
+# a DEM of 10^10 samples (a VRT upsampling the .hgt): the header's
+# answer at once, nothing spooled
+mkdir "$T/scratch"
+gdal_translate -q -of VRT -outsize 100000 100000 "$HGT" "$T/huge.vrt"
+t0=$(date +%s.%N)
+TMPDIR=$T/scratch dem2fqm -I "$T/huge.vrt" >"$T/huge.I" 2>"$T/huge.Ierr"
+s=$?
+t=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", b - a }')
+[ $s -eq 0 ] && [ "$(key huge size)" = "100000 100000" ] &&
+    [ "$(key huge levels)" = 11 ] && [ -z "$(key huge voids)" ] &&
+    awk -v t="$t" 'BEGIN { exit !(t < 10) }'
+ok $? "-I on a 100000x100000 VRT: size, levels 11, in $t s (under 10) (exit $s $(head -c 200 "$T/huge.Ierr"))"
+[ -z "$(ls -A "$T/scratch")" ]
+ok $? "-I on it leaves nothing in TMPDIR"
 
 done_testing

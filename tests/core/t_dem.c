@@ -739,6 +739,72 @@ check_failures(void)
 
 /* The plugin reads a tiled TIFF with read_tiles (read_scanlines would
  * kill OpenImageIO 2.4.7): same samples as libtiff. */
+/* A VRT over a real DEM declaring w x h samples (GDAL scales it). */
+static void
+write_vrt(const char *path, const char *src, int w, int h)
+{
+	char buf[2 * PATH_MAX + 512];
+	int n = snprintf(buf, sizeof buf, "<VRTDataset rasterXSize=\"%d\" "
+	    "rasterYSize=\"%d\">\n  <VRTRasterBand dataType=\"Int16\" "
+	    "band=\"1\">\n    <SimpleSource><SourceFilename "
+	    "relativeToVRT=\"0\">%s</SourceFilename><SourceBand>1"
+	    "</SourceBand></SimpleSource>\n  </VRTRasterBand>\n"
+	    "</VRTDataset>\n", w, h, src);
+
+	write_file(path, buf, (size_t)n);
+}
+
+/* Sizes no DEM can have are refused before anything is read or
+ * allocated; dem_open_info reads the header only, at once whatever the
+ * size, and says what dem_open says. */
+static void
+check_sizes(void)
+{
+	const char *hgt = dpath("N44W072.hgt");
+	tl_err e = { "" };
+	dem_opts o = { 0 };
+	dem *d, *full;
+	float z[4];
+	double t;
+	int same;
+
+	write_vrt(fpath("big.vrt"), hgt, 1 << 21, 1 << 21);
+	fails(fpath("big.vrt"), "2097152 x 2097152 samples, more than 2^40: "
+	    "refused before reading", "a VRT of 2^21 x 2^21 samples");
+	d = dem_open_info(fpath("big.vrt"), NULL, &e);
+	ok(d == NULL && strstr(e.msg, "more than 2^40") != NULL,
+	    "dem_open_info refuses it too: %s", e.msg);
+	write_vrt(fpath("huge.vrt"), hgt, 100000, 100000);
+	t = now();
+	d = dem_open_info(fpath("huge.vrt"), NULL, &e);
+	t = now() - t;
+	ok(d != NULL && dem_georef(d)->width == 100000 &&
+	    dem_georef(d)->height == 100000 && dem_voids(d) == -1 && t < 10,
+	    "dem_open_info: a VRT of 10^10 samples in %.3f s, voids unknown "
+	    "%s", t, d == NULL ? e.msg : "");
+	ok(d != NULL && dem_read_row(d, 0, z, NULL, &e) < 0 &&
+	    strstr(e.msg, "header only") != NULL, "dem_read_row on it fails: "
+	    "%s", e.msg);
+	dem_close(d);
+	o.heights = "ellipsoid";
+	d = dem_open_info(hgt, &o, &e);
+	full = dem_open(hgt, &o, &e);
+	same = d != NULL && full != NULL &&
+	    memcmp(dem_georef(d), dem_georef(full), sizeof(georef)) == 0 &&
+	    dem_zunit(d) == dem_zunit(full);
+	ok(same && strcmp(dem_georef(d)->vdatum, "EPSG:4979") == 0,
+	    "N44W072.hgt -H ellipsoid: dem_open_info's georeferencing and "
+	    "unit are dem_open's (%s)", d ? dem_georef(d)->vdatum : e.msg);
+	dem_close(d), dem_close(full);
+	d = dem_open_info(fpath("rotated.tif"), NULL, &e);
+	ok(d == NULL && strstr(e.msg, "rotated or sheared") != NULL,
+	    "dem_open_info refuses what dem_open refuses: %s", e.msg);
+	d = dem_open_info(fpath("z.exr"), NULL, &e);
+	ok(d != NULL && dem_georef(d)->width == 7 && dem_voids(d) == -1,
+	    "dem_open_info on an EXR (the plugin): %s", d ? "7 wide" : e.msg);
+	dem_close(d);
+}
+
 static void
 check_plugin_tiled(void)
 {
@@ -883,6 +949,7 @@ main(void)
 		check_failures();
 		check_plugin_tiled();
 		check_exr();
+		check_sizes(); /* after check_exr: its z.exr */
 	} else {
 		ok(1, "# SKIP GDAL fixtures: /usr/bin/python3 with python3-gdal "
 		    "and python3-numpy not available");

@@ -156,6 +156,14 @@ dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
 	if (w < 1 || h < 1 || w > DEM_MAXDIM || h > DEM_MAXDIM)
 		return tl_fail(e, "%s: unsupported size %d x %d (1 .. %d a "
 		    "side)", L->what, w, h, DEM_MAXDIM);
+	if ((long long)w * h > DEM_MAXSAMPLES)
+		return tl_fail(e, "%s: %d x %d samples, more than 2^40: refused "
+		    "before reading (a damaged header, or a DEM to cut into "
+		    "tiles first)", L->what, w, h);
+	if ((long long)w * DEM_SAMPLEBYTES > DEM_MAXROW)
+		return tl_fail(e, "%s: rows of %d samples, more than %lld bytes "
+		    "each: refused before reading", L->what, w,
+		    (long long)DEM_MAXROW);
 	g->width = L->w = w;
 	g->height = L->h = h;
 	L->has_nodata = o->has_nodata ? 1 : g->has_nodata;
@@ -167,6 +175,8 @@ dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
 		L->scale = 1;
 	if (datum(L, g, o, e) < 0)
 		return -1;
+	if (L->info)
+		return 0;
 	if ((L->fd = tl_scratch(e)) < 0)
 		return -1;
 	L->seg = tl_alloc((size_t)w, sizeof(float), e);
@@ -306,8 +316,8 @@ read_any(dem_load *L, georef *g, const char *path, const dem_opts *o,
 	return r;
 }
 
-dem *
-dem_open(const char *path, const dem_opts *o, tl_err *e)
+static dem *
+open_dem(const char *path, const dem_opts *o, int info, tl_err *e)
 {
 	static const dem_opts none;
 	spool sp = { { NULL, NULL, -1 }, "" };
@@ -320,6 +330,7 @@ dem_open(const char *path, const dem_opts *o, tl_err *e)
 	if ((d = tl_alloc(1, sizeof *d, e)) == NULL)
 		return NULL;
 	d->fd = L.fd = -1;
+	L.info = info;
 	snprintf(d->what, sizeof d->what, "%s", strcmp(path, "-") == 0 ?
 	    "stdin" : path);
 	L.what = d->what;
@@ -336,8 +347,15 @@ dem_open(const char *path, const dem_opts *o, tl_err *e)
 	vdatum_close(L.vd);
 	d->fd = L.fd;
 	d->rowvoid = L.rowvoid;
-	d->voids = L.voids;
+	d->voids = info ? -1 : L.voids;
 	d->zunit = L.zunit;
+	if (info) {
+		if (r < 0) {
+			dem_close(d);
+			return NULL;
+		}
+		return d;
+	}
 	if (r == 0 && L.voids == (long long)L.w * L.h)
 		r = tl_fail(e, "%s: no valid samples (every sample is a void)",
 		    d->what);
@@ -348,6 +366,18 @@ dem_open(const char *path, const dem_opts *o, tl_err *e)
 		return NULL;
 	}
 	return d;
+}
+
+dem *
+dem_open(const char *path, const dem_opts *o, tl_err *e)
+{
+	return open_dem(path, o, 0, e);
+}
+
+dem *
+dem_open_info(const char *path, const dem_opts *o, tl_err *e)
+{
+	return open_dem(path, o, 1, e);
 }
 
 const georef *
@@ -373,6 +403,8 @@ dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e)
 {
 	long long w = d->g.width, h = d->g.height;
 
+	if (d->fd < 0)
+		return tl_fail(e, "%s: opened for its header only", d->what);
 	if (j < 0 || j >= h)
 		return tl_fail(e, "%s: row %d outside 0 .. %lld", d->what, j,
 		    h - 1);

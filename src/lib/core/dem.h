@@ -55,8 +55,14 @@ typedef struct dem dem;
 int dem_option(dem_opts *o, int c, const char *arg, tl_err *e);
 
 dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
+/* The DEM's header only (dem2fqm -I): georeferencing, size, nodata,
+ * vertical datum (-H, -D checked as dem_open does) and unit, read
+ * through GDAL (or OpenImageIO) without reading a sample nor making a
+ * scratch file, so it answers at once whatever the DEM's size. Its voids
+ * are unknown (-1) and dem_read_row fails. */
+dem *dem_open_info(const char *path, const dem_opts *o, tl_err *e);
 const georef *dem_georef(const dem *d); /* width, height inside */
-long long dem_voids(const dem *d);      /* void samples */
+long long dem_voids(const dem *d);      /* void samples; -1: unknown */
 double dem_zunit(const dem *d);         /* metres per unit of the file */
 /* Row j (any order): z gets heights with voids filled, valid (if not NULL)
  * gets 1 for a real sample and 0 for a void. Both have width entries. */
@@ -64,7 +70,8 @@ int dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e);
 void dem_close(dem *d);
 
 /* dem2fqm -I: what a user needs to trust the result and a script to plan
- * a pyramid, as "key value" lines on f (dem2fqm(1)). */
+ * a pyramid, as "key value" lines on f (dem2fqm(1)); "voids N" only when
+ * they are known (a DEM from dem_open, not dem_open_info). */
 int dem_info_print(const dem *d, FILE *f, tl_err *e);
 /* A grid without a CRS has no known unit: fills buf with what was
  * assumed (and how to say otherwise) and returns 1, or returns 0. name

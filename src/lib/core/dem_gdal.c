@@ -432,7 +432,7 @@ dem_read_gdal(dem_load *L, georef *g, const char *path, const dem_opts *o,
 	    describe(&s, g, L, o, e) < 0 ||
 	    dem_load_begin(L, g, o, s.w, s.h, t == GDT_Float32, e) < 0)
 		goto out;
-	r = samples(&s, L, e);
+	r = L->info ? 0 : samples(&s, L, e);
 out:
 	if (s.ds != NULL)
 		GDALClose(s.ds);

@@ -36,9 +36,12 @@ dem_info_print(const dem *d, FILE *f, tl_err *e)
 
 	if (metric_range(g, r, e) < 0)
 		return -1;
-	fprintf(f, "size %d %d\nvoids %lld\nmodel %s\ncrs %s\nraster %s\n"
-	    "origin %.17g %.17g\nstep %.17g %.17g\n", g->width, g->height,
-	    dem_voids(d), geo_model_name(g->model), g->crs[0] ? g->crs : "-",
+	fprintf(f, "size %d %d\n", g->width, g->height);
+	if (dem_voids(d) >= 0)
+		fprintf(f, "voids %lld\n", dem_voids(d));
+	fprintf(f, "model %s\ncrs %s\nraster %s\n"
+	    "origin %.17g %.17g\nstep %.17g %.17g\n",
+	    geo_model_name(g->model), g->crs[0] ? g->crs : "-",
 	    g->point ? "point" : "area", g->origin[0], g->origin[1],
 	    g->step[0], g->step[1]);
 	if (g->vdatum[0] != '\0')

@@ -68,7 +68,7 @@ dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
 	if (dem_load_begin(L, g, o, info.width, info.height,
 	    info.type == TL_PX_F32, e) < 0)
 		goto out;
-	r = rows(L, api, img, &info, nch, e);
+	r = L->info ? 0 : rows(L, api, img, &info, nch, e);
 out:
 	api->close(img);
 	return r;
