@@ -25,6 +25,8 @@ typedef struct {
 typedef struct {
 	rs_reader *in;
 	const rs_header *ih;
+	const char *what; /* the input, for messages */
+	int fy;           /* the next fine row */
 	fqm_layout L;
 	filter_state f;
 	float *frow;
@@ -37,7 +39,9 @@ coarse_row(void *ctx, int y, float *row, tl_err *e)
 	job *j = ctx;
 
 	while (!filter_ready(&j->f)) {
-		if (rs_read_row(j->in, j->frow, e) < 0)
+		if (rs_read_row(j->in, j->frow, e) < 0 ||
+		    fqm_check_row(j->frow, j->ih->width, j->ih->nch, j->fy++,
+		    j->what, e) < 0)
 			return -1;
 		fqm_decode(&j->L, j->frow, j->ih->width, j->fine);
 		filter_push(&j->f, j->fine);
@@ -60,6 +64,7 @@ filter(const cli *c, const options *o, tl_err *e)
 	if ((j.in = fqm_open(o->in, &fi, &j.L, e)) == NULL)
 		return -1;
 	j.ih = rs_header_of(j.in);
+	j.what = tl_name(o->in, 0);
 	if (j.ih->width <= 2 && j.ih->height <= 2) {
 		tl_fail(e, "%s: level %d is %dx%d: nothing left to reduce",
 		    tl_name(o->in, 0), fi.level, j.ih->width, j.ih->height);

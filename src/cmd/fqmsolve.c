@@ -28,6 +28,7 @@ typedef struct {
 typedef struct {
 	rs_reader *in;
 	const rs_header *ih, *oh;
+	const char *what; /* the input, for messages */
 	fqm_layout L;
 	solve_state s;
 	float *irow;
@@ -40,7 +41,9 @@ vertex_row(void *ctx, int y, float *row, tl_err *e)
 {
 	job *j = ctx;
 
-	if (rs_read_row(j->in, j->irow, e) < 0)
+	if (rs_read_row(j->in, j->irow, e) < 0 ||
+	    fqm_check_row(j->irow, j->ih->width, j->ih->nch, y, j->what,
+	    e) < 0)
 		return -1;
 	fqm_decode(&j->L, j->irow, j->ih->width, j->fv);
 	solve_row(&j->s, j->fv, j->sv);
@@ -61,6 +64,7 @@ solve(const cli *c, const options *o, tl_err *e)
 	if ((j.in = fqm_open(o->in, &fi, &j.L, e)) == NULL)
 		return -1;
 	j.ih = rs_header_of(j.in), j.oh = &oh, w = j.ih->width;
+	j.what = tl_name(o->in, 0);
 	if (geo_metric_init(&m, &fi.geo, e) < 0 ||
 	    solve_init(&j.s, o->mode, fi.level, w, j.ih->height, &m, e) < 0 ||
 	    solve_header(&oh, j.ih, o->mode, e) < 0)

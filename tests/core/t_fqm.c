@@ -208,6 +208,70 @@ test_open(void)
 	unlink(tmp("l2.exr")), unlink(tmp("v2.exr")), unlink(tmp("z.exr"));
 }
 
+/* Non-finite values in a row read back are errors naming the row, the
+ * channel and the column; an EXR without checksums (NONE) carries a NaN
+ * as written. */
+static void
+test_check_row(void)
+{
+	enum { W = 6, NCH = 13 };
+	float row[NCH * W];
+	fqm_info fi;
+	fqm_layout L;
+	rs_header h;
+	rs_writer *w;
+	rs_reader *r;
+	tl_err e = { "" };
+	int rv = 0, y, bad = -1;
+
+	for (int k = 0; k < NCH * W; k++)
+		row[k] = (float)k - 20.5f;
+	row[5] = -0.0f, row[7] = 1e-40f, row[9] = 3.4e38f;
+	ok(fqm_check_row(row, W, NCH, 0, "x", &e) == 0, "fqm_check_row: "
+	    "finite values (denormal, huge, -0) pass");
+	row[3 * W + 4] = NAN;
+	ok(fqm_check_row(row, W, NCH, 7, "l1.exr", &e) < 0 &&
+	    strcmp(e.msg, "l1.exr: row 7, channel 3: NaN at column 4 "
+	    "(damaged?)") == 0, "fqm_check_row: a NaN named by row, channel, "
+	    "column (%s)", e.msg);
+	row[3 * W + 4] = 0;
+	row[12 * W + 5] = -INFINITY;
+	ok(fqm_check_row(row, W, NCH, 2, "-", &e) < 0 &&
+	    strstr(e.msg, "row 2, channel 12: infinite value at column 5"),
+	    "fqm_check_row: an infinity too (%s)", e.msg);
+
+	sample_info(&fi); /* level 2 of 37 x 23: 10 x 7 */
+	fqm_header(&h, &fi, "none", NULL);
+	fqm_layout_of(&h, &L, "x", NULL);
+	{
+		size_t n = (size_t)h.width * h.nch;
+		float *buf = calloc(n, sizeof *buf);
+		w = rs_create(tmp("nan.exr"), &h, RS_NONE, &e);
+		for (y = 0; w != NULL && y < h.height && rv == 0; y++) {
+			if (y == 3)
+				buf[(size_t)L.z * h.width + 1] = NAN;
+			rv = rs_write_row(w, buf, &e);
+			buf[(size_t)L.z * h.width + 1] = 0;
+		}
+		rv = w != NULL && rv == 0 ? rs_finish(w, &e) : -1;
+		r = rv == 0 ? fqm_open(tmp("nan.exr"), &fi, &L, &e) : NULL;
+		for (y = 0; r != NULL && y < h.height; y++)
+			if (rs_read_row(r, buf, &e) < 0 ||
+			    fqm_check_row(buf, h.width, h.nch, y, "nan.exr",
+			    &e) < 0) {
+				bad = y;
+				break;
+			}
+		ok(bad == 3 && strstr(e.msg, "nan.exr: row 3, channel ") &&
+		    strstr(e.msg, "NaN at column 1"), "an FQM EXR (NONE) with "
+		    "a NaN in row 3: found there (%s)", e.msg);
+		rs_close(r);
+		free(buf);
+	}
+	rs_header_free(&h);
+	unlink(tmp("nan.exr"));
+}
+
 int
 main(void)
 {
@@ -222,6 +286,7 @@ main(void)
 	test_header();
 	test_rows();
 	test_open();
+	test_check_row();
 	rmdir(dir);
 	return tap_done();
 }

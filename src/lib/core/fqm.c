@@ -2,6 +2,7 @@
 #include "core/fqm.h"
 
 #include <assert.h>
+#include <math.h>
 #include <string.h>
 
 static const char *const qch[10] = {
@@ -243,4 +244,19 @@ fqm_open(const char *path, fqm_info *fi, fqm_layout *L, tl_err *e)
 		return NULL;
 	}
 	return in;
+}
+
+int
+fqm_check_row(const float *row, int w, int nch, int y, const char *what,
+    tl_err *e)
+{
+	for (int c = 0; c < nch; c++) {
+		const float *p = row + (size_t)c * (size_t)w;
+		for (int i = 0; i < w; i++)
+			if (!isfinite(p[i]))
+				return tl_fail(e, "%s: row %d, channel %d: %s at "
+				    "column %d (damaged?)", what, y, c,
+				    isnan(p[i]) ? "NaN" : "infinite value", i);
+	}
+	return 0;
 }
