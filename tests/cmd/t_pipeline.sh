@@ -97,6 +97,16 @@ while read -r f W0 H0 epsg ox oy px py nvalid; do
 	case $f in *.hgt) ;; *) ;; esac
 done <"$T/dems"
 
+# The driver of the pipeline parses the DEM options (cli.c, dem_opts.c)
+# but reads no DEM: GDAL and PROJ are not linked into it.
+if command -v readelf >/dev/null; then
+	readelf -d "$B/dem2vgis" >"$T/needed" &&
+	    ! grep -Eq 'NEEDED.*lib(gdal|proj)' "$T/needed"
+	ok $? "dem2vgis links neither GDAL nor PROJ ($(grep -o 'lib[a-zA-Z0-9_-]*' "$T/needed" | grep -E 'gdal|proj' | tr '\n' ' '))"
+else
+	ok 0 "# SKIP dem2vgis's libraries: no readelf"
+fi
+
 # The .hgt and its GeoTIFF copy give the same quadrics.
 for t in N42E001 N44W072; do
 	dem2fqm "$DATA/$t.hgt" "$T/h.exr" && dem2fqm "$DATA/$t.tif" "$T/t.exr" &&
