@@ -77,6 +77,23 @@ fails "an FQM instead of a vertex map" 1 "is a fqm map, expected vertices" \
     tilepack "$T/hills.tif" "$T/o/p" "$T/h0.exr"
 fails "a level too many" 1 "^tilepack: 2 levels given, a 64x48 DEM's pyramid has 1" \
     tilepack "$T/hills.tif" "$T/o/p" "$T/hv0.exr" "$T/hv1.exr"
+# a NaN height in a vertex map (a stream row made NaN, its CRC made valid
+# again): an error naming the row, no pyramid
+fqmsolve "$T/h0.exr" - >"$T/hv0.fqm"
+/usr/bin/python3 - "$T/hv0.fqm" "$T/hvnan.fqm" 7 <<'PY' || ok 1 "NaN vertex map fixture"
+import struct, sys, zlib
+d = bytearray(open(sys.argv[1], "rb").read())
+w, h, nch = struct.unpack_from("<3I", d, 12)
+rb = w * nch * 4
+row0 = len(d) - 16 - h * (rb + 4)
+y = int(sys.argv[3]); at = row0 + y * (rb + 4)
+struct.pack_into("<I", d, at + 4 * 11, 0x7fc00000)   # channel 0, column 11
+struct.pack_into("<I", d, at + rb, zlib.crc32(struct.pack("<I", y) + bytes(d[at:at + rb])))
+open(sys.argv[2], "wb").write(d)
+PY
+fails "a NaN in a vertex map" 1 "^tilepack: .*hvnan.fqm: row 7, channel 0: NaN at column 11" \
+    tilepack "$T/hills.tif" "$T/o/p" "$T/hvnan.fqm"
+nothing_left "$T/o"; ok $? "a NaN in a vertex map: nothing left"
 gdal_translate -q -srcwin 0 0 200 150 "$DATA/bigtujunga.tif" "$T/crop.tif" &&
     dem2fqm "$T/crop.tif" - | fqmsolve - "$T/cv0.exr"
 fails "a level too few" 1 "^tilepack: 1 levels given, a 200x150 DEM's pyramid has 2" \
@@ -136,12 +153,12 @@ fails "dem2vgis on a non-raster" 1 "not a" dem2vgis "$T/garbage.txt" "$T/o/g"
 
 # --- the examples Makefile: parallel and incremental ----------------------
 mkdir "$T/dems" && cp "$T/hills.tif" "$T/spike.tif" "$T/dems/"
-make -s -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" >/dev/null 2>&1 &&
+make -s -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" DEM2VGIS="$B/dem2vgis" >/dev/null 2>&1 &&
     [ -f "$T/pyrs/hills.tif/index.json" ] && [ -f "$T/pyrs/spike.tif/index.json" ]
 ok $? "examples/Makefile builds a pyramid per DEM with -j2"
 before=$(ls -l --time-style=+%s.%N "$T/pyrs/hills.tif/index.json")
 sleep 1; touch "$T/dems/spike.tif"
-make -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" >"$T/mk" 2>&1
+make -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" DEM2VGIS="$B/dem2vgis" >"$T/mk" 2>&1
 [ "$(grep -c dem2vgis "$T/mk")" = 1 ] && grep -q spike.tif "$T/mk" &&
     [ "$(ls -l --time-style=+%s.%N "$T/pyrs/hills.tif/index.json")" = "$before" ]
 ok $? "examples/Makefile redoes only the changed DEM"

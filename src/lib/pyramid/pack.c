@@ -67,6 +67,7 @@ pack_check_dir(const char *dir, int force, tl_err *e)
 typedef struct {
 	rs_reader *r;
 	const rs_header *h;
+	const char *name;
 	int cz, cx, cy; /* channels Z, X, Y (X, Y -1 on 1D levels) */
 	float *row;
 } vmap;
@@ -77,8 +78,9 @@ read_row(void *ctx, int r, float *z, float *x, float *y, tl_err *e)
 	vmap *v = ctx;
 	size_t w = (size_t)v->h->width;
 
-	(void)r;
-	if (rs_read_row(v->r, v->row, e) < 0)
+	/* a NaN that a format without checksums let through stops here */
+	if (rs_read_row(v->r, v->row, e) < 0 ||
+	    fqm_check_row(v->row, (int)w, v->h->nch, r, v->name, e) < 0)
 		return -1;
 	memcpy(z, v->row + (size_t)v->cz * w, w * sizeof *z);
 	if (x != NULL) {
@@ -96,6 +98,7 @@ vmap_open(vmap *v, const char *path, int l, const georef *g, tl_err *e)
 	fqm_info fi;
 
 	memset(v, 0, sizeof *v);
+	v->name = name;
 	if ((v->r = rs_open(path, e)) == NULL)
 		return -1;
 	v->h = rs_header_of(v->r);
