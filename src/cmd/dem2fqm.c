@@ -31,31 +31,13 @@ typedef struct {
 	const char *in, *out;
 } options;
 
-/* The work: the level-0 window over the DEM, one FQM row. */
-typedef struct {
-	fqm0_state s;
-	fqm_layout L;
-	fqm_vertex *fv;
-} job;
-
-static int
-fqm_row(void *ctx, int y, float *row, tl_err *e)
-{
-	job *j = ctx;
-
-	if (fqm0_row(&j->s, y, j->fv, e) < 0)
-		return -1;
-	fqm_encode(&j->L, j->fv, j->s.w, row);
-	return 0;
-}
-
 static int
 convert(const cli *c, const options *o, dem *d, tl_err *e)
 {
 	fqm_info fi = { .geo = *dem_georef(d) };
 	rs_header h;
 	geo_metric m = { 0 };
-	job j = { 0 };
+	fqm0_source j = { 0 };
 	char note[512];
 	int r = -1;
 
@@ -71,7 +53,8 @@ convert(const cli *c, const options *o, dem *d, tl_err *e)
 	    fqm_layout_of(&h, &j.L, c->prog, e) == 0 &&
 	    fqm0_init(&j.s, d, &m, e) == 0 &&
 	    (j.fv = tl_alloc(fi.geo.width, sizeof *j.fv, e)) != NULL)
-		r = rowpipe_run(c->prog, o->out, &h, c->comp, fqm_row, &j, e);
+		r = rowpipe_run(c->prog, o->out, &h, c->comp,
+		    fqm0_encoded_row, &j, e);
 	fqm0_free(&j.s);
 	free(j.fv);
 	rs_header_free(&h);

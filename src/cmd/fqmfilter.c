@@ -5,6 +5,7 @@
 
 #include "core/cli.h"
 #include "core/filter.h"
+#include "core/fqm_input.h"
 #include "core/rowpipe.h"
 
 static const char usage[] =
@@ -23,14 +24,9 @@ typedef struct {
 
 /* The work: the fine rows read so far, the filter, one coarse row. */
 typedef struct {
-	rs_reader *in;
-	const rs_header *ih;
-	const char *what; /* the input, for messages */
-	int fy;           /* the next fine row */
-	fqm_layout L;
+	fqm_input in;
 	filter_state f;
-	float *frow;
-	fqm_vertex *fine, *coarse;
+	fqm_vertex *coarse;
 } job;
 
 static int
@@ -39,15 +35,12 @@ coarse_row(void *ctx, int y, float *row, tl_err *e)
 	job *j = ctx;
 
 	while (!filter_ready(&j->f)) {
-		if (rs_read_row(j->in, j->frow, e) < 0 ||
-		    fqm_check_row(j->frow, j->ih->width, j->ih->nch, j->fy++,
-		    j->what, e) < 0)
+		if (fqm_input_next(&j->in, e) < 0)
 			return -1;
-		fqm_decode(&j->L, j->frow, j->ih->width, j->fine);
-		filter_push(&j->f, j->fine);
+		filter_push(&j->f, j->in.v);
 	}
 	filter_pull(&j->f, j->coarse);
-	fqm_encode(&j->L, j->coarse, j->f.cw, row);
+	fqm_encode(&j->in.L, j->coarse, j->f.cw, row);
 	return 0;
 }
 
@@ -56,41 +49,34 @@ filter(const cli *c, const options *o, tl_err *e)
 {
 	job j = { 0 };
 	rs_header oh;
-	fqm_info fi;
-	geo_metric m = { 0 };
+	const rs_header *h;
 	int r = -1;
 
 	rs_header_init(&oh, 0, 0);
-	if ((j.in = fqm_open(o->in, &fi, &j.L, e)) == NULL)
-		return -1;
-	j.ih = rs_header_of(j.in);
-	j.what = tl_name(o->in, 0);
-	if (j.ih->width <= 2 && j.ih->height <= 2) {
+	if (fqm_input_open(&j.in, o->in, e) < 0)
+		goto done;
+	h = j.in.h;
+	if (h->width <= 2 && h->height <= 2) {
 		tl_fail(e, "%s: level %d is %dx%d: nothing left to reduce",
-		    tl_name(o->in, 0), fi.level, j.ih->width, j.ih->height);
+		    j.in.what, j.in.fi.level, h->width, h->height);
 		goto done;
 	}
-	if (geo_metric_init(&m, &fi.geo, e) < 0 ||
-	    filter_init(&j.f, o->kernel, fi.level, j.ih->width, j.ih->height,
-	    fi.size0[0], fi.size0[1], &m, e) < 0 ||
-	    rs_header_copy(&oh, j.ih, e) < 0)
+	if (filter_init(&j.f, o->kernel, j.in.fi.level, h->width, h->height,
+	    j.in.fi.size0[0], j.in.fi.size0[1], &j.in.m, e) < 0 ||
+	    rs_header_copy(&oh, h, e) < 0)
 		goto done;
 	oh.width = j.f.cw, oh.height = j.f.ch;
-	if (rs_set_int(&oh, FQM_ATTR_LEVEL, fi.level + 1, e) < 0 ||
+	if (rs_set_int(&oh, FQM_ATTR_LEVEL, j.in.fi.level + 1, e) < 0 ||
 	    rs_set_string(&oh, FQM_ATTR_KERNEL, o->kernel->name, e) < 0)
 		goto done;
-	j.frow = tl_alloc((size_t)j.ih->width * j.ih->nch, sizeof *j.frow, e);
-	j.fine = tl_alloc(j.ih->width, sizeof *j.fine, e);
-	j.coarse = tl_alloc(j.f.cw, sizeof *j.coarse, e);
-	if (j.frow != NULL && j.fine != NULL && j.coarse != NULL)
+	if ((j.coarse = tl_alloc(j.f.cw, sizeof *j.coarse, e)) != NULL)
 		r = rowpipe_run(c->prog, o->out, &oh, c->comp, coarse_row, &j,
 		    e);
 done:
-	rs_close(j.in);
+	fqm_input_close(&j.in);
 	rs_header_free(&oh);
 	filter_free(&j.f);
-	geo_metric_free(&m);
-	free(j.frow), free(j.fine), free(j.coarse);
+	free(j.coarse);
 	return r;
 }
 

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "core/cli.h"
+#include "core/fqm_input.h"
 #include "core/rowpipe.h"
 #include "core/solve.h"
 
@@ -26,13 +27,9 @@ typedef struct {
 
 /* The work: the solver, one FQM row in, one vertex row out. */
 typedef struct {
-	rs_reader *in;
-	const rs_header *ih, *oh;
-	const char *what; /* the input, for messages */
-	fqm_layout L;
+	fqm_input in;
+	const rs_header *oh;
 	solve_state s;
-	float *irow;
-	fqm_vertex *fv;
 	solve_vertex *sv;
 } job;
 
@@ -41,12 +38,9 @@ vertex_row(void *ctx, int y, float *row, tl_err *e)
 {
 	job *j = ctx;
 
-	if (rs_read_row(j->in, j->irow, e) < 0 ||
-	    fqm_check_row(j->irow, j->ih->width, j->ih->nch, y, j->what,
-	    e) < 0)
+	if (fqm_input_next(&j->in, e) < 0)
 		return -1;
-	fqm_decode(&j->L, j->irow, j->ih->width, j->fv);
-	solve_row(&j->s, j->fv, j->sv);
+	solve_row(&j->s, j->in.v, j->sv);
 	solve_encode(j->oh, j->sv, row);
 	return 0;
 }
@@ -54,37 +48,31 @@ vertex_row(void *ctx, int y, float *row, tl_err *e)
 static int
 solve(const cli *c, const options *o, tl_err *e)
 {
-	job j = { 0 };
+	job j = { .oh = NULL };
 	rs_header oh;
-	fqm_info fi;
-	geo_metric m = { 0 };
-	int w, r = -1;
+	long long n;
+	int r = -1;
 
 	rs_header_init(&oh, 0, 0);
-	if ((j.in = fqm_open(o->in, &fi, &j.L, e)) == NULL)
-		return -1;
-	j.ih = rs_header_of(j.in), j.oh = &oh, w = j.ih->width;
-	j.what = tl_name(o->in, 0);
-	if (geo_metric_init(&m, &fi.geo, e) < 0 ||
-	    solve_init(&j.s, o->mode, fi.level, w, j.ih->height, &m, e) < 0 ||
-	    solve_header(&oh, j.ih, o->mode, e) < 0)
+	j.oh = &oh;
+	if (fqm_input_open(&j.in, o->in, e) < 0 ||
+	    solve_init(&j.s, o->mode, j.in.fi.level, j.in.h->width,
+	    j.in.h->height, &j.in.m, e) < 0 ||
+	    solve_header(&oh, j.in.h, o->mode, e) < 0)
 		goto done;
 	j.s.rel = o->rel;
-	j.irow = tl_alloc((size_t)w * j.ih->nch, sizeof *j.irow, e);
-	j.fv = tl_alloc(w, sizeof *j.fv, e);
-	j.sv = tl_alloc(w, sizeof *j.sv, e);
-	if (j.irow != NULL && j.fv != NULL && j.sv != NULL)
+	if ((j.sv = tl_alloc(j.in.h->width, sizeof *j.sv, e)) != NULL)
 		r = rowpipe_run(c->prog, o->out, &oh, c->comp, vertex_row, &j, e);
+	n = (long long)j.in.h->width * j.in.h->height;
 	if (r == 0 && o->verbose && o->mode == SOLVE_QEM3D)
 		cli_warn(c, "level %d: fold fix reduced %lld of %lld vertices, "
-		    "%lld back onto the grid", fi.level, j.s.reduced,
-		    (long long)w * j.ih->height, j.s.zeroed);
+		    "%lld back onto the grid", j.in.fi.level, j.s.reduced, n,
+		    j.s.zeroed);
 done:
-	rs_close(j.in);
+	fqm_input_close(&j.in);
 	rs_header_free(&oh);
 	solve_free(&j.s);
-	geo_metric_free(&m);
-	free(j.irow), free(j.fv), free(j.sv);
+	free(j.sv);
 	return r;
 }
 

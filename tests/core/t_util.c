@@ -4,6 +4,8 @@
  * killed runs left, trees of any depth, progress for a supervisor,
  * scratch files, pread/pwrite, the filters' operands and number
  * parsing. */
+#include "core/progress.h"
+#include "core/outfile.h"
 #include "core/util.h"
 #include "tap.h"
 

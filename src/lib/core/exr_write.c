@@ -2,6 +2,7 @@
  * into a chunk, chunks encoded and written by a thread of their own,
  * the file built under a temporary name and renamed when complete. */
 #include "core/exr_impl.h"
+#include "core/outfile.h"
 
 #include <errno.h>
 #include <pthread.h>

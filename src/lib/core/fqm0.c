@@ -54,3 +54,14 @@ fqm0_free(fqm0_state *s)
 		free(s->z[k]), free(s->valid[k]), free(s->band[k]);
 	memset(s, 0, sizeof *s);
 }
+
+int
+fqm0_encoded_row(void *ctx, int y, float *row, tl_err *e)
+{
+	fqm0_source *src = ctx;
+
+	if (fqm0_row(&src->s, y, src->fv, e) < 0)
+		return -1;
+	fqm_encode(&src->L, src->fv, src->s.w, row);
+	return 0;
+}

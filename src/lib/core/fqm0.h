@@ -20,6 +20,16 @@ typedef struct {
 int fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e);
 /* FQM row j of level 0 (w vertices); rows strictly in order from 0. */
 int fqm0_row(fqm0_state *s, int j, fqm_vertex *out, tl_err *e);
+
+/* The same rows encoded, as a row source for rowpipe_run (rowpipe.h):
+ * ctx an fqm0_source whose state is initialised and layout L that of
+ * the output header. */
+typedef struct {
+	fqm0_state s;
+	fqm_layout L;
+	fqm_vertex *fv; /* s.w vertices, allocated by the caller */
+} fqm0_source;
+int fqm0_encoded_row(void *ctx, int y, float *row, tl_err *e);
 void fqm0_free(fqm0_state *s);
 
 #endif

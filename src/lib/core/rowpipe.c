@@ -2,6 +2,7 @@
 #include <stdlib.h>
 
 #include "core/rowpipe.h"
+#include "core/progress.h"
 
 int
 rowpipe_run(const char *label, const char *out, const rs_header *h,

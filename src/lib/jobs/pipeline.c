@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/progress.h"
 #include "jobs/graph.h"
 #include "jobs/pipeline.h"
 #include "jobs/scratch.h"

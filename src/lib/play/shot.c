@@ -3,6 +3,7 @@
 
 #include <stdlib.h>
 
+#include "core/outfile.h"
 #include "core/oiio_plugin.h"
 
 /* Level-0 sample (i, j)'s height, read from its block. */

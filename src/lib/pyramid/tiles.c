@@ -1,6 +1,7 @@
 /* tiles.c - exact local errors, saturation and blocks of a level (see
  * tiles.h). */
 #include "pyramid/tiles.h"
+#include "core/progress.h"
 
 #include <assert.h>
 #include <float.h>

@@ -1,0 +1,41 @@
+/* outfile.h - outputs that appear complete or not at all: files and
+ * directory trees built under hidden temporary names beside their final
+ * paths and renamed at the end; removed on failure, on a fatal signal,
+ * and, after a SIGKILL or a crash, by the next output to the same place. */
+#ifndef TL_OUTFILE_H
+#define TL_OUTFILE_H
+
+#include "core/util.h"
+
+/* An output file built under a hidden temporary name beside its final path
+ * and renamed onto it by tl_out_commit. A signal (INT, TERM, HUP, PIPE)
+ * removes every uncommitted temporary before the process dies: that
+ * registry is process-wide by nature, hence the one piece of static state.
+ * What a signal cannot cover (SIGKILL, a crash) the next output to the
+ * same path removes: the builder holds an flock(2) on its temporary for
+ * as long as it lives, and tl_out_begin first removes the sibling
+ * temporaries ".NAME.XXXXXX" whose lock it can take (their owner died). */
+typedef struct {
+	char *path; /* final name */
+	char *tmp;  /* temporary name, same directory */
+	int fd;     /* open for writing (a file); the lock (a directory) */
+} tl_outfile;
+
+int tl_out_begin(tl_outfile *o, const char *path, tl_err *e);
+int tl_out_commit(tl_outfile *o, tl_err *e); /* fsync-free close + rename */
+void tl_out_abort(tl_outfile *o);            /* close + unlink, never fails */
+
+/* A temporary directory tree built under a hidden name and renamed at the
+ * end (tilepack), atomically replacing an earlier one; removed
+ * recursively (any depth, symbolic links removed, never followed) by
+ * abort or by a signal. The caller decides whether an existing directory
+ * may be replaced. While it is built the tree holds a lock file ".lock",
+ * flock(2)ed by the builder and removed before the commit, so the result
+ * holds exactly what the caller put there. tl_outdir_begin first removes
+ * the sibling trees ".NAME.XXXXXX" of dead builders: those whose lock can
+ * be taken, and those without a lock file older than a minute. */
+int tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e);
+int tl_outdir_commit(tl_outfile *o, tl_err *e);
+void tl_outdir_abort(tl_outfile *o);
+
+#endif

@@ -1,0 +1,278 @@
+/* graph_wait.c - the supervisor watching its stages: their stderr held,
+ * progress passed on, exits reaped, the first failure ending the rest,
+ * the cause told from its follow-ons (graph_impl.h). */
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "jobs/graph_impl.h"
+
+/* --- in the supervisor -------------------------------------------------- */
+
+/* Reads what is there on fd into buf (up to max, the rest dropped);
+ * closes fd at EOF and sets it to -1. Returns the bytes read. */
+static ssize_t
+drain(int *fd, char *buf, size_t *n, size_t max)
+{
+	char tmp[4096];
+	ssize_t r = read(*fd, tmp, sizeof tmp);
+
+	if (r < 0 && (errno == EINTR || errno == EAGAIN))
+		return 0;
+	if (r <= 0) {
+		close(*fd);
+		*fd = -1;
+		return 0;
+	}
+	size_t k = (size_t)r < max - *n ? (size_t)r : max - *n;
+	memcpy(buf + *n, tmp, k);
+	*n += k;
+	return r;
+}
+
+/* Lines "LABEL\tDONE\tTOTAL" from the stages (util.h), each passed on
+ * whole; a line longer than the buffer is dropped. */
+static void
+read_progress(graph *g)
+{
+	char buf[4096], *tab1, *tab2;
+	ssize_t r = read(g->prog_fd[0], buf, sizeof buf);
+
+	if (r < 0 && (errno == EINTR || errno == EAGAIN))
+		return;
+	if (r <= 0) {
+		close(g->prog_fd[0]);
+		g->prog_fd[0] = -1;
+		return;
+	}
+	for (ssize_t i = 0; i < r; i++) {
+		if (buf[i] != '\n') {
+			if (g->npline < sizeof g->pline - 1)
+				g->pline[g->npline++] = buf[i];
+			continue;
+		}
+		g->pline[g->npline] = '\0';
+		g->npline = 0;
+		if ((tab1 = strchr(g->pline, '\t')) == NULL ||
+		    (tab2 = strchr(tab1 + 1, '\t')) == NULL)
+			continue;
+		*tab1 = '\0';
+		g->progress(g->progress_ctx, g->pline, atoll(tab1 + 1),
+		    atoll(tab2 + 1));
+	}
+}
+
+static void
+poll_output(graph *g, int ms)
+{
+	struct pollfd p[2 * GRAPH_MAXSTAGES + 1];
+	int who[2 * GRAPH_MAXSTAGES + 1], np = 0;
+
+	for (int k = 0; k < g->n; k++) {
+		if (g->st[k].err >= 0)
+			p[np] = (struct pollfd){ g->st[k].err, POLLIN, 0 },
+			who[np++] = 2 * k;
+		if (g->st[k].cap >= 0)
+			p[np] = (struct pollfd){ g->st[k].cap, POLLIN, 0 },
+			who[np++] = 2 * k + 1;
+	}
+	if (g->prog_fd[0] >= 0)
+		p[np] = (struct pollfd){ g->prog_fd[0], POLLIN, 0 }, who[np++] = -1;
+	if (np == 0) {
+		if (ms > 0)
+			nanosleep(&(struct timespec){ 0, ms * 1000000L }, NULL);
+		return;
+	}
+	if (poll(p, np, ms) <= 0)
+		return;
+	for (int i = 0; i < np; i++) {
+		if (!(p[i].revents & (POLLIN | POLLHUP | POLLERR)))
+			continue;
+		if (who[i] < 0) {
+			read_progress(g);
+			continue;
+		}
+		stage *s = &g->st[who[i] / 2];
+		if (who[i] & 1)
+			drain(&s->cap, s->capbuf, &s->ncap, s->capmax);
+		else
+			drain(&s->err, s->msg, &s->nmsg, sizeof s->msg - 1);
+	}
+}
+
+/* Every stage's process group: what a stage started goes with it. */
+/* A stage has ended: what it wrote is in its pipes now. Read that and
+ * close them, rather than wait for an end of file that a process it
+ * started and left behind could hold off. */
+static void
+finish_output(stage *s)
+{
+	if (s->err >= 0)
+		fcntl(s->err, F_SETFL, O_NONBLOCK);
+	if (s->cap >= 0)
+		fcntl(s->cap, F_SETFL, O_NONBLOCK);
+	while (s->err >= 0 && drain(&s->err, s->msg, &s->nmsg,
+	    sizeof s->msg - 1) > 0)
+		;
+	while (s->cap >= 0 && drain(&s->cap, s->capbuf, &s->ncap,
+	    s->capmax) > 0)
+		;
+	if (s->err >= 0)
+		close(s->err), s->err = -1;
+	if (s->cap >= 0)
+		close(s->cap), s->cap = -1;
+}
+
+void
+graph_signal_all(graph *g, int sig)
+{
+	for (int k = 0; k < g->n; k++) /* a group ended and reaped may be */
+		if (g->st[k].pid > 0 && !g->st[k].done) /* another's now */
+			kill(-g->st[k].pid, sig);
+}
+
+static int
+failed(const stage *s)
+{
+	return !WIFEXITED(s->status) || WEXITSTATUS(s->status) != 0;
+}
+
+/* Reaps what has ended; returns how many are still running. */
+static int
+reap(graph *g, int stopping)
+{
+	int running = 0;
+
+	for (int k = 0; k < g->n; k++) {
+		stage *s = &g->st[k];
+		if (s->done)
+			continue;
+		pid_t r = waitpid(s->pid, &s->status, WNOHANG);
+		if (r == 0) {
+			running++;
+			continue;
+		}
+		s->done = 1;
+		/* a writer whose reader is gone: dead of SIGPIPE, or a shell
+		 * saying so (128 + SIGPIPE) */
+		s->weak = stopping || (WIFSIGNALED(s->status) &&
+		    WTERMSIG(s->status) == SIGPIPE) || (WIFEXITED(s->status) &&
+		    WEXITSTATUS(s->status) == 128 + SIGPIPE);
+		finish_output(s);
+	}
+	return running;
+}
+
+static long long
+now_ms(void)
+{
+	struct timespec t;
+
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (long long)t.tv_sec * 1000 + t.tv_nsec / 1000000;
+}
+
+static void
+trim(char *s, size_t *n)
+{
+	while (*n > 0 && (s[*n - 1] == '\n' || s[*n - 1] == ' '))
+		(*n)--;
+	s[*n] = '\0';
+}
+
+/* Prints the warnings of a stage that ended well, once. */
+static void
+say_warnings(stage *s)
+{
+	if (s->done != 1 || failed(s) || s->err >= 0)
+		return;
+	trim(s->msg, &s->nmsg);
+	if (s->nmsg > 0) /* over a progress line on a terminal, not after it */
+		fprintf(stderr, "%s%s\n", isatty(2) ? "\r\033[K" : "", s->msg);
+	s->done = 2;
+}
+
+/* The failure to report: the first that is not a follow-on (a stage
+ * stopped by us, or by a closed pipe), else the first. */
+static const stage *
+root_cause(const graph *g, const int *order, int nfail)
+{
+	for (int i = 0; i < nfail; i++)
+		if (!g->st[order[i]].weak)
+			return &g->st[order[i]];
+	return nfail > 0 ? &g->st[order[0]] : NULL;
+}
+
+static void
+describe(const stage *s, const char *prog, tl_err *e)
+{
+	const char *name = s->kind == TEE ? "tee" : s->argv[0];
+	char *m = (char *)s->msg;
+	size_t n = s->nmsg;
+
+	trim(m, &n);
+	if (n > 0) { /* the end, where a failure's message is */
+		size_t k = n < sizeof e->msg ? n : sizeof e->msg - 1;
+		memcpy(e->msg, m + n - k, k);
+		e->msg[k] = '\0';
+	}
+	else if (WIFSIGNALED(s->status))
+		snprintf(e->msg, sizeof e->msg, "%s: %s: killed by signal %d "
+		    "(%s)", prog, name, WTERMSIG(s->status),
+		    strsignal(WTERMSIG(s->status)));
+	else
+		snprintf(e->msg, sizeof e->msg, "%s: %s: exit status %d",
+		    prog, name, WEXITSTATUS(s->status));
+}
+
+/* Waits for every stage; the first failure or a signal stops the rest. */
+int
+graph_supervise(graph *g, int *status, tl_err *e)
+{
+	int order[GRAPH_MAXSTAGES], nfail = 0, stopping = 0, running;
+	long long deadline = 0;
+
+	for (;;) {
+		poll_output(g, 50);
+		running = reap(g, stopping);
+		for (int k = 0; k < g->n; k++) {
+			stage *s = &g->st[k];
+			if (s->done == 1 && failed(s) && s->err < 0) {
+				order[nfail++] = k;
+				s->done = 2;
+			}
+			say_warnings(s);
+		}
+		if (!stopping && (nfail > 0 || graph_signal())) {
+			stopping = 1, deadline = now_ms() + 1000;
+			graph_signal_all(g, SIGTERM);
+		}
+		if (stopping && deadline > 0 && now_ms() > deadline) {
+			graph_signal_all(g, SIGKILL);
+			deadline = 0;
+		}
+		int open = g->prog_fd[0] >= 0;
+		for (int k = 0; k < g->n; k++)
+			open += g->st[k].err >= 0 || g->st[k].cap >= 0;
+		if (running == 0 && open == 0)
+			break;
+	}
+	if (graph_signal()) {
+		*status = 128 + graph_signal();
+		return tl_fail(e, "%s: stopped by signal %d", g->prog,
+		    (int)graph_signal());
+	}
+	const stage *s = root_cause(g, order, nfail);
+	if (s == NULL)
+		return 0;
+	describe(s, g->prog, e);
+	*status = WIFEXITED(s->status) ? WEXITSTATUS(s->status) : 1;
+	return -1;
+}
