@@ -99,10 +99,7 @@ main(int argc, char **argv)
 		if ((o.kernel = filter_find(optarg)) == NULL)
 			return cli_bad(&c, "-k %s: unknown kernel", optarg);
 	}
-	if (c.status >= 0)
-		return c.status;
-	if ((ch = cli_operands(&c, argc - optind, argv + optind, &o.in,
-	    &o.out)) != 0)
+	if ((ch = cli_filter_args(&c, argc, argv, &o.in, &o.out)) >= 0)
 		return ch;
 	return cli_exit(&c, filter(&c, &o, &e), &e);
 }

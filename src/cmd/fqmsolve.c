@@ -100,10 +100,7 @@ main(int argc, char **argv)
 		else if (ch != 'm' && ch != 'r')
 			return cli_usage_error(&c);
 	}
-	if (c.status >= 0)
-		return c.status;
-	if ((ch = cli_operands(&c, argc - optind, argv + optind, &o.in,
-	    &o.out)) != 0)
+	if ((ch = cli_filter_args(&c, argc, argv, &o.in, &o.out)) >= 0)
 		return ch;
 	return cli_exit(&c, solve(&c, &o, &e), &e);
 }

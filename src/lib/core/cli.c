@@ -155,6 +155,18 @@ cli_operands(const cli *c, int argc, char **argv, const char **in,
 }
 
 int
+cli_filter_args(const cli *c, int argc, char **argv, const char **in,
+    const char **out)
+{
+	int r;
+
+	if (c->status >= 0)
+		return c->status;
+	r = cli_operands(c, argc - optind, argv + optind, in, out);
+	return r != 0 ? r : -1;
+}
+
+int
 cli_exit(const cli *c, int r, const tl_err *e)
 {
 	if (r >= 0)

@@ -67,6 +67,12 @@ void cli_warn(const cli *c, const char *fmt, ...)
 int cli_operands(const cli *c, int argc, char **argv, const char **in,
     const char **out);
 
+/* After a filter's options: the status to exit with now (after --help
+ * or --version, a usage error, bad operands), or -1 to go on with the
+ * operands in *in and *out. */
+int cli_filter_args(const cli *c, int argc, char **argv, const char **in,
+    const char **out);
+
 /* The exit status of a work function's result: 0 when r >= 0, else 1
  * after "prog: what: why" from e. */
 int cli_exit(const cli *c, int r, const tl_err *e);
