@@ -258,6 +258,42 @@ test_operands_exit(void)
 	    "kernel\n") == 0, "cli_bad: the message and status 2");
 }
 
+/* cli_filter_args: the status to exit with now, or -1 with operands */
+static void
+test_filter_args(void)
+{
+	char a0[] = "fqmsolve", h[] = "-h", op1[] = "in.exr", op2[] = "-";
+	char *help[] = { a0, h, NULL }, *args[] = { a0, op1, op2, NULL };
+	char *many[] = { a0, op1, op1, op1, NULL };
+	const char *i = NULL, *o = NULL, *err;
+	char got[8];
+	const char *arg;
+	cli c;
+	int st;
+
+	cli_init(&c, help, "[in [out]]\n", CLI_COMPRESSION);
+	capture_begin(STDOUT_FILENO);
+	parse(&c, 2, help, "", NULL, got, &arg);
+	st = cli_filter_args(&c, 2, help, &i, &o);
+	capture_end();
+	ok(st == CLI_OK, "cli_filter_args after --help: exit now, status 0");
+	cli_init(&c, args, "[in [out]]\n", CLI_COMPRESSION);
+	parse(&c, 3, args, "", NULL, got, &arg);
+	capture_begin(STDOUT_FILENO);
+	st = cli_filter_args(&c, 3, args, &i, &o);
+	capture_end();
+	/* stdout captured into a file: "-" is not a terminal */
+	ok(st == -1 && strcmp(i, "in.exr") == 0 && strcmp(o, "-") == 0,
+	    "cli_filter_args: go on, with in and out (%d)", st);
+	cli_init(&c, many, "[in [out]]\n", 0);
+	parse(&c, 4, many, "", NULL, got, &arg);
+	capture_begin(STDERR_FILENO);
+	st = cli_filter_args(&c, 4, many, &i, &o);
+	err = capture_end();
+	ok(st == CLI_USAGE && strstr(err, "usage: fqmsolve") == err,
+	    "cli_filter_args: three operands, status 2 and the usage");
+}
+
 int
 main(void)
 {
@@ -273,6 +309,7 @@ main(void)
 	test_help();
 	test_usage();
 	test_operands_exit();
+	test_filter_args();
 	rmdir(dir);
 	return tap_done();
 }
