@@ -40,6 +40,18 @@ run "reference pyramid of $(basename "$dem")" dv -q "$dem" "$T/ref"
 cat "$dem" | dv -q -n N44W072.hgt - "$T/in" 2>"$T/err"
 diff -r "$T/ref" "$T/in" >/dev/null; ok $? "stdin with -n: the same pyramid"
 
+# one progress line for the whole pipeline on a terminal (a pty made by
+# script(1)), rising to 100%, no stage's own; none when not a terminal
+if command -v script >/dev/null; then
+	TL_BIN=$B script -qec "'$B/dem2vgis' -q '$dem' '$T/pty'" /dev/null >"$T/pty.out" 2>&1
+	tr '\r' '\n' <"$T/pty.out" | tr -d '\033' | grep . >"$T/pty.lines"
+	awk '!/^dem2vgis: +[0-9]+%$/ { bad = 1 } { p = $2 + 0; if (p < last) bad = 1; last = p }
+	    END { exit bad || last != 100 || NR < 10 }' "$T/pty.lines"
+	ok $? "on a terminal: one line, dem2vgis: 0% .. 100% ($(wc -l <"$T/pty.lines") updates, last: $(tail -1 "$T/pty.lines"))"
+fi
+dv -q "$dem" "$T/quiet" 2>"$T/err"
+[ ! -s "$T/err" ]; ok $? "not on a terminal: no progress at all"
+
 # a stage that fails mid-way: its message alone, every stage down, nothing
 # left (fake stages: the real ones, but a solver that dies at level 2)
 mkdir -p "$T/fake"
