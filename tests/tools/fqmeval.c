@@ -182,12 +182,12 @@ main(int argc, char **argv)
 {
 	dem_opts o = { 0 };
 	tl_err e;
-	dem *d;
+	dem *d = NULL;
 	rows R = { 0 };
 	stats s = { 0 };
 	fqm_info fi;
-	geo_metric m;
-	int c;
+	geo_metric m = { 0 };
+	int c, r = 1;
 
 	while ((c = getopt(argc, argv, "e:s:")) != -1) {
 		switch (c) {
@@ -235,8 +235,16 @@ main(int argc, char **argv)
 	printf("%.0f %.6f %.6f %.6f %.6f %lld %d %d\n", s.n, sqrt(s.sum2 / s.n),
 	    s.sum / s.n, percentile(&s, 0.99), s.max, s.uncovered, s.maxi,
 	    s.maxj);
-	return 0;
+	r = 0;
+	goto done;
 fail:
 	fprintf(stderr, "fqmeval: %s\n", e.msg);
-	return 1;
+done: /* everything freed: make check-asan counts leaks */
+	rs_close(R.r);
+	dem_close(d);
+	geo_metric_free(&m);
+	free(R.buf), free(s.hist);
+	for (int k = 0; k < 4; k++)
+		free(R.z[k]), free(R.px[k]), free(R.py[k]);
+	return r;
 }
