@@ -200,7 +200,7 @@ ASAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
 check-asan:
 	$(MAKE) B=build-asan CFLAGS='$(ASAN_FLAGS)' CXXFLAGS='$(ASAN_FLAGS)' \
 	    LDFLAGS='-fsanitize=address,undefined' tests
-	ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:exitcode=66:suppressions=$(CURDIR)/tests/asan.supp \
+	ASAN_OPTIONS=abort_on_error=0:exitcode=66:suppressions=$(CURDIR)/tests/asan.supp \
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:exitcode=66 \
 	TL_BUILD=build-asan sh tests/run

@@ -7,6 +7,15 @@
 
 #include "pyramid/pyramid.h"
 
+/* A test tool exits right after its work: its own leaks are not what
+ * make check-asan looks for (the programs' and the library's are). */
+const char *__asan_default_options(void);
+const char *
+__asan_default_options(void)
+{
+	return "detect_leaks=0";
+}
+
 int
 main(int argc, char **argv)
 {
