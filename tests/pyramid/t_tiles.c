@@ -4,7 +4,10 @@
  * offsets, a tilted plane's E and base errors 0 on levels 0 and 1, every
  * block handed out once in row order with shared borders identical and
  * padding copied, rows asked for in order once each, and a failing
- * callback's error passed on. */
+ * callback's error passed on; on rough terrain with holes, levels 0 to
+ * 2, the undisplaced levels' integer scan (tiles_scan.c) gives every E
+ * and base error bit for bit as the general test does on the same level
+ * displaced by zero offsets. */
 #include <float.h>
 #include <limits.h>
 #include <math.h>
@@ -292,6 +295,58 @@ test_plane(int W, int H)
 	test_plane_level(path, W, H, 1);
 }
 
+/* A rough value for (i, j, salt): heights up to 1000 m with float
+ * fractions, so no two planes share rounding by accident. */
+static float
+rough(int i, int j, unsigned salt)
+{
+	unsigned x = (unsigned)i * 73856093u ^ (unsigned)j * 19349663u ^
+	    salt * 83492791u;
+	x ^= x >> 13, x *= 0x5bd1e995u, x ^= x >> 15;
+	return (float)(x % 1000000u) / 997.0f;
+}
+
+static void
+test_scan(void)
+{
+	int W = 300, H = 200;
+	float *z = malloc((size_t)W * H * sizeof *z);
+	char path[PATH_MAX];
+
+	for (int j = 0; j < H; j++)
+		for (int i = 0; i < W; i++)
+			z[(size_t)j * W + i] = (i / 7 + j / 5) % 11 == 3 ?
+			    NAN : rough(i, j, 0);
+	if (dem_file(path, sizeof path, "rough", W, H, z) < 0) {
+		ok(0, "rough: the DEM");
+		free(z);
+		return;
+	}
+	for (int level = 0; level <= 2; level++) {
+		int w = fqm_level_size(W, level), h = fqm_level_size(H, level);
+		float *v = malloc((size_t)w * h * sizeof *v);
+		size_t ng, nb;
+		run u, d;
+		for (int j = 0; j < h; j++)
+			for (int i = 0; i < w; i++)
+				v[(size_t)j * w + i] = rough(i, j, 1 + level);
+		run_level(&u, path, level, w, h, v, 0, -1, -1);
+		run_level(&d, path, level, w, h, v, 1, -1, -1);
+		ng = (size_t)u.s.gw * (u.s.by * BT_CELLS + 1);
+		nb = (size_t)u.s.bx * u.s.by;
+		ok(blocks_ok(&u) && blocks_ok(&d) && u.st.max_e > 0 &&
+		    memcmp(u.s.e, d.s.e, ng * sizeof *u.s.e) == 0 &&
+		    memcmp(u.s.base, d.s.base, nb * sizeof *u.s.base) == 0 &&
+		    u.st.samples == d.st.samples && u.st.samples < W * H,
+		    "rough level %d with holes: the integer scan's E and base "
+		    "errors are the general test's, bit for bit (max E %g)",
+		    level, u.st.max_e);
+		run_free(&u), run_free(&d);
+		free(v);
+	}
+	free(z);
+}
+
 int
 main(void)
 {
@@ -302,6 +357,7 @@ main(void)
 	test_spike();
 	test_plane(300, 200); /* 3x2 blocks, padded */
 	test_plane(257, 257); /* 2x2 blocks, then 1 */
+	test_scan();
 	tmpdir_done(tmp);
 	return tap_done();
 }

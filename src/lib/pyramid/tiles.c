@@ -1,6 +1,7 @@
 /* tiles.c - exact local errors, saturation and blocks of a level (see
  * tiles.h). */
 #include "pyramid/tiles.h"
+#include "pyramid/tiles_impl.h"
 #include "core/progress.h"
 
 #include <assert.h>
@@ -8,44 +9,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* A vertex's descendants lie within 126 rows of it (a scale-64 edge
- * vertex: 32+32+16+16+...+1+1), a block centre's within 190: saturating a
- * block row reads local errors 128 rows either side of it. */
-#define REACH BT_CELLS
-#define BAND (BT_CELLS + 2 * REACH + 1) /* rows saturated per block row */
-#define RINGV 512   /* level rows of heights and offsets held; a power of 2 */
-#define RINGE 1024  /* level rows of local errors held; a power of 2 */
-/* Closed containment, level units: 3D positions come from float32
- * offsets, so a sample on a shared edge must count on both sides; in 1D
- * samples are exactly on edges or a grid step away. */
-#define EPS 1e-6
-
-typedef struct {
-	const tiles_level *L;
-	dem *d;
-	int P, Q;           /* padded level size: blocks x 128 + 1 */
-	int W0;             /* DEM width */
-	int bx, by;
-	double step;        /* 2^level: level-0 samples per level cell */
-	double margin;      /* how far a displaced vertex may stray */
-	float *z, *ox, *oy; /* RINGV x P: heights, offsets in metres */
-	int nn;             /* scales per row: geo_row_nodes */
-	int *nk;            /* P, displaced levels of a lattice metric: the */
-	double *nu;         /* node piece of each column, where in it */
-	double *sx, *sy;    /* RINGV x nn: metres per level-0 step along the
-	                     * row (geo_row_sx, geo_row_sy) */
-	float *acc;         /* RINGE x P: local errors */
-	int loaded;         /* level rows [0, loaded) have been loaded */
-	int next_bj;        /* next block row to hand out */
-	double *base;       /* by x bx base errors */
-	float *band;        /* BAND x P: saturated errors */
-	float *rz, *rx, *ry; /* a real row from the caller */
-	float *dz;
-	unsigned char *dv;  /* a DEM row */
-	pyramid_block blk;
-	tiles_stats *st;
-} state;
 
 /* fmin/fmax are library calls here; these inline. */
 static inline double
@@ -58,23 +21,6 @@ static inline double
 dmax(double a, double b)
 {
 	return a > b ? a : b;
-}
-
-/* Level row gj in the ring of heights and offsets: loaded, and not yet
- * overwritten by a row RINGV further on. */
-static size_t
-slot(const state *s, int gj)
-{
-	assert(gj >= 0 && gj < s->loaded && gj >= s->loaded - RINGV);
-	return (size_t)(gj & (RINGV - 1)) * s->P;
-}
-
-/* Level row gj in the ring of local errors, likewise. */
-static size_t
-eslot(const state *s, int gj)
-{
-	assert(gj >= 0 && gj < s->loaded && gj >= s->loaded - RINGE);
-	return (size_t)(gj & (RINGE - 1)) * s->P;
 }
 
 /* Loads level row r (the next one): a real row, or past the last one a
@@ -186,6 +132,60 @@ vertex(const state *s, int gi, int gj, double p[3])
 	}
 }
 
+/* Row k (vertices k x 2^hk) of scale 2^hk's positions: vertex()'s. */
+static void
+vc_fill(state *s, int hk, int k)
+{
+	int h = 1 << hk, r = k & (VC_ROWS - 1), n = s->vc[hk].n;
+	double *x = s->vc[hk].x + (size_t)r * n, *y = s->vc[hk].y +
+	    (size_t)r * n;
+
+	for (int m = 0; m < n; m++) {
+		double p[3];
+		vertex(s, m * h, k * h, p);
+		x[m] = p[0], y[m] = p[1];
+	}
+	s->vc[hk].tag[r] = k;
+}
+
+/* vertex() of (gi, gj), both multiples of 2^hk: on displaced levels
+ * from the scale's rows of positions, each found once while in use (a
+ * DEM row reaches at most 6 consecutive rows of a scale's vertices and
+ * rows come in order). */
+static inline void
+vertex_at(state *s, int hk, int gi, int gj, double p[3])
+{
+	int k, r;
+	size_t o;
+
+	if (!s->L->displaced) {
+		p[0] = gi, p[1] = gj, p[2] = s->z[slot(s, gj) + gi];
+		return;
+	}
+	assert(gi % (1 << hk) == 0 && gj % (1 << hk) == 0);
+	k = gj >> hk, r = k & (VC_ROWS - 1);
+	if (s->vc[hk].tag[r] != k)
+		vc_fill(s, hk, k);
+	o = (size_t)r * s->vc[hk].n + (gi >> hk);
+	p[0] = s->vc[hk].x[o], p[1] = s->vc[hk].y[o];
+	p[2] = s->z[slot(s, gj) + gi];
+}
+
+/* (long)ceil(x) and (long)floor(x), inline, for |x| < 2^62. */
+static inline long
+iceil(double x)
+{
+	long t = (long)x;
+	return (double)t < x ? t + 1 : t;
+}
+
+static inline long
+ifloor(double x)
+{
+	long t = (long)x;
+	return (double)t > x ? t - 1 : t;
+}
+
 static int
 on_grid(const state *s, const int v[2])
 {
@@ -195,9 +195,9 @@ on_grid(const state *s, const int v[2])
 /* The largest |plane - DEM| over the valid samples of the current DEM row
  * (level row y) inside triangle t, closed; -1 when none is. */
 static double
-tri_row(const state *s, const int t[3][2], double y)
+tri_row(state *s, const int t[3][2], double y, int hk)
 {
-	double p[3][3], xl = INFINITY, xr = -INFINITY, n[3], z0, dz, worst = -1;
+	double p[3][3], xl = INFINITY, xr = -INFINITY, n[3], z0, dz;
 	double ymin = INFINITY, ymax = -INFINITY;
 	long i0, i1;
 
@@ -213,7 +213,7 @@ tri_row(const state *s, const int t[3][2], double y)
 	for (int k = 0; k < 3; k++) {
 		if (!on_grid(s, t[k]))
 			return -1;
-		vertex(s, t[k][0], t[k][1], p[k]);
+		vertex_at(s, hk, t[k][0], t[k][1], p[k]);
 		ymin = dmin(ymin, p[k][1]), ymax = dmax(ymax, p[k][1]);
 	}
 	if (y < ymin - EPS || y > ymax + EPS)
@@ -246,19 +246,14 @@ tri_row(const state *s, const int t[3][2], double y)
 	/* along the row the plane is z0 + dz * x (level units) */
 	dz = -n[0] / n[2];
 	z0 = p[0][2] - (n[1] * (y - p[0][1]) - n[0] * p[0][0]) / n[2];
-	i0 = (long)ceil((xl - EPS) * s->step);
-	i1 = (long)floor((xr + EPS) * s->step);
+	i0 = iceil((xl - EPS) * s->step);
+	i1 = ifloor((xr + EPS) * s->step);
 	if (i0 < 0)
 		i0 = 0;
 	if (i1 > s->W0 - 1)
 		i1 = s->W0 - 1;
-	for (long i = i0; i <= i1; i++)
-		if (s->dv[i]) {
-			double e = fabs(z0 + dz * (i / s->step) - s->dz[i]);
-			if (e > worst)
-				worst = e;
-		}
-	return worst;
+	/* i / step is i x (1 / step) exactly: step is a power of 2 */
+	return sweep(s->dd, i0, i1, z0, dz, 1 / s->step);
 }
 
 /* Raises the local errors of every diamond of scale h and one kind that
@@ -266,7 +261,7 @@ tri_row(const state *s, const int t[3][2], double y)
  * multiples of h in both axes; edge diamonds on points with exactly one
  * odd multiple: |x - cx| + |y - cy| <= h. */
 static void
-row_diamonds(state *s, double y, int h, int edge)
+row_diamonds(state *s, double y, int h, int hk, int edge)
 {
 	double reach = h + s->margin;
 	long c0 = (long)ceil((y - reach) / h);
@@ -282,7 +277,7 @@ row_diamonds(state *s, double y, int h, int edge)
 			int nt = bt_diamond((int)cx, (int)cy, tri);
 			float *acc = &s->acc[eslot(s, (int)cy) + cx];
 			for (int k = 0; k < nt; k++) {
-				double err = tri_row(s, tri[k], y);
+				double err = tri_row(s, tri[k], y, hk);
 				if (err > *acc)
 					*acc = (float)err;
 			}
@@ -317,7 +312,7 @@ row_leaves(state *s, double y)
 				memcpy(t[1][1], c, 8), memcpy(t[1][2], d, 8);
 			}
 			for (int k = 0; k < 2; k++) {
-				double err = tri_row(s, t[k], y);
+				double err = tri_row(s, t[k], y, 0);
 				if (err > *base)
 					*base = err;
 			}
@@ -329,11 +324,17 @@ dem_row(state *s, int J)
 {
 	double y = J / s->step;
 
-	for (int h = 1; h <= BT_MAXH; h *= 2) {
-		row_diamonds(s, y, h, 0);
-		row_diamonds(s, y, h, 1);
+	for (int i = 0; i < s->W0; i++)
+		s->dd[i] = s->dv[i] ? (double)s->dz[i] : NAN;
+	if (s->scan)
+		tiles_scan_row(s, J);
+	else {
+		for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
+			row_diamonds(s, y, h, hk, 0);
+			row_diamonds(s, y, h, hk, 1);
+		}
+		row_leaves(s, y);
 	}
-	row_leaves(s, y);
 	for (int I = 0; I < s->W0; I++)
 		s->st->samples += s->dv[I];
 }
@@ -449,6 +450,29 @@ state_free(state *s)
 	free(s->acc), free(s->base), free(s->band);
 	free(s->rz), free(s->rx), free(s->ry), free(s->dz), free(s->dv);
 	pyramid_block_free(&s->blk);
+	free(s->dd);
+	for (int k = 0; k < 8; k++)
+		free(s->vc[k].x), free(s->vc[k].y);
+}
+
+/* The displaced levels' rows of positions (vertex_at). */
+static int
+vc_init(state *s, tl_err *e)
+{
+	for (int hk = 0; (1 << hk) <= BT_MAXH; hk++) {
+		s->vc[hk].n = (s->P - 1) / (1 << hk) + 1;
+		for (int r = 0; r < VC_ROWS; r++)
+			s->vc[hk].tag[r] = -1;
+		if (!s->L->displaced)
+			continue;
+		s->vc[hk].x = tl_alloc((size_t)VC_ROWS * s->vc[hk].n,
+		    sizeof *s->vc[hk].x, e);
+		s->vc[hk].y = tl_alloc((size_t)VC_ROWS * s->vc[hk].n,
+		    sizeof *s->vc[hk].y, e);
+		if (s->vc[hk].x == NULL || s->vc[hk].y == NULL)
+			return -1;
+	}
+	return 0;
 }
 
 static int
@@ -466,6 +490,7 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	s->step = (double)(1L << L->level);
 	/* QEM-3D offsets stay within half a cell (fqmsolve(1)) */
 	s->margin = L->displaced ? 0.5 + 1e-6 : EPS;
+	s->scan = !L->displaced && s->step <= SCAN_MAXSTEP;
 	ring = (size_t)RINGV * s->P;
 	s->z = tl_alloc(ring, sizeof *s->z, e);
 	s->acc = tl_alloc((size_t)RINGE * s->P, sizeof *s->acc, e);
@@ -491,7 +516,9 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	    (L->displaced && s->nn > 1 && (!s->nk || !s->nu)) ||
 	    !s->rz || !s->dz || !s->dv || (L->displaced && (!s->ox ||
 	    !s->oy || !s->rx || !s->ry)) ||
-	    pyramid_block_alloc(&s->blk, L->displaced, e) < 0) {
+	    pyramid_block_alloc(&s->blk, L->displaced, e) < 0 ||
+	    (s->dd = tl_alloc((size_t)s->W0 + 1, sizeof *s->dd, e)) == NULL ||
+	    vc_init(s, e) < 0) {
 		state_free(s);
 		return -1;
 	}

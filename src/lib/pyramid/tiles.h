@@ -7,7 +7,11 @@
  * in the displaced triangles for QEM-3D levels) and raises that diamond
  * vertex's local error to the sample's vertical distance from the
  * diamond's two triangles without the vertex; it also raises its block's
- * base error (its distance from the finest triangles). Once no later DEM
+ * base error (its distance from the finest triangles). On undisplaced
+ * levels the triangles' chords along a DEM row are whole columns, found
+ * once per scale, kind and centre row (tiles_scan.c); displaced levels
+ * use the general chord with each vertex's position found once per
+ * scale; both give the same values bit for bit. Once no later DEM
  * row can reach the local errors a block row's saturation needs, its
  * errors are saturated, children before parents, over a band of 128 rows
  * either side (a vertex's descendants lie within 126 rows of it, a block
@@ -15,7 +19,8 @@
  * is an exact maximum, so E is exact on every level, not a bound.
  *
  * Memory: rings of 512 level rows of Z and offsets and of 1024 rows of
- * local errors, the saturation band (385 rows) and one DEM row. */
+ * local errors, the saturation band (385 rows), one DEM row (as floats and
+ * as doubles) and, displaced, 8 rows of positions per scale. */
 #ifndef TL_TILES_H
 #define TL_TILES_H
 

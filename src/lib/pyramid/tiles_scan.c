@@ -1,0 +1,230 @@
+/* tiles_scan.c - the local and base errors of an undisplaced level, by
+ * whole DEM columns (see tiles_impl.h).
+ *
+ * tri_row (tiles.c) finds, for one DEM row and one triangle, the chord
+ * through the triangle in double-precision geometry with tolerances EPS,
+ * then the largest |plane - DEM| over the valid samples on it. On an
+ * undisplaced level every triangle of the 4-8 hierarchy (and every leaf)
+ * has integer vertices and edges that are level, upright or at 45
+ * degrees, and a DEM row lies at y = J / step: the chord's ends are then
+ * whole DEM columns, exactly those tri_row's ceil/floor produce (its
+ * divisions are by powers of two, hence exact, and with step <=
+ * SCAN_MAXSTEP no tolerance reaches the next row or column: 1/step and
+ * f's resolution 1/(step x 128) stay far above EPS, EPS x step far below
+ * one column). So the chords are found once per row, scale, kind and
+ * centre row, relative to the centre, and each diamond only adds its
+ * column. The value measured is tri_row's own: the same plane normal
+ * from the same vertices in the same order, the same z0 and slope, the
+ * same z0 + dz * x - DEM in doubles (x = i / step, a power of two, is
+ * i times 1/step exactly), the same maximum (the order of a maximum
+ * without NaN does not matter; an invalid sample is NaN here and never
+ * wins). */
+#include "pyramid/tiles_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* A triangle relative to a centre (cx, cy) on the current DEM row. */
+typedef struct {
+	int ok;             /* the row crosses it and its rows are on the grid */
+	int ox[3], oy[3];   /* its vertices less the centre, in order */
+	int xmin, xmax;     /* of ox */
+	long lo, hi;        /* the row's columns less cx x step */
+	const float *zr[3]; /* the vertices' rows of heights */
+} tmpl;
+
+/* tri_row's chord, in whole DEM columns: the row r (DEM rows, less cy x
+ * step) against each edge; level edges count when the row is on them. */
+static void
+chord(tmpl *t, long S, long r)
+{
+	long X[3], Y[3], ymin, ymax, xl = 0, xr = 0;
+	int any = 0;
+
+	for (int k = 0; k < 3; k++)
+		X[k] = t->ox[k] * S, Y[k] = t->oy[k] * S;
+	ymin = ymax = Y[0];
+	for (int k = 1; k < 3; k++)
+		ymin = Y[k] < ymin ? Y[k] : ymin, ymax = Y[k] > ymax ? Y[k] : ymax;
+	if (r < ymin || r > ymax) {
+		t->ok = 0;
+		return;
+	}
+	for (int k = 0; k < 3; k++) {
+		long ax = X[k], ay = Y[k], bx = X[(k + 1) % 3], by = Y[(k + 1) % 3];
+		long x0, x1;
+		if (ay == by) {
+			if (r != ay)
+				continue;
+			x0 = ax < bx ? ax : bx, x1 = ax < bx ? bx : ax;
+		} else {
+			if ((r - ay) * (by > ay ? 1 : -1) < 0 ||
+			    (by - r) * (by > ay ? 1 : -1) < 0)
+				continue;
+			/* slopes 0 or +-1: exact */
+			assert(((r - ay) * (bx - ax)) % (by - ay) == 0);
+			x0 = x1 = ax + (r - ay) * (bx - ax) / (by - ay);
+		}
+		if (!any || x0 < xl)
+			xl = x0;
+		if (!any || x1 > xr)
+			xr = x1;
+		any = 1;
+	}
+	t->ok = any;
+	t->lo = xl, t->hi = xr;
+}
+
+/* The template of triangle tri about (cx, cy) for DEM row J. */
+static void
+make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
+    int J)
+{
+	long S = (long)s->step;
+
+	t->ok = 1;
+	for (int k = 0; k < 3; k++) {
+		t->ox[k] = tri[k][0] - cx, t->oy[k] = tri[k][1] - cy;
+		if (tri[k][1] < 0 || tri[k][1] >= s->Q)
+			t->ok = 0;
+	}
+	if (!t->ok)
+		return;
+	t->xmin = t->xmax = t->ox[0];
+	for (int k = 1; k < 3; k++) {
+		t->xmin = t->ox[k] < t->xmin ? t->ox[k] : t->xmin;
+		t->xmax = t->ox[k] > t->xmax ? t->ox[k] : t->xmax;
+	}
+	chord(t, S, (long)J - (long)cy * S);
+	if (!t->ok)
+		return;
+	for (int k = 0; k < 3; k++)
+		t->zr[k] = s->z + slot(s, cy + t->oy[k]);
+}
+
+/* tri_row for template t placed at (cx, cy): -1 when off the grid or no
+ * valid sample. */
+static inline double
+tri_scan(const state *s, const tmpl *t, int cx, int cy, double y)
+{
+	double p[3][3], n[3], z0, dz;
+	long S = (long)s->step, a, b;
+
+	if (!t->ok || cx + t->xmin < 0 || cx + t->xmax >= s->P)
+		return -1;
+	for (int k = 0; k < 3; k++) {
+		p[k][0] = cx + t->ox[k], p[k][1] = cy + t->oy[k];
+		p[k][2] = t->zr[k][cx + t->ox[k]];
+	}
+	n[0] = (p[1][1] - p[0][1]) * (p[2][2] - p[0][2]) -
+	    (p[1][2] - p[0][2]) * (p[2][1] - p[0][1]);
+	n[1] = (p[1][2] - p[0][2]) * (p[2][0] - p[0][0]) -
+	    (p[1][0] - p[0][0]) * (p[2][2] - p[0][2]);
+	n[2] = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+	    (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+	if (n[2] == 0)
+		return -1;
+	dz = -n[0] / n[2];
+	z0 = p[0][2] - (n[1] * (y - p[0][1]) - n[0] * p[0][0]) / n[2];
+	a = (long)cx * S + t->lo, b = (long)cx * S + t->hi;
+	if (a < 0)
+		a = 0;
+	if (b > s->W0 - 1)
+		b = s->W0 - 1;
+	if (a > b)
+		return -1;
+	return sweep(s->dd, a, b, z0, dz, 1 / s->step);
+}
+
+/* row_diamonds (tiles.c) by templates: the diamonds along a centre row
+ * alternate between two shapes (square diamonds' diagonals alternate;
+ * edge diamonds are all alike). */
+static void
+scan_diamonds(state *s, int J, double y, int h, int edge)
+{
+	double reach = h + s->margin;
+	long c0 = (long)ceil((y - reach) / h);
+	long c1 = (long)floor((y + reach) / h);
+
+	for (long c = c0 > 0 ? c0 : 0; c <= c1 && c * h < s->Q; c++) {
+		int cy = (int)(c * h), x0, nt[2];
+		tmpl T[2][2];
+		float *acc;
+		if (!edge && (c & 1) == 0)
+			continue; /* square centres: odd multiples */
+		x0 = edge && (c & 1) ? 0 : h;
+		if (x0 >= s->P)
+			continue;
+		for (int ph = 0; ph < 2; ph++) {
+			int tri[2][3][2], cx = x0 + 2 * h * ph;
+			nt[ph] = bt_diamond(cx, cy, tri);
+			for (int k = 0; k < nt[ph]; k++)
+				make_tmpl(s, &T[ph][k], tri[k], cx, cy, J);
+		}
+		if (!(nt[0] && (T[0][0].ok || T[0][1].ok)) &&
+		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
+			continue;
+		acc = &s->acc[eslot(s, cy)];
+		for (int cx = x0, ph = 0; cx < s->P; cx += 2 * h, ph ^= 1) {
+			double w = -1;
+			for (int k = 0; k < nt[ph]; k++) {
+				double err = tri_scan(s, &T[ph][k], cx, cy, y);
+				if (err > w)
+					w = err;
+			}
+			if (w > acc[cx])
+				acc[cx] = (float)w;
+		}
+	}
+}
+
+/* row_leaves (tiles.c) by templates: a cell's diagonal alternates with
+ * ci + cj. */
+static void
+scan_leaves(state *s, int J, double y)
+{
+	long r0 = (long)floor(y - EPS), r1 = (long)floor(y + EPS);
+
+	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++) {
+		tmpl T[2][2];
+		for (int ph = 0; ph < 2; ph++) {
+			int ci = ph, j = (int)cj;
+			int a[2] = { ci, j }, b[2] = { ci + 1, j };
+			int c[2] = { ci + 1, j + 1 }, d[2] = { ci, j + 1 };
+			int t[2][3][2];
+#define SET(v, w) (v)[0] = (w)[0], (v)[1] = (w)[1]
+			if ((ci + cj) % 2 == 0) {
+				SET(t[0][0], a), SET(t[0][1], b), SET(t[0][2], c);
+				SET(t[1][0], a), SET(t[1][1], c), SET(t[1][2], d);
+			} else {
+				SET(t[0][0], a), SET(t[0][1], b), SET(t[0][2], d);
+				SET(t[1][0], b), SET(t[1][1], c), SET(t[1][2], d);
+			}
+#undef SET
+			for (int k = 0; k < 2; k++)
+				make_tmpl(s, &T[ph][k], t[k], ci, j, J);
+		}
+		double *brow = &s->base[(size_t)(cj / BT_CELLS) * s->bx];
+		for (int ci = 0; ci < s->P - 1; ci++) {
+			const tmpl *t = T[ci & 1];
+			double *base = &brow[ci / BT_CELLS];
+			for (int k = 0; k < 2; k++) {
+				double err = tri_scan(s, &t[k], ci, (int)cj, y);
+				if (err > *base)
+					*base = err;
+			}
+		}
+	}
+}
+
+void
+tiles_scan_row(state *s, int J)
+{
+	double y = J / s->step;
+
+	for (int h = 1; h <= BT_MAXH; h *= 2) {
+		scan_diamonds(s, J, y, h, 0);
+		scan_diamonds(s, J, y, h, 1);
+	}
+	scan_leaves(s, J, y);
+}
