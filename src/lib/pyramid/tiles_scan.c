@@ -31,6 +31,10 @@ typedef struct {
 	int xmin, xmax;     /* of ox */
 	long lo, hi;        /* the row's columns less cx x step */
 	const float *zr[3]; /* the vertices' rows of heights */
+	/* tri_row's p[k] - p[0] in x and y, its normal's z (n[2]), its
+	 * y - p[0][1]: whole numbers and their differences, exact */
+	double d1x, d1y, d2x, d2y, n2, ym;
+	double rn2;         /* 1 / n2 when n2 is a power of 2, else 0 */
 } tmpl;
 
 /* tri_row's chord, in whole DEM columns: the row r (DEM rows, less cy x
@@ -78,7 +82,7 @@ chord(tmpl *t, long S, long r)
 /* The template of triangle tri about (cx, cy) for DEM row J. */
 static void
 make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
-    int J)
+    int J, double y)
 {
 	long S = (long)s->step;
 
@@ -100,32 +104,34 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 		return;
 	for (int k = 0; k < 3; k++)
 		t->zr[k] = s->z + slot(s, cy + t->oy[k]);
+	t->d1x = (double)tri[1][0] - tri[0][0];
+	t->d1y = (double)tri[1][1] - tri[0][1];
+	t->d2x = (double)tri[2][0] - tri[0][0];
+	t->d2y = (double)tri[2][1] - tri[0][1];
+	t->n2 = t->d1x * t->d2y - t->d1y * t->d2x;
+	t->ym = y - (double)tri[0][1];
+	/* x / n2 is x x (1 / n2), rounded once, when n2 is a power of 2
+	 * (every triangle here: legs h or 2h, or 1 for leaves) */
+	{
+		int ex;
+		t->rn2 = t->n2 != 0 && fabs(frexp(t->n2, &ex)) == 0.5 ?
+		    1 / t->n2 : 0;
+	}
 }
 
 /* tri_row for template t placed at (cx, cy): -1 when off the grid or no
- * valid sample. */
+ * valid sample. The plane is tri_row's, operation for operation: its
+ * coordinate differences are the template's (exact either way), its
+ * divisions by n2 multiplications by 1 / n2 where that is exact. */
 static inline double
-tri_scan(const state *s, const tmpl *t, int cx, int cy, double y)
+tri_scan(const state *s, const tmpl *t, int cx)
 {
-	double p[3][3], n[3], z0, dz;
+	double z0, z1, z2, e1, e2, n0, n1, p00, z, dz;
 	long S = (long)s->step, a, b;
 
-	if (!t->ok || cx + t->xmin < 0 || cx + t->xmax >= s->P)
+	if (!t->ok || cx + t->xmin < 0 || cx + t->xmax >= s->P ||
+	    t->n2 == 0)
 		return -1;
-	for (int k = 0; k < 3; k++) {
-		p[k][0] = cx + t->ox[k], p[k][1] = cy + t->oy[k];
-		p[k][2] = t->zr[k][cx + t->ox[k]];
-	}
-	n[0] = (p[1][1] - p[0][1]) * (p[2][2] - p[0][2]) -
-	    (p[1][2] - p[0][2]) * (p[2][1] - p[0][1]);
-	n[1] = (p[1][2] - p[0][2]) * (p[2][0] - p[0][0]) -
-	    (p[1][0] - p[0][0]) * (p[2][2] - p[0][2]);
-	n[2] = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
-	    (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-	if (n[2] == 0)
-		return -1;
-	dz = -n[0] / n[2];
-	z0 = p[0][2] - (n[1] * (y - p[0][1]) - n[0] * p[0][0]) / n[2];
 	a = (long)cx * S + t->lo, b = (long)cx * S + t->hi;
 	if (a < 0)
 		a = 0;
@@ -133,7 +139,21 @@ tri_scan(const state *s, const tmpl *t, int cx, int cy, double y)
 		b = s->W0 - 1;
 	if (a > b)
 		return -1;
-	return sweep(s->dd, a, b, z0, dz, 1 / s->step);
+	z0 = t->zr[0][cx + t->ox[0]];
+	z1 = t->zr[1][cx + t->ox[1]];
+	z2 = t->zr[2][cx + t->ox[2]];
+	e1 = z1 - z0, e2 = z2 - z0;
+	n0 = t->d1y * e2 - e1 * t->d2y;
+	n1 = e1 * t->d2x - t->d1x * e2;
+	p00 = cx + t->ox[0];
+	if (t->rn2 != 0) {
+		dz = -n0 * t->rn2;
+		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
+	} else {
+		dz = -n0 / t->n2;
+		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
+	}
+	return sweep(s->dd, a, b, z, dz, 1 / s->step);
 }
 
 /* row_diamonds (tiles.c) by templates: the diamonds along a centre row
@@ -159,7 +179,7 @@ scan_diamonds(state *s, int J, double y, int h, int edge)
 			int tri[2][3][2], cx = x0 + 2 * h * ph;
 			nt[ph] = bt_diamond(cx, cy, tri);
 			for (int k = 0; k < nt[ph]; k++)
-				make_tmpl(s, &T[ph][k], tri[k], cx, cy, J);
+				make_tmpl(s, &T[ph][k], tri[k], cx, cy, J, y);
 		}
 		if (!(nt[0] && (T[0][0].ok || T[0][1].ok)) &&
 		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
@@ -168,7 +188,7 @@ scan_diamonds(state *s, int J, double y, int h, int edge)
 		for (int cx = x0, ph = 0; cx < s->P; cx += 2 * h, ph ^= 1) {
 			double w = -1;
 			for (int k = 0; k < nt[ph]; k++) {
-				double err = tri_scan(s, &T[ph][k], cx, cy, y);
+				double err = tri_scan(s, &T[ph][k], cx);
 				if (err > w)
 					w = err;
 			}
@@ -202,14 +222,14 @@ scan_leaves(state *s, int J, double y)
 			}
 #undef SET
 			for (int k = 0; k < 2; k++)
-				make_tmpl(s, &T[ph][k], t[k], ci, j, J);
+				make_tmpl(s, &T[ph][k], t[k], ci, j, J, y);
 		}
 		double *brow = &s->base[(size_t)(cj / BT_CELLS) * s->bx];
 		for (int ci = 0; ci < s->P - 1; ci++) {
 			const tmpl *t = T[ci & 1];
 			double *base = &brow[ci / BT_CELLS];
 			for (int k = 0; k < 2; k++) {
-				double err = tri_scan(s, &t[k], ci, (int)cj, y);
+				double err = tri_scan(s, &t[k], ci);
 				if (err > *base)
 					*base = err;
 			}
