@@ -180,16 +180,24 @@ graph_capture(graph *g, int k, char *buf, size_t n, tl_err *e)
 static int
 start(graph *g, stage *s, tl_err *e)
 {
+	sigset_t all, old;
 	int errp[2];
 
 	if (pipe2(errp, O_CLOEXEC) < 0)
 		return tl_failsys(e, "pipe");
+	/* Signals wait until the child has its default dispositions back:
+	 * a SIGTERM for it (its parent's death) must not run the handler
+	 * it inherited from us and be lost. */
+	sigfillset(&all);
+	sigprocmask(SIG_BLOCK, &all, &old);
 	if ((s->pid = fork()) < 0) {
+		sigprocmask(SIG_SETMASK, &old, NULL);
 		close(errp[0]), close(errp[1]);
 		return tl_failsys(e, "fork");
 	}
 	if (s->pid == 0)
 		graph_child(g, s, errp[1]);
+	sigprocmask(SIG_SETMASK, &old, NULL);
 	setpgid(s->pid, s->pid); /* as the child does: no race either way */
 	close(errp[1]);
 	s->err = errp[0];
