@@ -160,10 +160,12 @@ reap(graph *g, int stopping)
 			continue;
 		}
 		s->done = 1;
-		/* a writer whose reader is gone: dead of SIGPIPE, or a shell
-		 * saying so (128 + SIGPIPE) */
-		s->weak = stopping || (WIFSIGNALED(s->status) &&
-		    WTERMSIG(s->status) == SIGPIPE) || (WIFEXITED(s->status) &&
+		/* follow-ons: a writer whose reader is gone (dead of SIGPIPE,
+		 * or a shell saying so, 128 + SIGPIPE), a stage dead of the
+		 * signals we sent */
+		s->weak = (stopping && WIFSIGNALED(s->status)) ||
+		    (WIFSIGNALED(s->status) && WTERMSIG(s->status) == SIGPIPE) ||
+		    (WIFEXITED(s->status) &&
 		    WEXITSTATUS(s->status) == 128 + SIGPIPE);
 		finish_output(s);
 	}
@@ -236,8 +238,9 @@ describe(const stage *s, const char *prog, tl_err *e)
 int
 graph_supervise(graph *g, int *status, tl_err *e)
 {
-	int order[GRAPH_MAXSTAGES], nfail = 0, stopping = 0, running;
-	long long deadline = 0;
+	int order[GRAPH_MAXSTAGES], nfail = 0, nstrong = 0, stopping = 0;
+	int running;
+	long long deadline = 0, first_fail = 0;
 
 	for (;;) {
 		poll_output(g, 50);
@@ -246,11 +249,17 @@ graph_supervise(graph *g, int *status, tl_err *e)
 			stage *s = &g->st[k];
 			if (s->done == 1 && failed(s) && s->err < 0) {
 				order[nfail++] = k;
+				nstrong += !s->weak;
+				first_fail = first_fail ? first_fail : now_ms();
 				s->done = 2;
 			}
 			say_warnings(s);
 		}
-		if (!stopping && (nfail > 0 || graph_signal())) {
+		/* A follow-on alone (a writer dead of SIGPIPE) waits a little
+		 * for its cause: the reader that closed the pipe has closed its
+		 * files before it can be reaped. */
+		if (!stopping && (nstrong > 0 || graph_signal() ||
+		    (nfail > 0 && now_ms() - first_fail > 500))) {
 			stopping = 1, deadline = now_ms() + 1000;
 			graph_signal_all(g, SIGTERM);
 		}
