@@ -4,6 +4,7 @@
  * fqm_open on files of the right and the wrong kind. */
 #include "core/fqm.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 #include <limits.h>
 #include <math.h>
@@ -275,10 +276,7 @@ test_check_row(void)
 int
 main(void)
 {
-	const char *t = getenv("TMPDIR");
-
-	snprintf(dir, sizeof dir, "%s/t_fqm.XXXXXX", t && *t ? t : "/tmp");
-	if (mkdtemp(dir) == NULL) {
+	if (tmpdir_make(dir, sizeof dir, "t_fqm") < 0) {
 		perror(dir);
 		return 1;
 	}
@@ -287,6 +285,6 @@ main(void)
 	test_rows();
 	test_open();
 	test_check_row();
-	rmdir(dir);
+	tmpdir_done(dir);
 	return tap_done();
 }

@@ -4,6 +4,7 @@
  * (and an existing file untouched). */
 #include "core/rowpipe.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -176,16 +177,13 @@ test_failure(void)
 int
 main(void)
 {
-	const char *t = getenv("TMPDIR");
-
-	snprintf(dir, sizeof dir, "%s/t_rowpipe.XXXXXX", t && *t ? t : "/tmp");
-	if (mkdtemp(dir) == NULL) {
+	if (tmpdir_make(dir, sizeof dir, "t_rowpipe") < 0) {
 		perror(dir);
 		return 1;
 	}
 	test_write();
 	test_stream();
 	test_failure();
-	rmdir(dir);
+	tmpdir_done(dir);
 	return tap_done();
 }
