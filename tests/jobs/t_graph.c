@@ -126,6 +126,27 @@ test_first_failure(void)
 	graph_free(g);
 }
 
+/* A writer that fails after its output has ended (a full disk under its
+ * scratch file): the reader two pipes down (through a tee) fails first,
+ * on short input, yet the cause told is the writer's. */
+static void
+test_upstream_cause(void)
+{
+	graph *g = graph_new("t_graph", NULL, NULL);
+	tl_err e;
+	int p[2], q[2], st;
+
+	graph_pipe(g, p, &e);
+	graph_pipe(g, q, &e);
+	sh(g, "exec >&-; sleep 0.3; echo 'a: disk full' >&2; exit 4", -1, p[1], &e);
+	graph_tee(g, p[0], q[1], -1, &e);
+	sh(g, "cat >/dev/null; echo 'c: empty input' >&2; exit 1", q[0], -1, &e);
+	int r = graph_run(g, &st, &e);
+	ok(r < 0 && strcmp(e.msg, "a: disk full") == 0 && st == 4, "a reader failing on short input: the writer upstream "
+	    "is the cause (\"%s\", status %d)", e.msg, st);
+	graph_free(g);
+}
+
 static void
 test_signal_death(void)
 {
@@ -216,6 +237,7 @@ main(void)
 	test_tee();
 	test_capture();
 	test_first_failure();
+	test_upstream_cause();
 	test_signal_death();
 	test_missing_program();
 	test_bindir();

@@ -98,7 +98,11 @@ graph_pipe(graph *g, int fd[2], tl_err *e)
 		close(fd[1]);
 		return -1;
 	}
-	return own(g, fd[1], e) < 0 ? -1 : 0;
+	if (own(g, fd[1], e) < 0)
+		return -1;
+	assert(g->npipes < MAXFDS); /* fewer than the fds owned */
+	g->pipes[g->npipes][0] = fd[0], g->pipes[g->npipes++][1] = fd[1];
+	return 0;
 }
 
 int
@@ -175,6 +179,22 @@ graph_capture(graph *g, int k, char *buf, size_t n, tl_err *e)
 	return 0;
 }
 
+/* The stage writing into the pipe stage k reads, or -1: a reader's
+ * failure may be only the end of what a failed writer gave it. */
+static int
+writer_of(const graph *g, int k)
+{
+	for (int p = 0; p < g->npipes; p++) {
+		if (g->pipes[p][0] != g->st[k].in)
+			continue;
+		for (int j = 0; j < g->n; j++)
+			if (g->st[j].out == g->pipes[p][1] ||
+			    g->st[j].out2 == g->pipes[p][1])
+				return j;
+	}
+	return -1;
+}
+
 /* --- in the supervisor -------------------------------------------------- */
 
 static int
@@ -219,6 +239,8 @@ graph_run(graph *g, int *status, tl_err *e)
 		sigaction(sigs[i], &sa, NULL);
 	if (g->progress != NULL && pipe2(g->prog_fd, O_CLOEXEC) < 0)
 		r = tl_failsys(e, "pipe");
+	for (int k = 0; k < g->n; k++)
+		g->st[k].up = g->st[k].in >= 0 ? writer_of(g, k) : -1;
 	for (int k = 0; k < g->n && r == 0 && !stop_signal; k++)
 		r = start(g, &g->st[k], e);
 	close_owned(g); /* the stages hold their ends now */

@@ -27,11 +27,13 @@ typedef struct {
 	size_t ncap, capmax;
 	int done, status;   /* waitpid status once done */
 	int weak;           /* a follow-on failure: SIGPIPE, or stopped */
+	int up;             /* the stage writing its stdin, or -1 */
 } stage;
 
 struct graph {
 	const char *prog, *bindir;
 	int fds[MAXFDS], nfds;
+	int pipes[MAXFDS][2], npipes; /* every graph_pipe: who feeds whom */
 	stage st[GRAPH_MAXSTAGES];
 	int n;
 	pid_t self;

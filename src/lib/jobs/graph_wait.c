@@ -1,6 +1,7 @@
 /* graph_wait.c - the supervisor watching its stages: their stderr held,
  * progress passed on, exits reaped, the first failure ending the rest,
  * the cause told from its follow-ons (graph_impl.h). */
+#include <assert.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
@@ -201,15 +202,43 @@ say_warnings(stage *s)
 	s->done = 2;
 }
 
+static int
+strong_failure(const stage *s)
+{
+	return s->done && failed(s) && !s->weak;
+}
+
+/* Whether every stage upstream of k (its writer, the writer's writer...)
+ * has ended: only then is k's failure known to be its own. */
+static int
+upstream_ended(const graph *g, int k)
+{
+	for (int j = g->st[k].up, n = 0; j >= 0; j = g->st[j].up, n++) {
+		assert(n < g->n); /* pipes make no cycle */
+		if (!g->st[j].done)
+			return 0;
+	}
+	return 1;
+}
+
 /* The failure to report: the first that is not a follow-on (a stage
- * stopped by us, or by a closed pipe), else the first. */
+ * stopped by us, or by a closed pipe), else the first; and of that, the
+ * failure furthest upstream, whose end a reader saw as short input. */
 static const stage *
 root_cause(const graph *g, const int *order, int nfail)
 {
+	int c = nfail > 0 ? order[0] : -1;
+
 	for (int i = 0; i < nfail; i++)
-		if (!g->st[order[i]].weak)
-			return &g->st[order[i]];
-	return nfail > 0 ? &g->st[order[0]] : NULL;
+		if (!g->st[order[i]].weak) {
+			c = order[i];
+			break;
+		}
+	if (c >= 0 && !g->st[c].weak)
+		for (int j = g->st[c].up; j >= 0; j = g->st[j].up)
+			if (strong_failure(&g->st[j]))
+				c = j;
+	return c >= 0 ? &g->st[c] : NULL;
 }
 
 static void
@@ -238,27 +267,30 @@ describe(const stage *s, const char *prog, tl_err *e)
 int
 graph_supervise(graph *g, int *status, tl_err *e)
 {
-	int order[GRAPH_MAXSTAGES], nfail = 0, nstrong = 0, stopping = 0;
-	int running;
+	int order[GRAPH_MAXSTAGES], nfail = 0, stopping = 0;
+	int running, cause;
 	long long deadline = 0, first_fail = 0;
 
 	for (;;) {
 		poll_output(g, 50);
 		running = reap(g, stopping);
+		cause = 0;
 		for (int k = 0; k < g->n; k++) {
 			stage *s = &g->st[k];
 			if (s->done == 1 && failed(s) && s->err < 0) {
 				order[nfail++] = k;
-				nstrong += !s->weak;
 				first_fail = first_fail ? first_fail : now_ms();
 				s->done = 2;
 			}
+			cause |= s->done == 2 && strong_failure(s) &&
+			    upstream_ended(g, k);
 			say_warnings(s);
 		}
-		/* A follow-on alone (a writer dead of SIGPIPE) waits a little
-		 * for its cause: the reader that closed the pipe has closed its
-		 * files before it can be reaped. */
-		if (!stopping && (nstrong > 0 || graph_signal() ||
+		/* A follow-on alone waits a little for its cause: a writer dead
+		 * of SIGPIPE for the reader that closed the pipe (which closes
+		 * its files before it can be reaped), a reader that saw short
+		 * input for the writer still ending upstream of it. */
+		if (!stopping && (cause || graph_signal() ||
 		    (nfail > 0 && now_ms() - first_fail > 500))) {
 			stopping = 1, deadline = now_ms() + 1000;
 			graph_signal_all(g, SIGTERM);
