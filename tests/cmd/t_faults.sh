@@ -42,9 +42,14 @@ if [ "$(id -u)" -eq 0 ] && mkdir "$T/full" "$T/ro" &&
 	fails "TMPDIR full: dem2fqm" 1 "No space left on device" \
 	    env TMPDIR="$T/full" dem2fqm "$dem" "$T/x.exr"
 	[ ! -e "$T/x.exr" ] && empty "$T/full"; ok $? "TMPDIR full: dem2fqm: nothing left"
-	fails "TMPDIR full: dem2vgis" 1 "No space left on device" \
-	    env TMPDIR="$T/full" dem2vgis -q "$dem" "$T/xp"
-	[ ! -e "$T/xp" ] && empty "$T/full"; ok $? "TMPDIR full: dem2vgis: nothing left"
+	# five times: the readers downstream fail on short input at once,
+	# in a race with dem2fqm's own exit; the cause told must be dem2fqm's
+	n=0; for i in 1 2 3 4 5; do
+		env TMPDIR="$T/full" dem2vgis -q "$dem" "$T/xp" 2>"$T/err"
+		[ $? -eq 1 ] && grep -q "^dem2fqm: .*No space left on device" "$T/err" &&
+		    [ ! -e "$T/xp" ] && empty "$T/full" && n=$((n + 1))
+	done
+	ok $((n != 5)) "TMPDIR full: dem2vgis: dem2fqm's message, nothing left ($n of 5; $(head -c 80 "$T/err"))"
 	rm -rf "${T:?}/full/"*
 	fails "read-only directory: dem2fqm" 1 "Read-only file system" dem2fqm "$small" "$T/ro/l0.exr"
 	fails "read-only directory: tilepack" 1 "Read-only file system" tilepack "$small" "$T/ro/p" $lv
