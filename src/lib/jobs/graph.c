@@ -94,6 +94,10 @@ graph_pipe(graph *g, int fd[2], tl_err *e)
 {
 	if (pipe2(fd, O_CLOEXEC) < 0)
 		return tl_failsys(e, "pipe");
+	/* 1 MiB, the unprivileged limit: rows of level-0 quadrics (52 bytes
+	 * a vertex) pass in a few wake-ups, not one per 64 KiB; the default
+	 * stays when refused */
+	(void)fcntl(fd[1], F_SETPIPE_SZ, 1 << 20);
 	if (own(g, fd[0], e) < 0) {
 		close(fd[1]);
 		return -1;

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "jobs/graph_impl.h"
@@ -28,10 +29,9 @@ write_all(int fd, const char *p, size_t n)
 	return 0;
 }
 
-/* tee: a closed reader means the graph is failing anyway: a follow-on,
- * said by dying as a writer to a closed pipe does. */
+/* The copying tee, for outputs that are not both pipes (/dev/null). */
 static void __attribute__((noreturn))
-tee_loop(void)
+tee_copy(void)
 {
 	static char buf[1 << 17];
 	ssize_t r;
@@ -48,6 +48,43 @@ tee_loop(void)
 			raise(SIGPIPE), _exit(141);
 	}
 	_exit(0);
+}
+
+/* tee: the kernel duplicates the pipe's pages into the first output
+ * (tee(2)) and moves them to the second (splice(2)), never copying the
+ * level-0 quadrics through user space. A closed reader means the graph
+ * is failing anyway: a follow-on, said by dying as a writer to a closed
+ * pipe does. */
+static void __attribute__((noreturn))
+tee_loop(void)
+{
+	struct stat a, b, c;
+
+	if (fstat(0, &a) < 0 || fstat(1, &b) < 0 || fstat(3, &c) < 0 ||
+	    !S_ISFIFO(a.st_mode) || !S_ISFIFO(b.st_mode) ||
+	    !S_ISFIFO(c.st_mode))
+		tee_copy();
+	for (;;) {
+		ssize_t n = tee(0, 1, (size_t)1 << 30, 0), m;
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0 && errno == EPIPE)
+			raise(SIGPIPE), _exit(141);
+		if (n < 0) {
+			dprintf(2, "tee: %s\n", strerror(errno));
+			_exit(1);
+		}
+		if (n == 0)
+			_exit(0);
+		while (n > 0) { /* exactly what went to the first */
+			m = splice(0, NULL, 3, NULL, (size_t)n, 0);
+			if (m < 0 && errno == EINTR)
+				continue;
+			if (m <= 0)
+				raise(SIGPIPE), _exit(141);
+			n -= m;
+		}
+	}
 }
 
 static void __attribute__((noreturn))
