@@ -13,7 +13,7 @@ static const char usage[] =
     "[-fq] [-D datum] [-e encoding] [-H datum] [-j jobs] [-N nodata]\n"
     "                [-n name] [-s dx[,dy]] dem dir level0 [level1 ...]\n"
     "  -f              replace dir even if it is not a pyramid\n"
-    "  -j jobs         levels done at once (default: the CPUs)\n"
+    "  -j jobs         threads per level (default: the CPUs)\n"
     "  -q              no report on stderr\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
     "  dem             the original DEM (errors are measured against it)\n"
@@ -61,7 +61,7 @@ main(int argc, char **argv)
 	tl_err e;
 
 	cli_init(&c, argv, usage, CLI_DEM);
-	a.jobs = ncpu > 0 ? (int)ncpu : 1;
+	a.jobs = ncpu < 1 ? 1 : ncpu > PACK_MAXJOBS ? PACK_MAXJOBS : (int)ncpu;
 	while ((ch = cli_next(&c, argc, argv, "fj:q", NULL)) != -1) {
 		switch (ch) {
 		case 'f':
@@ -71,6 +71,8 @@ main(int argc, char **argv)
 			if (tl_parse_int(optarg, &a.jobs) < 0 || a.jobs < 1)
 				return cli_bad(&c, "-j %s: expected a number "
 				    ">= 1", optarg);
+			if (a.jobs > PACK_MAXJOBS)
+				a.jobs = PACK_MAXJOBS;
 			break;
 		case 'q':
 			quiet = 1;

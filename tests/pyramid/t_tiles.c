@@ -95,11 +95,12 @@ typedef struct {
 	tl_err e;
 } run;
 
-/* Level `level` (w x h, z row-major) of the DEM at path; row fail_row
- * and block fail_block (-1: none) fail. */
+/* Level `level` (w x h, z row-major) of the DEM at path, its columns
+ * shared among threads; row fail_row and block fail_block (-1: none)
+ * fail. */
 static void
 run_level(run *u, const char *path, int level, int w, int h,
-    const float *z, int displaced, int fail_row, int fail_block)
+    const float *z, int displaced, int fail_row, int fail_block, int threads)
 {
 	static const dem_opts none;
 	tiles_level L = { 0 };
@@ -126,7 +127,7 @@ run_level(run *u, const char *path, int level, int w, int h,
 	    geo_metric_init(&m, dem_georef(d), &u->e) < 0)
 		goto done;
 	L.level = level, L.size[0] = w, L.size[1] = h;
-	L.displaced = displaced, L.m = &m;
+	L.displaced = displaced, L.m = &m, L.threads = threads;
 	L.row = row_fn, L.row_ctx = &u->R;
 	L.block = block_fn, L.block_ctx = &u->s;
 	u->r = tiles_run(&L, d, &u->st, &u->e);
@@ -199,7 +200,7 @@ test_spike(void)
 		ok(0, "spike: the DEM");
 		return;
 	}
-	run_level(&u, path, 0, BT_SIZE, BT_SIZE, z, 0, -1, -1);
+	run_level(&u, path, 0, BT_SIZE, BT_SIZE, z, 0, -1, -1, 1);
 	ok(blocks_ok(&u) && u.s.bx == 1 && u.s.by == 1, "spike: one block, "
 	    "every row read once in order (%s)", u.r ? u.e.msg : "ok");
 	for (size_t q = 0; q < sizeof want / sizeof want[0]; q++)
@@ -213,16 +214,16 @@ test_spike(void)
 	ok(u.st.max_e == 10 && u.st.max_base == 0 &&
 	    u.st.samples == BT_SIZE * BT_SIZE, "spike: stats: max E 10, "
 	    "max base 0, %lld samples", u.st.samples);
-	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 1, -1, -1);
+	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 1, -1, -1, 1);
 	ok(blocks_ok(&v) && memcmp(u.s.e, v.s.e, (size_t)u.s.gw * BT_SIZE *
 	    sizeof *u.s.e) == 0, "spike: a displaced level with zero offsets "
 	    "has the same E");
 	run_free(&v);
-	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 0, 70, -1);
+	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 0, 70, -1, 1);
 	ok(v.r < 0 && strstr(v.e.msg, "row 70: cannot") != NULL, "a row "
 	    "that cannot be read: failed with its message (%s)", v.e.msg);
 	run_free(&v);
-	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 0, -1, 0);
+	run_level(&v, path, 0, BT_SIZE, BT_SIZE, z, 0, -1, 0, 1);
 	ok(v.r < 0 && strstr(v.e.msg, "block 0: cannot") != NULL, "a block "
 	    "that cannot be written: failed with its message (%s)", v.e.msg);
 	run_free(&v);
@@ -252,7 +253,7 @@ test_plane_level(const char *path, int W, int H, int level)
 		for (int i = 0; i < w; i++)
 			z[(size_t)j * w + i] = (float)plane((double)i *
 			    (1 << level), (double)j * (1 << level));
-	run_level(&u, path, level, w, h, z, 0, -1, -1);
+	run_level(&u, path, level, w, h, z, 0, -1, -1, 1);
 	for (int j = 0; j <= u.s.by * BT_CELLS; j++)
 		for (int i = 0; i < u.s.gw; i++) {
 			int corner = i % BT_CELLS == 0 && j % BT_CELLS == 0;
@@ -330,8 +331,8 @@ test_scan(void)
 		for (int j = 0; j < h; j++)
 			for (int i = 0; i < w; i++)
 				v[(size_t)j * w + i] = rough(i, j, 1 + level);
-		run_level(&u, path, level, w, h, v, 0, -1, -1);
-		run_level(&d, path, level, w, h, v, 1, -1, -1);
+		run_level(&u, path, level, w, h, v, 0, -1, -1, 1);
+		run_level(&d, path, level, w, h, v, 1, -1, -1, 1);
 		ng = (size_t)u.s.gw * (u.s.by * BT_CELLS + 1);
 		nb = (size_t)u.s.bx * u.s.by;
 		ok(blocks_ok(&u) && blocks_ok(&d) && u.st.max_e > 0 &&
@@ -341,6 +342,23 @@ test_scan(void)
 		    "rough level %d with holes: the integer scan's E and base "
 		    "errors are the general test's, bit for bit (max E %g)",
 		    level, u.st.max_e);
+		/* the columns in shares on threads: the same bits */
+		for (int t = 2; t <= 7; t += 5) {
+			run ut, dt;
+			run_level(&ut, path, level, w, h, v, 0, -1, -1, t);
+			run_level(&dt, path, level, w, h, v, 1, -1, -1, t);
+			ok(ut.r == 0 && dt.r == 0 &&
+			    memcmp(u.s.e, ut.s.e, ng * sizeof *u.s.e) == 0 &&
+			    memcmp(u.s.z, ut.s.z, ng * sizeof *u.s.z) == 0 &&
+			    memcmp(u.s.base, ut.s.base, nb * sizeof *u.s.base) == 0 &&
+			    memcmp(d.s.e, dt.s.e, ng * sizeof *d.s.e) == 0 &&
+			    memcmp(d.s.base, dt.s.base, nb * sizeof *d.s.base) == 0 &&
+			    ut.st.samples == u.st.samples,
+			    "rough level %d on %d threads: E, Z and base errors "
+			    "those of one thread, bit for bit (both tests)",
+			    level, t);
+			run_free(&ut), run_free(&dt);
+		}
 		run_free(&u), run_free(&d);
 		free(v);
 	}

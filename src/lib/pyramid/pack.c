@@ -142,8 +142,7 @@ write_block(void *ctx, const pyramid_block *b, tl_err *e)
 	return pyramid_block_write(path, b, k->attrs, e);
 }
 
-/* What every worker shares: read-only but for the next level to take and
- * the failure of the lowest level, under the lock. */
+/* What every level reads. */
 typedef struct {
 	const pack_args *a;
 	dem *d;
@@ -151,9 +150,7 @@ typedef struct {
 	pyramid_index *ix;
 	const geo_metric *m;
 	pack_level *out;
-	pthread_mutex_t lock;
-	int next, failed; /* failed: the lowest level that did, or -1 */
-	tl_err err;
+	int threads;     /* per level */
 } work;
 
 /* The index's entry for a level, from its vertex map's header. */
@@ -200,10 +197,8 @@ pack_level_run(work *w, int l, tl_err *e)
 	L.m = w->m;
 	L.row = read_row, L.row_ctx = &v;
 	L.block = write_block, L.block_ctx = &k;
-	/* one progress line at a time on a terminal: only when working
-	 * alone; a supervisor reading TL_PROGRESS_FD (util.h) takes all */
-	if (w->a->prog != NULL && (w->a->jobs == 1 ||
-	    getenv("TL_PROGRESS_FD") != NULL)) {
+	L.threads = w->threads;
+	if (w->a->prog != NULL) {
 		snprintf(label, sizeof label, "%s: level %d", w->a->prog, l);
 		L.label = label;
 	}
@@ -213,63 +208,84 @@ done:
 	return r;
 }
 
-/* --- the levels on threads ---------------------------------------------- */
-
-/* A worker takes levels in order (level 0, the largest, first) until
- * none is left or one failed. Every level below a failed one has been
- * taken, so the lowest failure, the one reported, does not depend on
- * the threads' timing. */
-static void *
-worker(void *arg)
-{
-	work *w = arg;
-	tl_err e;
-
-	for (;;) {
-		int l;
-		pthread_mutex_lock(&w->lock);
-		l = w->failed >= 0 ? w->a->nlevels : w->next++;
-		pthread_mutex_unlock(&w->lock);
-		if (l >= w->a->nlevels)
-			return NULL;
-		if (pack_level_run(w, l, &e) < 0) {
-			pthread_mutex_lock(&w->lock);
-			if (w->failed < 0 || l < w->failed) {
-				w->err = e;
-				w->failed = l;
-			}
-			pthread_mutex_unlock(&w->lock);
-			return NULL;
-		}
-	}
-}
-
+/* Whether some level comes through a FIFO (or stdin): a pipeline
+ * feeding several must have them all read at once. */
 static int
-run_levels(work *w, tl_err *e)
+fifo_inputs(const pack_args *a)
 {
-	int n = w->a->jobs < w->a->nlevels ? w->a->jobs : w->a->nlevels;
-	pthread_t t[PACK_MAXJOBS];
-	int started = 0;
+	struct stat st;
 
-	if (n > PACK_MAXJOBS)
-		n = PACK_MAXJOBS;
-	w->failed = -1;
-	pthread_mutex_init(&w->lock, NULL);
-	for (int k = 1; k < n; k++)
-		if (pthread_create(&t[started], NULL, worker, w) == 0)
-			started++;
-	worker(w); /* this thread works too */
-	for (int k = 0; k < started; k++)
-		pthread_join(t[k], NULL);
-	pthread_mutex_destroy(&w->lock);
-	if (w->failed >= 0) {
-		*e = w->err;
-		return -1;
-	}
+	for (int l = 0; l < a->nlevels; l++)
+		if (strcmp(a->levels[l], "-") == 0 ||
+		    (stat(a->levels[l], &st) == 0 && S_ISFIFO(st.st_mode)))
+			return 1;
 	return 0;
 }
 
-/* --- the pyramid ------------------------------------------------------- */
+typedef struct {
+	work *w;
+	int l, r;
+	tl_err e;
+} level_job;
+
+static void *
+level_thread(void *arg)
+{
+	level_job *j = arg;
+
+	j->r = pack_level_run(j->w, j->l, &j->e);
+	return NULL;
+}
+
+/* Every level on its own thread at once (FIFO inputs); the failure
+ * reported is the lowest level's, whatever the threads' timing. */
+static int
+run_levels_at_once(work *w, tl_err *e)
+{
+	int n = w->a->nlevels, started = 0, r = 0;
+	level_job *j = tl_alloc(n, sizeof *j, e);
+	pthread_t *t = tl_alloc(n, sizeof *t, e);
+
+	if (j == NULL || t == NULL) {
+		free(j), free(t);
+		return -1;
+	}
+	w->threads = 1;
+	for (; started < n; started++) {
+		j[started] = (level_job){ .w = w, .l = started };
+		if (pthread_create(&t[started], NULL, level_thread,
+		    &j[started]) != 0)
+			break;
+	}
+	if (started < n)
+		r = tl_fail(e, "%s: %d levels read at once: no thread for "
+		    "level %d", w->a->prog ? w->a->prog : "tilepack", n,
+		    started);
+	for (int l = 0; l < started; l++)
+		pthread_join(t[l], NULL);
+	for (int l = 0; r == 0 && l < started; l++)
+		if (j[l].r < 0) {
+			*e = j[l].e;
+			r = -1;
+		}
+	free(j), free(t);
+	return r;
+}
+
+/* The levels one after another, level 0 (the largest) first, each on
+ * every thread: one level's rings in memory at a time, and the failure
+ * reported is the lowest level's. */
+static int
+run_levels(work *w, tl_err *e)
+{
+	if (fifo_inputs(w->a))
+		return run_levels_at_once(w, e);
+	w->threads = w->a->jobs;
+	for (int l = 0; l < w->a->nlevels; l++)
+		if (pack_level_run(w, l, e) < 0)
+			return -1;
+	return 0;
+}
 
 static void
 report_levels(const pyramid_index *ix, pack_level *out)

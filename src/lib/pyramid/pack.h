@@ -1,7 +1,7 @@
 /* pack.h - a DEM's VGIS pyramid from the vertex maps of its levels, the
  * work of tilepack(1): each map checked against the DEM (its level, the
  * DEM's size and georeferencing), every level's blocks computed (tiles.h)
- * on threads that take the levels in order, the level count enforced, the
+ * in order, each level's columns shared among threads, the level count enforced, the
  * directory (vgis(5), pyramid.h) built under a temporary name and renamed
  * when complete. */
 #ifndef TL_PACK_H
@@ -13,7 +13,7 @@
 #include "core/fqm.h"
 #include "pyramid/tiles.h"
 
-#define PACK_MAXJOBS 64 /* threads at most, whatever jobs says */
+#define PACK_MAXJOBS TILES_MAXTHREADS
 
 typedef struct {
 	const char *dem_path; /* the DEM the levels were made from */
@@ -22,7 +22,7 @@ typedef struct {
 	char *const *levels;  /* vertex maps of levels 0 .. nlevels-1, paths
 	                       * or "-" */
 	int nlevels;
-	int jobs;             /* levels at once, >= 1 */
+	int jobs;             /* threads per level, 1 .. PACK_MAXJOBS */
 	int force;            /* replace dir even if it is not a pyramid */
 	const char *prog;     /* names the progress lines "prog: level l" */
 } pack_args;

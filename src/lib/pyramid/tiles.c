@@ -6,6 +6,7 @@
 
 #include <assert.h>
 #include <float.h>
+#include <pthread.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -132,20 +133,23 @@ vertex(const state *s, int gi, int gj, double p[3])
 	}
 }
 
-/* Row k (vertices k x 2^hk) of scale 2^hk's positions: vertex()'s. */
+/* Row k (vertices k x 2^hk) of scale 2^hk's positions: vertex()'s, in
+ * the columns the share's diamonds reach (h either side). */
 static void
-vc_fill(state *s, int hk, int k)
+vc_fill(strip *t, int hk, int k)
 {
-	int h = 1 << hk, r = k & (VC_ROWS - 1), n = s->vc[hk].n;
-	double *x = s->vc[hk].x + (size_t)r * n, *y = s->vc[hk].y +
+	const state *s = t->s;
+	int h = 1 << hk, r = k & (VC_ROWS - 1), n = t->vc[hk].n;
+	double *x = t->vc[hk].x + (size_t)r * n, *y = t->vc[hk].y +
 	    (size_t)r * n;
+	int m0 = t->lo / h - 1, m1 = (t->hi - 1) / h + 2;
 
-	for (int m = 0; m < n; m++) {
+	for (int m = m0 > 0 ? m0 : 0; m < n && m < m1; m++) {
 		double p[3];
 		vertex(s, m * h, k * h, p);
 		x[m] = p[0], y[m] = p[1];
 	}
-	s->vc[hk].tag[r] = k;
+	t->vc[hk].tag[r] = k;
 }
 
 /* vertex() of (gi, gj), both multiples of 2^hk: on displaced levels
@@ -153,8 +157,9 @@ vc_fill(state *s, int hk, int k)
  * DEM row reaches at most 6 consecutive rows of a scale's vertices and
  * rows come in order). */
 static inline void
-vertex_at(state *s, int hk, int gi, int gj, double p[3])
+vertex_at(strip *t, int hk, int gi, int gj, double p[3])
 {
+	const state *s = t->s;
 	int k, r;
 	size_t o;
 
@@ -164,10 +169,10 @@ vertex_at(state *s, int hk, int gi, int gj, double p[3])
 	}
 	assert(gi % (1 << hk) == 0 && gj % (1 << hk) == 0);
 	k = gj >> hk, r = k & (VC_ROWS - 1);
-	if (s->vc[hk].tag[r] != k)
-		vc_fill(s, hk, k);
-	o = (size_t)r * s->vc[hk].n + (gi >> hk);
-	p[0] = s->vc[hk].x[o], p[1] = s->vc[hk].y[o];
+	if (t->vc[hk].tag[r] != k)
+		vc_fill(t, hk, k);
+	o = (size_t)r * t->vc[hk].n + (gi >> hk);
+	p[0] = t->vc[hk].x[o], p[1] = t->vc[hk].y[o];
 	p[2] = s->z[slot(s, gj) + gi];
 }
 
@@ -195,8 +200,9 @@ on_grid(const state *s, const int v[2])
 /* The largest |plane - DEM| over the valid samples of the current DEM row
  * (level row y) inside triangle t, closed; -1 when none is. */
 static double
-tri_row(state *s, const int t[3][2], double y, int hk)
+tri_row(strip *sh, const int t[3][2], double y, int hk)
 {
+	const state *s = sh->s;
 	double p[3][3], xl = INFINITY, xr = -INFINITY, n[3], z0, dz;
 	double ymin = INFINITY, ymax = -INFINITY;
 	long i0, i1;
@@ -213,7 +219,7 @@ tri_row(state *s, const int t[3][2], double y, int hk)
 	for (int k = 0; k < 3; k++) {
 		if (!on_grid(s, t[k]))
 			return -1;
-		vertex_at(s, hk, t[k][0], t[k][1], p[k]);
+		vertex_at(sh, hk, t[k][0], t[k][1], p[k]);
 		ymin = dmin(ymin, p[k][1]), ymax = dmax(ymax, p[k][1]);
 	}
 	if (y < ymin - EPS || y > ymax + EPS)
@@ -253,7 +259,7 @@ tri_row(state *s, const int t[3][2], double y, int hk)
 	if (i1 > s->W0 - 1)
 		i1 = s->W0 - 1;
 	/* i / step is i x (1 / step) exactly: step is a power of 2 */
-	return sweep(s->dd, i0, i1, z0, dz, 1 / s->step);
+	return sweep(sh->dd, i0, i1, z0, dz, 1 / s->step);
 }
 
 /* Raises the local errors of every diamond of scale h and one kind that
@@ -261,8 +267,9 @@ tri_row(state *s, const int t[3][2], double y, int hk)
  * multiples of h in both axes; edge diamonds on points with exactly one
  * odd multiple: |x - cx| + |y - cy| <= h. */
 static void
-row_diamonds(state *s, double y, int h, int hk, int edge)
+row_diamonds(strip *t, double y, int h, int hk, int edge)
 {
+	state *s = t->s;
 	double reach = h + s->margin;
 	long c0 = (long)ceil((y - reach) / h);
 	long c1 = (long)floor((y + reach) / h);
@@ -272,12 +279,14 @@ row_diamonds(state *s, double y, int h, int hk, int edge)
 		if (!edge && (c & 1) == 0)
 			continue; /* square centres: odd multiples */
 		x0 = edge && (c & 1) ? 0 : h;
-		for (long cx = x0; cx < s->P; cx += 2 * h) {
+		if (t->lo > x0) /* the first centre in the share */
+			x0 += (t->lo - x0 + 2 * h - 1) / (2 * h) * (2 * h);
+		for (long cx = x0; cx < s->P && cx < t->hi; cx += 2 * h) {
 			int tri[2][3][2];
 			int nt = bt_diamond((int)cx, (int)cy, tri);
 			float *acc = &s->acc[eslot(s, (int)cy) + cx];
 			for (int k = 0; k < nt; k++) {
-				double err = tri_row(s, tri[k], y, hk);
+				double err = tri_row(t, tri[k], y, hk);
 				if (err > *acc)
 					*acc = (float)err;
 			}
@@ -289,18 +298,19 @@ row_diamonds(state *s, double y, int h, int hk, int edge)
  * two, diagonal by the parity of ci + cj as in the bintree) the DEM row
  * crosses. */
 static void
-row_leaves(state *s, double y)
+row_leaves(strip *sh, double y)
 {
+	const state *s = sh->s;
 	double mg = s->L->displaced ? 1 : EPS;
 	long r0 = (long)floor(y - mg), r1 = (long)floor(y + mg);
 
 	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++)
-		for (int ci = 0; ci < s->P - 1; ci++) {
+		for (int ci = sh->lo; ci < s->P - 1 && ci < sh->hi; ci++) {
 			int a[2] = { ci, (int)cj }, b[2] = { ci + 1, (int)cj };
 			int c[2] = { ci + 1, (int)cj + 1 };
 			int d[2] = { ci, (int)cj + 1 };
 			int t[2][3][2];
-			double *base = &s->base[(size_t)(cj / BT_CELLS) *
+			double *base = &sh->base[(size_t)(cj / BT_CELLS) *
 			    s->bx + ci / BT_CELLS];
 			if ((ci + cj) % 2 == 0) {
 				memcpy(t[0][0], a, 8), memcpy(t[0][1], b, 8);
@@ -312,31 +322,28 @@ row_leaves(state *s, double y)
 				memcpy(t[1][1], c, 8), memcpy(t[1][2], d, 8);
 			}
 			for (int k = 0; k < 2; k++) {
-				double err = tri_row(s, t[k], y, 0);
+				double err = tri_row(sh, t[k], y, 0);
 				if (err > *base)
 					*base = err;
 			}
 		}
 }
 
+/* The errors DEM row J (t->dd) raises in t's columns. */
 static void
-dem_row(state *s, int J)
+scan_row(strip *t, int J)
 {
-	double y = J / s->step;
+	double y = J / t->s->step;
 
-	for (int i = 0; i < s->W0; i++)
-		s->dd[i] = s->dv[i] ? (double)s->dz[i] : NAN;
-	if (s->scan)
-		tiles_scan_row(s, J);
-	else {
-		for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
-			row_diamonds(s, y, h, hk, 0);
-			row_diamonds(s, y, h, hk, 1);
-		}
-		row_leaves(s, y);
+	if (t->s->scan) {
+		tiles_scan_row(t, J);
+		return;
 	}
-	for (int I = 0; I < s->W0; I++)
-		s->st->samples += s->dv[I];
+	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
+		row_diamonds(t, y, h, hk, 0);
+		row_diamonds(t, y, h, hk, 1);
+	}
+	row_leaves(t, y);
 }
 
 /* --- saturation ------------------------------------------------------- */
@@ -405,7 +412,10 @@ emit_row(state *s, int bj, tl_err *e)
 	saturate(s, bj);
 	for (int bi = 0; bi < s->bx; bi++) {
 		b->level = s->L->level, b->bi = bi, b->bj = bj;
-		b->base = s->base[(size_t)bj * s->bx + bi];
+		b->base = 0; /* the shares' base errors, merged */
+		for (int k = 0; k < s->nstrip; k++)
+			b->base = dmax(b->base,
+			    s->strips[k].base[(size_t)bj * s->bx + bi]);
 		b->zmin = INFINITY, b->zmax = -INFINITY;
 		double emax = 0;
 		for (int r = 0; r < BT_SIZE; r++) {
@@ -443,35 +453,70 @@ emit_row(state *s, int bj, tl_err *e)
 }
 
 static void
+strips_free(state *s)
+{
+	for (int i = 0; s->strips != NULL && i < s->nstrip; i++) {
+		strip *t = &s->strips[i];
+		free(t->base);
+		for (int k = 0; k < 8; k++)
+			free(t->vc[k].x), free(t->vc[k].y);
+	}
+	free(s->strips);
+}
+
+static void
 state_free(state *s)
 {
 	free(s->z), free(s->ox), free(s->oy), free(s->sx), free(s->sy);
 	free(s->nk), free(s->nu);
-	free(s->acc), free(s->base), free(s->band);
+	free(s->acc), free(s->band);
 	free(s->rz), free(s->rx), free(s->ry), free(s->dz), free(s->dv);
 	pyramid_block_free(&s->blk);
 	free(s->dd);
-	for (int k = 0; k < 8; k++)
-		free(s->vc[k].x), free(s->vc[k].y);
+	strips_free(s);
 }
 
-/* The displaced levels' rows of positions (vertex_at). */
+/* A share's base errors and, displaced, its rows of positions
+ * (vertex_at). */
 static int
-vc_init(state *s, tl_err *e)
+strip_init(state *s, strip *t, int lo, int hi, tl_err *e)
 {
+	t->s = s, t->lo = lo, t->hi = hi;
+	if ((t->base = tl_alloc((size_t)s->bx * s->by, sizeof *t->base,
+	    e)) == NULL)
+		return -1;
 	for (int hk = 0; (1 << hk) <= BT_MAXH; hk++) {
-		s->vc[hk].n = (s->P - 1) / (1 << hk) + 1;
+		t->vc[hk].n = (s->P - 1) / (1 << hk) + 1;
 		for (int r = 0; r < VC_ROWS; r++)
-			s->vc[hk].tag[r] = -1;
+			t->vc[hk].tag[r] = -1;
 		if (!s->L->displaced)
 			continue;
-		s->vc[hk].x = tl_alloc((size_t)VC_ROWS * s->vc[hk].n,
-		    sizeof *s->vc[hk].x, e);
-		s->vc[hk].y = tl_alloc((size_t)VC_ROWS * s->vc[hk].n,
-		    sizeof *s->vc[hk].y, e);
-		if (s->vc[hk].x == NULL || s->vc[hk].y == NULL)
+		t->vc[hk].x = tl_alloc((size_t)VC_ROWS * t->vc[hk].n,
+		    sizeof *t->vc[hk].x, e);
+		t->vc[hk].y = tl_alloc((size_t)VC_ROWS * t->vc[hk].n,
+		    sizeof *t->vc[hk].y, e);
+		if (t->vc[hk].x == NULL || t->vc[hk].y == NULL)
 			return -1;
 	}
+	return 0;
+}
+
+/* The columns in n shares of nearly equal width (a level narrower than
+ * n columns takes fewer). */
+static int
+strips_init(state *s, int n, tl_err *e)
+{
+	if (n > s->P - 1)
+		n = s->P - 1;
+	if (n < 1)
+		n = 1;
+	if ((s->strips = tl_alloc(n, sizeof *s->strips, e)) == NULL)
+		return -1;
+	s->nstrip = n;
+	for (int k = 0; k < n; k++)
+		if (strip_init(s, &s->strips[k], (int)((long)s->P * k / n),
+		    (int)((long)s->P * (k + 1) / n), e) < 0)
+			return -1;
 	return 0;
 }
 
@@ -501,7 +546,6 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	}
 	s->sx = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sx, e);
 	s->sy = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sy, e);
-	s->base = tl_alloc((size_t)s->bx * s->by, sizeof *s->base, e);
 	s->band = tl_alloc((size_t)BAND * s->P, sizeof *s->band, e);
 	s->rz = tl_alloc(L->size[0], sizeof *s->rz, e);
 	s->dz = tl_alloc(g->width, sizeof *s->dz, e);
@@ -512,13 +556,14 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 		s->rx = tl_alloc(L->size[0], sizeof *s->rx, e);
 		s->ry = tl_alloc(L->size[0], sizeof *s->ry, e);
 	}
-	if (!s->z || !s->acc || !s->sx || !s->sy || !s->base || !s->band ||
+	if (!s->z || !s->acc || !s->sx || !s->sy || !s->band ||
 	    (L->displaced && s->nn > 1 && (!s->nk || !s->nu)) ||
 	    !s->rz || !s->dz || !s->dv || (L->displaced && (!s->ox ||
 	    !s->oy || !s->rx || !s->ry)) ||
 	    pyramid_block_alloc(&s->blk, L->displaced, e) < 0 ||
-	    (s->dd = tl_alloc((size_t)s->W0 + 1, sizeof *s->dd, e)) == NULL ||
-	    vc_init(s, e) < 0) {
+	    (s->dd = tl_alloc((size_t)BATCH * (s->W0 + 1), sizeof *s->dd,
+	    e)) == NULL ||
+	    strips_init(s, L->threads, e) < 0) {
 		state_free(s);
 		return -1;
 	}
@@ -535,41 +580,153 @@ ready(const state *s, int bj, double y)
 	return y >= bj * BT_CELLS + BT_CELLS + REACH + BT_MAXH + 2;
 }
 
+/* --- the shares on threads --------------------------------------------- */
+
+/* A batch is handed to the threads by bumping gen; each scans its share
+ * and counts itself off. Shares without a thread (one could not be
+ * started) are the calling thread's. */
+typedef struct {
+	pthread_mutex_t mu;
+	pthread_cond_t go, done;
+	long gen;
+	int J0, J1, quit, pending, nthreads;
+} crew;
+
+typedef struct {
+	crew *c;
+	strip *t;
+} member;
+
+static void
+scan_batch(strip *t, int J0, int J1)
+{
+	const state *s = t->s;
+
+	for (int J = J0; J < J1; J++) {
+		t->dd = s->dd + (size_t)(J - J0) * (s->W0 + 1);
+		scan_row(t, J);
+	}
+}
+
+static void *
+member_run(void *arg)
+{
+	member *m = arg;
+	crew *c = m->c;
+	long seen = 0;
+
+	for (;;) {
+		pthread_mutex_lock(&c->mu);
+		while (c->gen == seen && !c->quit)
+			pthread_cond_wait(&c->go, &c->mu);
+		seen = c->gen;
+		pthread_mutex_unlock(&c->mu);
+		if (c->quit)
+			return NULL;
+		scan_batch(m->t, c->J0, c->J1);
+		pthread_mutex_lock(&c->mu);
+		if (--c->pending == 0)
+			pthread_cond_signal(&c->done);
+		pthread_mutex_unlock(&c->mu);
+	}
+}
+
+/* Shares 1 .. nthreads on the crew's threads, the rest here. */
+static void
+scan_shares(state *s, crew *c, int J0, int J1)
+{
+	pthread_mutex_lock(&c->mu);
+	c->J0 = J0, c->J1 = J1, c->pending = c->nthreads, c->gen++;
+	pthread_cond_broadcast(&c->go);
+	pthread_mutex_unlock(&c->mu);
+	scan_batch(&s->strips[0], J0, J1);
+	for (int k = 1 + c->nthreads; k < s->nstrip; k++)
+		scan_batch(&s->strips[k], J0, J1);
+	pthread_mutex_lock(&c->mu);
+	while (c->pending > 0)
+		pthread_cond_wait(&c->done, &c->mu);
+	pthread_mutex_unlock(&c->mu);
+}
+
+/* DEM rows J0 .. J1-1 as doubles, NaN where not valid. */
+static int
+read_batch(state *s, int J0, int J1, tl_err *e)
+{
+	for (int J = J0; J < J1; J++) {
+		double *dd = s->dd + (size_t)(J - J0) * (s->W0 + 1);
+		if (dem_read_row(s->d, J, s->dz, s->dv, e) < 0)
+			return -1;
+		for (int i = 0; i < s->W0; i++)
+			dd[i] = s->dv[i] ? (double)s->dz[i] : NAN;
+		for (int i = 0; i < s->W0; i++)
+			s->st->samples += s->dv[i];
+	}
+	return 0;
+}
+
+/* Every DEM row scanned, in batches, each block row handed out once no
+ * later row can change it. */
+static int
+run_rows(state *s, crew *c, tl_progress *pr, tl_err *e)
+{
+	int H = dem_georef(s->d)->height;
+
+	for (int J0 = 0; J0 < H; J0 += BATCH) {
+		int J1 = J0 + BATCH < H ? J0 + BATCH : H;
+		double y = (J1 - 1) / s->step;
+		/* diamond vertices reach 2 x 64 rows (+ margin) below */
+		if (ensure(s, (int)y + 2 * BT_MAXH + 2, e) < 0 ||
+		    read_batch(s, J0, J1, e) < 0)
+			return -1;
+		scan_shares(s, c, J0, J1);
+		while (s->next_bj < s->by && ready(s, s->next_bj, y))
+			if (emit_row(s, s->next_bj++, e) < 0)
+				return -1;
+		tl_progress_step(pr, J1);
+	}
+	if (ensure(s, s->Q - 1, e) < 0)
+		return -1;
+	while (s->next_bj < s->by)
+		if (emit_row(s, s->next_bj++, e) < 0)
+			return -1;
+	return 0;
+}
+
 int
 tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e)
 {
-	const georef *g = dem_georef(d);
+	member m[TILES_MAXTHREADS];
+	pthread_t th[TILES_MAXTHREADS];
 	tl_progress pr;
+	crew c = { .mu = PTHREAD_MUTEX_INITIALIZER,
+	    .go = PTHREAD_COND_INITIALIZER, .done = PTHREAD_COND_INITIALIZER };
 	state s;
-	int r = -1;
+	int r;
 
+	assert(L->threads <= TILES_MAXTHREADS);
 	memset(st, 0, sizeof *st);
 	if (state_init(&s, L, d, e) < 0)
 		return -1;
 	s.st = st;
-	tl_progress_start(&pr, L->label ? L->label : "", g->height);
+	for (int k = 1; k < s.nstrip; k++) {
+		m[k - 1] = (member){ &c, &s.strips[k] };
+		if (pthread_create(&th[k - 1], NULL, member_run, &m[k - 1]))
+			break; /* this thread takes the shares left */
+		c.nthreads++;
+	}
+	tl_progress_start(&pr, L->label ? L->label : "",
+	    dem_georef(d)->height);
 	if (L->label == NULL)
 		pr.on = 0;
-	for (int J = 0; J < g->height; J++) {
-		double y = J / s.step;
-		/* diamond vertices reach 2 x 64 rows (+ margin) below */
-		if (ensure(&s, (int)y + 2 * BT_MAXH + 2, e) < 0 ||
-		    dem_read_row(d, J, s.dz, s.dv, e) < 0)
-			goto done;
-		dem_row(&s, J);
-		while (s.next_bj < s.by && ready(&s, s.next_bj, y))
-			if (emit_row(&s, s.next_bj++, e) < 0)
-				goto done;
-		tl_progress_step(&pr, J + 1);
-	}
-	if (ensure(&s, s.Q - 1, e) < 0)
-		goto done;
-	while (s.next_bj < s.by)
-		if (emit_row(&s, s.next_bj++, e) < 0)
-			goto done;
-	tl_progress_end(&pr);
-	r = 0;
-done:
+	r = run_rows(&s, &c, &pr, e);
+	if (r == 0)
+		tl_progress_end(&pr);
+	pthread_mutex_lock(&c.mu);
+	c.quit = 1;
+	pthread_cond_broadcast(&c.go);
+	pthread_mutex_unlock(&c.mu);
+	for (int k = 0; k < c.nthreads; k++)
+		pthread_join(th[k], NULL);
 	state_free(&s);
 	return r;
 }

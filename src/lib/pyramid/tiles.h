@@ -18,9 +18,15 @@
  * centre's within 190), and the blocks are handed out. Every local error
  * is an exact maximum, so E is exact on every level, not a bound.
  *
+ * The DEM rows are scanned in batches of 32; within a batch each thread
+ * takes a share of the level's columns (the diamonds centred there, the
+ * leaves starting there), so no two write the same local error, and
+ * keeps its own base errors, merged by max: the blocks are the same bits
+ * whatever the thread count.
+ *
  * Memory: rings of 512 level rows of Z and offsets and of 1024 rows of
- * local errors, the saturation band (385 rows), one DEM row (as floats and
- * as doubles) and, displaced, 8 rows of positions per scale. */
+ * local errors, the saturation band (385 rows), 32 DEM rows as doubles
+ * and, displaced, 8 rows of positions per scale and thread. */
 #ifndef TL_TILES_H
 #define TL_TILES_H
 
@@ -45,7 +51,10 @@ typedef struct {
 	tiles_block_fn block;
 	void *block_ctx;
 	const char *label; /* progress on a terminal, or NULL */
+	int threads;       /* 1 .. TILES_MAXTHREADS: the columns in shares */
 } tiles_level;
+
+#define TILES_MAXTHREADS 64
 
 typedef struct {
 	double max_base;   /* largest base error of any block */

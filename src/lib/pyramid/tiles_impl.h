@@ -27,7 +27,36 @@
  * samples are exactly on edges or a grid step away. */
 #define EPS 1e-6
 
+typedef struct state state;
+
+/* A thread's share of a level: the diamonds centred, and the leaves
+ * starting, in level columns [lo, hi). Shares partition the columns, so
+ * no two threads write the same local error; each keeps its own base
+ * errors, merged by max (whose order does not matter) when a block row
+ * is handed out. */
 typedef struct {
+	state *s;
+	const double *dd;   /* the DEM row being scanned, NaN where not valid */
+	int lo, hi;
+	double *base;       /* by x bx base errors */
+	/* displaced levels: the positions vertex() finds, per scale h = 2^k
+	 * (the vertices of its diamonds: multiples of h both ways), for
+	 * VC_ROWS rows of such vertices, tagged with the row (multiple);
+	 * only the columns this share reaches */
+	struct {
+		int n;          /* columns: (P - 1) / h + 1 */
+		int tag[8];
+		double *x, *y;  /* VC_ROWS x n */
+	} vc[8];
+} strip;
+#define VC_ROWS 8
+
+/* DEM rows scanned between two meetings of the threads: the rings hold
+ * what a batch reaches (a block row's band is final 322 rows past its
+ * first, the rows loaded reach 130 past the DEM row: 452 + 32 < RINGV). */
+#define BATCH 32
+
+struct state {
 	const tiles_level *L;
 	dem *d;
 	int P, Q;           /* padded level size: blocks x 128 + 1 */
@@ -44,25 +73,17 @@ typedef struct {
 	float *acc;         /* RINGE x P: local errors */
 	int loaded;         /* level rows [0, loaded) have been loaded */
 	int next_bj;        /* next block row to hand out */
-	double *base;       /* by x bx base errors */
 	float *band;        /* BAND x P: saturated errors */
 	float *rz, *rx, *ry; /* a real row from the caller */
 	float *dz;
 	unsigned char *dv;  /* a DEM row */
 	pyramid_block blk;
 	tiles_stats *st;
-	double *dd;         /* the DEM row as doubles, NaN where not valid */
+	double *dd;         /* BATCH DEM rows as doubles (W0 + 1 apart) */
 	int scan;           /* undisplaced and step <= SCAN_MAXSTEP */
-	/* displaced levels: the positions vertex() finds, per scale h = 2^k
-	 * (the vertices of its diamonds: multiples of h both ways), for
-	 * VC_ROWS rows of such vertices, tagged with the row (multiple) */
-	struct {
-		int n;          /* columns: (P - 1) / h + 1 */
-		int tag[8];
-		double *x, *y;  /* VC_ROWS x n */
-	} vc[8];
-} state;
-#define VC_ROWS 8
+	int nstrip;
+	strip *strips;
+};
 
 /* Level row gj in the ring of heights and offsets: loaded, and not yet
  * overwritten by a row RINGV further on. */
@@ -123,8 +144,8 @@ sweep(const double *dd, long a, long b, double z0, double dz, double inv)
  * column and the tolerances EPS change nothing (see tiles_scan.c). */
 #define SCAN_MAXSTEP 1024
 
-/* The local and base errors the DEM row J raises, as tri_row's loops in
- * tiles.c would raise them, bit for bit. */
-void tiles_scan_row(state *s, int J);
+/* The local and base errors the DEM row J (t->dd) raises in t's
+ * columns, as tri_row's loops in tiles.c would raise them, bit for bit. */
+void tiles_scan_row(strip *t, int J);
 
 #endif

@@ -124,7 +124,7 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
  * coordinate differences are the template's (exact either way), its
  * divisions by n2 multiplications by 1 / n2 where that is exact. */
 static inline double
-tri_scan(const state *s, const tmpl *t, int cx)
+tri_scan(const state *s, const double *dd, const tmpl *t, int cx)
 {
 	double z0, z1, z2, e1, e2, n0, n1, p00, z, dz;
 	long S = (long)s->step, a, b;
@@ -153,15 +153,16 @@ tri_scan(const state *s, const tmpl *t, int cx)
 		dz = -n0 / t->n2;
 		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
 	}
-	return sweep(s->dd, a, b, z, dz, 1 / s->step);
+	return sweep(dd, a, b, z, dz, 1 / s->step);
 }
 
 /* row_diamonds (tiles.c) by templates: the diamonds along a centre row
  * alternate between two shapes (square diamonds' diagonals alternate;
- * edge diamonds are all alike). */
+ * edge diamonds are all alike). Those centred in the share's columns. */
 static void
-scan_diamonds(state *s, int J, double y, int h, int edge)
+scan_diamonds(strip *sh, int J, double y, int h, int edge)
 {
+	state *s = sh->s;
 	double reach = h + s->margin;
 	long c0 = (long)ceil((y - reach) / h);
 	long c1 = (long)floor((y + reach) / h);
@@ -185,10 +186,14 @@ scan_diamonds(state *s, int J, double y, int h, int edge)
 		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
 			continue;
 		acc = &s->acc[eslot(s, cy)];
-		for (int cx = x0, ph = 0; cx < s->P; cx += 2 * h, ph ^= 1) {
+		/* the first centre in the share, and its shape */
+		int k0 = sh->lo > x0 ? (sh->lo - x0 + 2 * h - 1) / (2 * h) : 0;
+		int end = sh->hi < s->P ? sh->hi : s->P;
+		for (int cx = x0 + 2 * h * k0, ph = k0 & 1; cx < end;
+		    cx += 2 * h, ph ^= 1) {
 			double w = -1;
 			for (int k = 0; k < nt[ph]; k++) {
-				double err = tri_scan(s, &T[ph][k], cx);
+				double err = tri_scan(s, sh->dd, &T[ph][k], cx);
 				if (err > w)
 					w = err;
 			}
@@ -201,8 +206,11 @@ scan_diamonds(state *s, int J, double y, int h, int edge)
 /* row_leaves (tiles.c) by templates: a cell's diagonal alternates with
  * ci + cj. */
 static void
-scan_leaves(state *s, int J, double y)
+scan_leaves(strip *sh, int J, double y)
 {
+	state *s = sh->s;
+	int end = sh->hi < s->P - 1 ? sh->hi : s->P - 1;
+
 	long r0 = (long)floor(y - EPS), r1 = (long)floor(y + EPS);
 
 	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++) {
@@ -224,12 +232,12 @@ scan_leaves(state *s, int J, double y)
 			for (int k = 0; k < 2; k++)
 				make_tmpl(s, &T[ph][k], t[k], ci, j, J, y);
 		}
-		double *brow = &s->base[(size_t)(cj / BT_CELLS) * s->bx];
-		for (int ci = 0; ci < s->P - 1; ci++) {
+		double *brow = &sh->base[(size_t)(cj / BT_CELLS) * s->bx];
+		for (int ci = sh->lo; ci < end; ci++) {
 			const tmpl *t = T[ci & 1];
 			double *base = &brow[ci / BT_CELLS];
 			for (int k = 0; k < 2; k++) {
-				double err = tri_scan(s, &t[k], ci);
+				double err = tri_scan(s, sh->dd, &t[k], ci);
 				if (err > *base)
 					*base = err;
 			}
@@ -238,13 +246,13 @@ scan_leaves(state *s, int J, double y)
 }
 
 void
-tiles_scan_row(state *s, int J)
+tiles_scan_row(strip *t, int J)
 {
-	double y = J / s->step;
+	double y = J / t->s->step;
 
 	for (int h = 1; h <= BT_MAXH; h *= 2) {
-		scan_diamonds(s, J, y, h, 0);
-		scan_diamonds(s, J, y, h, 1);
+		scan_diamonds(t, J, y, h, 0);
+		scan_diamonds(t, J, y, h, 1);
 	}
-	scan_leaves(s, J, y);
+	scan_leaves(t, J, y);
 }
