@@ -162,6 +162,28 @@ make -f "$TOP/examples/Makefile" -j2 DEMS="$T/dems" OUT="$T/pyrs" DEM2VGIS="$B/d
 [ "$(grep -c dem2vgis "$T/mk")" = 1 ] && grep -q spike.tif "$T/mk" &&
     [ "$(ls -l --time-style=+%s.%N "$T/pyrs/hills.tif/index.json")" = "$before" ]
 ok $? "examples/Makefile redoes only the changed DEM"
+# --- levels through FIFOs fed by one pipeline: read at once, no stall ------
+# (the level-0 stream is megabytes: a level left unread fills its pipe,
+# stops the tee, and starves the level being read)
+fdem=$DATA/N44W072.hgt
+fn=$(dem2fqm -I "$fdem" | awk '$1 == "levels" { print $2 }')
+mkdir "$T/fifo"
+fl=""; l=0
+while [ $l -lt "$fn" ]; do mkfifo "$T/fifo/v$l"; fl="$fl $T/fifo/v$l"; l=$((l + 1)); done
+chain() {	# L: level L's FQM on stdin; its vertex map and those above
+	if [ "$1" -eq $((fn - 1)) ]; then fqmsolve - - >"$T/fifo/v$1"
+	else tee >(fqmfilter - - | chain $(($1 + 1))) | fqmsolve - - >"$T/fifo/v$1"; fi
+}
+(dem2fqm "$fdem" - | chain 0) 2>/dev/null &
+# shellcheck disable=SC2086
+timeout 60 tilepack -q -j 2 "$fdem" "$T/o/ff" $fl; st=$?
+if [ $st -ne 0 ]; then	# a stall: the writers left blocked are let go
+	for f in $fl; do timeout 20 cat "$f" >/dev/null 2>&1 & done
+fi
+wait
+dem2vgis -q "$fdem" "$T/o/fv"
+[ $st -eq 0 ] && diff -r "$T/o/ff" "$T/o/fv" >/dev/null
+ok $? "$fn levels from FIFOs fed by one pipeline: no stall (status $st), the pyramid dem2vgis makes"
 # Options dem2vgis passes on are tried first: no hang, exit 2, no output.
 for bad in "-r 2" "-k lanczos" "-j x"; do
 	# shellcheck disable=SC2086
