@@ -11,6 +11,7 @@
 #include <float.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -57,6 +58,7 @@ typedef struct {
 	int last, bad_order;  /* blocks in row order */
 	int bad_border;       /* a shared vertex that differs */
 	int fail_at;          /* a block whose write fails, or -1 */
+	pthread_mutex_t mu;
 } sink;
 
 static int
@@ -67,6 +69,7 @@ block_fn(void *ctx, const pyramid_block *b, tl_err *e)
 
 	if (k == s->fail_at)
 		return tl_fail(e, "block %d: cannot", k);
+	pthread_mutex_lock(&s->mu); /* threads: blocks of a row at once */
 	s->bad_order += k != s->last + 1;
 	s->last = k;
 	s->seen[k]++;
@@ -84,6 +87,7 @@ block_fn(void *ctx, const pyramid_block *b, tl_err *e)
 				s->bad_border++;
 			s->z[g] = b->z[q], s->e[g] = b->e[q];
 		}
+	pthread_mutex_unlock(&s->mu);
 	return 0;
 }
 
@@ -114,6 +118,7 @@ run_level(run *u, const char *path, int level, int w, int h,
 	u->s.bx = pyramid_nblocks(w), u->s.by = pyramid_nblocks(h);
 	u->s.gw = u->s.bx * BT_CELLS + 1;
 	u->s.last = -1, u->s.fail_at = fail_block;
+	pthread_mutex_init(&u->s.mu, NULL);
 	nb = (size_t)u->s.bx * u->s.by;
 	ng = (size_t)u->s.gw * (u->s.by * BT_CELLS + 1);
 	u->s.z = calloc(ng, sizeof *u->s.z);
@@ -142,6 +147,7 @@ run_free(run *u)
 {
 	free(u->s.z), free(u->s.e), free(u->s.seen);
 	free(u->s.base), free(u->s.emax), free(u->s.zmin), free(u->s.zmax);
+	pthread_mutex_destroy(&u->s.mu);
 }
 
 static float

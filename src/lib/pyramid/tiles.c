@@ -403,53 +403,59 @@ saturate(state *s, int bj)
 
 /* --- blocks ----------------------------------------------------------- */
 
-static int
-emit_row(state *s, int bj, tl_err *e)
+/* Block bj, bi of the saturated band into b. */
+static void
+fill_block(const state *s, pyramid_block *b, int bi, int bj)
 {
-	pyramid_block *b = &s->blk;
 	int g0 = bj * BT_CELLS - REACH;
+	double emax = 0;
 
-	saturate(s, bj);
-	for (int bi = 0; bi < s->bx; bi++) {
-		b->level = s->L->level, b->bi = bi, b->bj = bj;
-		b->base = 0; /* the shares' base errors, merged */
-		for (int k = 0; k < s->nstrip; k++)
-			b->base = dmax(b->base,
-			    s->strips[k].base[(size_t)bj * s->bx + bi]);
-		b->zmin = INFINITY, b->zmax = -INFINITY;
-		double emax = 0;
-		for (int r = 0; r < BT_SIZE; r++) {
-			int gj = bj * BT_CELLS + r;
-			size_t o = slot(s, gj) + (size_t)bi * BT_CELLS;
-			/* the block's rows lie in the band's middle */
-			assert(gj - g0 >= REACH && gj - g0 < BAND - REACH);
-			const float *band = s->band + (size_t)(gj - g0) * s->P +
-			    (size_t)bi * BT_CELLS;
-			for (int c = 0; c < BT_SIZE; c++) {
-				int k = r * BT_SIZE + c;
-				int corner = r % BT_CELLS == 0 &&
-				    c % BT_CELLS == 0;
-				b->z[k] = s->z[o + c];
-				b->e[k] = corner ? FLT_MAX : band[c];
-				if (!corner && b->e[k] > emax)
-					emax = b->e[k];
-				if (b->displaced) {
-					b->x[k] = s->ox[o + c];
-					b->y[k] = s->oy[o + c];
-				}
-				b->zmin = fmin(b->zmin, b->z[k]);
-				b->zmax = fmax(b->zmax, b->z[k]);
+	b->level = s->L->level, b->bi = bi, b->bj = bj;
+	b->base = 0; /* the shares' base errors, merged */
+	for (int k = 0; k < s->nstrip; k++)
+		b->base = dmax(b->base,
+		    s->strips[k].base[(size_t)bj * s->bx + bi]);
+	b->zmin = INFINITY, b->zmax = -INFINITY;
+	for (int r = 0; r < BT_SIZE; r++) {
+		int gj = bj * BT_CELLS + r;
+		size_t o = slot(s, gj) + (size_t)bi * BT_CELLS;
+		/* the block's rows lie in the band's middle */
+		assert(gj - g0 >= REACH && gj - g0 < BAND - REACH);
+		const float *band = s->band + (size_t)(gj - g0) * s->P +
+		    (size_t)bi * BT_CELLS;
+		for (int c = 0; c < BT_SIZE; c++) {
+			int k = r * BT_SIZE + c;
+			int corner = r % BT_CELLS == 0 && c % BT_CELLS == 0;
+			b->z[k] = s->z[o + c];
+			b->e[k] = corner ? FLT_MAX : band[c];
+			if (!corner && b->e[k] > emax)
+				emax = b->e[k];
+			if (b->displaced) {
+				b->x[k] = s->ox[o + c];
+				b->y[k] = s->oy[o + c];
 			}
+			b->zmin = fmin(b->zmin, b->z[k]);
+			b->zmax = fmax(b->zmax, b->z[k]);
 		}
-		b->emax = emax;
-		if (emax > s->st->max_e)
-			s->st->max_e = emax;
-		if (b->base > s->st->max_base)
-			s->st->max_base = b->base;
-		if (s->L->block(s->L->block_ctx, b, e) < 0)
-			return -1;
 	}
-	return 0;
+	b->emax = emax;
+}
+
+/* The share's blocks of block row bj, handed to the caller (in parallel
+ * with the other shares': writing a block is mostly compressing it). */
+static void
+emit_share(strip *t, int bj)
+{
+	const state *s = t->s;
+
+	for (int bi = t->blo; bi < t->bhi && !t->failed; bi++) {
+		pyramid_block *b = &t->blk;
+		fill_block(s, b, bi, bj);
+		t->max_e = dmax(t->max_e, b->emax);
+		t->max_base = dmax(t->max_base, b->base);
+		if (s->L->block(s->L->block_ctx, b, &t->err) < 0)
+			t->failed = 1;
+	}
 }
 
 static void
@@ -458,6 +464,7 @@ strips_free(state *s)
 	for (int i = 0; s->strips != NULL && i < s->nstrip; i++) {
 		strip *t = &s->strips[i];
 		free(t->base);
+		pyramid_block_free(&t->blk);
 		for (int k = 0; k < 8; k++)
 			free(t->vc[k].x), free(t->vc[k].y);
 	}
@@ -471,7 +478,6 @@ state_free(state *s)
 	free(s->nk), free(s->nu);
 	free(s->acc), free(s->band);
 	free(s->rz), free(s->rx), free(s->ry), free(s->dz), free(s->dv);
-	pyramid_block_free(&s->blk);
 	free(s->dd);
 	strips_free(s);
 }
@@ -483,7 +489,8 @@ strip_init(state *s, strip *t, int lo, int hi, tl_err *e)
 {
 	t->s = s, t->lo = lo, t->hi = hi;
 	if ((t->base = tl_alloc((size_t)s->bx * s->by, sizeof *t->base,
-	    e)) == NULL)
+	    e)) == NULL || pyramid_block_alloc(&t->blk, s->L->displaced,
+	    e) < 0)
 		return -1;
 	for (int hk = 0; (1 << hk) <= BT_MAXH; hk++) {
 		t->vc[hk].n = (s->P - 1) / (1 << hk) + 1;
@@ -513,10 +520,13 @@ strips_init(state *s, int n, tl_err *e)
 	if ((s->strips = tl_alloc(n, sizeof *s->strips, e)) == NULL)
 		return -1;
 	s->nstrip = n;
-	for (int k = 0; k < n; k++)
-		if (strip_init(s, &s->strips[k], (int)((long)s->P * k / n),
+	for (int k = 0; k < n; k++) {
+		strip *t = &s->strips[k];
+		if (strip_init(s, t, (int)((long)s->P * k / n),
 		    (int)((long)s->P * (k + 1) / n), e) < 0)
 			return -1;
+		t->blo = s->bx * k / n, t->bhi = s->bx * (k + 1) / n;
+	}
 	return 0;
 }
 
@@ -560,7 +570,6 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	    (L->displaced && s->nn > 1 && (!s->nk || !s->nu)) ||
 	    !s->rz || !s->dz || !s->dv || (L->displaced && (!s->ox ||
 	    !s->oy || !s->rx || !s->ry)) ||
-	    pyramid_block_alloc(&s->blk, L->displaced, e) < 0 ||
 	    (s->dd = tl_alloc((size_t)BATCH * (s->W0 + 1), sizeof *s->dd,
 	    e)) == NULL ||
 	    strips_init(s, L->threads, e) < 0) {
@@ -582,14 +591,18 @@ ready(const state *s, int bj, double y)
 
 /* --- the shares on threads --------------------------------------------- */
 
-/* A batch is handed to the threads by bumping gen; each scans its share
+/* A task is handed to the threads by bumping gen; each does its share
  * and counts itself off. Shares without a thread (one could not be
  * started) are the calling thread's. */
+enum task { SCAN, EMIT };
+
 typedef struct {
 	pthread_mutex_t mu;
 	pthread_cond_t go, done;
 	long gen;
-	int J0, J1, quit, pending, nthreads;
+	enum task task;
+	int J0, J1, bj;    /* SCAN: DEM rows J0 .. J1-1; EMIT: block row bj */
+	int quit, pending, nthreads;
 } crew;
 
 typedef struct {
@@ -608,6 +621,15 @@ scan_batch(strip *t, int J0, int J1)
 	}
 }
 
+static void
+do_share(strip *t, const crew *c)
+{
+	if (c->task == SCAN)
+		scan_batch(t, c->J0, c->J1);
+	else
+		emit_share(t, c->bj);
+}
+
 static void *
 member_run(void *arg)
 {
@@ -623,7 +645,7 @@ member_run(void *arg)
 		pthread_mutex_unlock(&c->mu);
 		if (c->quit)
 			return NULL;
-		scan_batch(m->t, c->J0, c->J1);
+		do_share(m->t, c);
 		pthread_mutex_lock(&c->mu);
 		if (--c->pending == 0)
 			pthread_cond_signal(&c->done);
@@ -631,21 +653,42 @@ member_run(void *arg)
 	}
 }
 
-/* Shares 1 .. nthreads on the crew's threads, the rest here. */
+/* The crew's task (set by the caller) on every share: 1 .. nthreads on
+ * the crew's threads, the rest here. */
 static void
-scan_shares(state *s, crew *c, int J0, int J1)
+run_shares(state *s, crew *c)
 {
 	pthread_mutex_lock(&c->mu);
-	c->J0 = J0, c->J1 = J1, c->pending = c->nthreads, c->gen++;
+	c->pending = c->nthreads, c->gen++;
 	pthread_cond_broadcast(&c->go);
 	pthread_mutex_unlock(&c->mu);
-	scan_batch(&s->strips[0], J0, J1);
+	do_share(&s->strips[0], c);
 	for (int k = 1 + c->nthreads; k < s->nstrip; k++)
-		scan_batch(&s->strips[k], J0, J1);
+		do_share(&s->strips[k], c);
 	pthread_mutex_lock(&c->mu);
 	while (c->pending > 0)
 		pthread_cond_wait(&c->done, &c->mu);
 	pthread_mutex_unlock(&c->mu);
+}
+
+/* Block row bj: saturated, then its blocks handed out by the shares;
+ * the failure told is the leftmost share's. */
+static int
+emit_row(state *s, crew *c, int bj, tl_err *e)
+{
+	saturate(s, bj);
+	c->task = EMIT, c->bj = bj;
+	run_shares(s, c);
+	for (int k = 0; k < s->nstrip; k++) {
+		const strip *t = &s->strips[k];
+		if (t->failed) {
+			*e = t->err;
+			return -1;
+		}
+		s->st->max_e = dmax(s->st->max_e, t->max_e);
+		s->st->max_base = dmax(s->st->max_base, t->max_base);
+	}
+	return 0;
 }
 
 /* DEM rows J0 .. J1-1 as doubles, NaN where not valid. */
@@ -678,16 +721,17 @@ run_rows(state *s, crew *c, tl_progress *pr, tl_err *e)
 		if (ensure(s, (int)y + 2 * BT_MAXH + 2, e) < 0 ||
 		    read_batch(s, J0, J1, e) < 0)
 			return -1;
-		scan_shares(s, c, J0, J1);
+		c->task = SCAN, c->J0 = J0, c->J1 = J1;
+		run_shares(s, c);
 		while (s->next_bj < s->by && ready(s, s->next_bj, y))
-			if (emit_row(s, s->next_bj++, e) < 0)
+			if (emit_row(s, c, s->next_bj++, e) < 0)
 				return -1;
 		tl_progress_step(pr, J1);
 	}
 	if (ensure(s, s->Q - 1, e) < 0)
 		return -1;
 	while (s->next_bj < s->by)
-		if (emit_row(s, s->next_bj++, e) < 0)
+		if (emit_row(s, c, s->next_bj++, e) < 0)
 			return -1;
 	return 0;
 }

@@ -38,7 +38,10 @@
  * order, once each. */
 typedef int (*tiles_row_fn)(void *ctx, int r, float *z, float *x, float *y,
     tl_err *e);
-/* A finished block; the callee writes it (b is reused afterwards). */
+/* A finished block; the callee writes it (b is reused afterwards). With
+ * threads > 1 it is called from several threads at once, for different
+ * blocks of one block row (block rows come in order, a row's blocks in
+ * any order). */
 typedef int (*tiles_block_fn)(void *ctx, const pyramid_block *b, tl_err *e);
 
 typedef struct {

@@ -39,6 +39,11 @@ typedef struct {
 	const double *dd;   /* the DEM row being scanned, NaN where not valid */
 	int lo, hi;
 	double *base;       /* by x bx base errors */
+	int blo, bhi;       /* the block columns it hands out */
+	pyramid_block blk;
+	double max_e, max_base; /* of its blocks */
+	int failed;         /* the block callback failed: err says why */
+	tl_err err;
 	/* displaced levels: the positions vertex() finds, per scale h = 2^k
 	 * (the vertices of its diamonds: multiples of h both ways), for
 	 * VC_ROWS rows of such vertices, tagged with the row (multiple);
@@ -77,7 +82,6 @@ struct state {
 	float *rz, *rx, *ry; /* a real row from the caller */
 	float *dz;
 	unsigned char *dv;  /* a DEM row */
-	pyramid_block blk;
 	tiles_stats *st;
 	double *dd;         /* BATCH DEM rows as doubles (W0 + 1 apart) */
 	int scan;           /* undisplaced and step <= SCAN_MAXSTEP */
