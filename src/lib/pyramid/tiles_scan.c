@@ -124,14 +124,11 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
  * coordinate differences are the template's (exact either way), its
  * divisions by n2 multiplications by 1 / n2 where that is exact. */
 static inline double
-tri_scan(const state *s, const double *dd, const tmpl *t, int cx)
+tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 {
 	double z0, z1, z2, e1, e2, n0, n1, p00, z, dz;
 	long S = (long)s->step, a, b;
 
-	if (!t->ok || cx + t->xmin < 0 || cx + t->xmax >= s->P ||
-	    t->n2 == 0)
-		return -1;
 	a = (long)cx * S + t->lo, b = (long)cx * S + t->hi;
 	if (a < 0)
 		a = 0;
@@ -154,6 +151,37 @@ tri_scan(const state *s, const double *dd, const tmpl *t, int cx)
 		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
 	}
 	return sweep(dd, a, b, z, dz, 1 / s->step);
+}
+
+/* tri_at with its checks: off the grid, or no plane. */
+static inline double
+tri_scan(const state *s, const double *dd, const tmpl *t, int cx)
+{
+	if (!t->ok || cx + t->xmin < 0 || cx + t->xmax >= s->P ||
+	    t->n2 == 0)
+		return -1;
+	return tri_at(s, dd, t, cx);
+}
+
+/* Template t at centres first, first + stride, ... below end, each
+ * raising acc[cx]: the range where it is on the grid found once. Raising
+ * by each triangle in turn is raising by their maximum: a float's
+ * rounding keeps the order. */
+static void
+scan_template(const state *s, const double *dd, const tmpl *t, float *acc,
+    int first, int end, int stride)
+{
+	if (!t->ok || t->n2 == 0)
+		return;
+	if (end > s->P - t->xmax)
+		end = s->P - t->xmax;
+	if (first < -t->xmin)
+		first += (-t->xmin - first + stride - 1) / stride * stride;
+	for (int cx = first; cx < end; cx += stride) {
+		double err = tri_at(s, dd, t, cx);
+		if (err > acc[cx])
+			acc[cx] = (float)err;
+	}
 }
 
 /* row_diamonds (tiles.c) by templates: the diamonds along a centre row
@@ -186,19 +214,16 @@ scan_diamonds(strip *sh, int J, double y, int h, int edge)
 		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
 			continue;
 		acc = &s->acc[eslot(s, cy)];
-		/* the first centre in the share, and its shape */
-		int k0 = sh->lo > x0 ? (sh->lo - x0 + 2 * h - 1) / (2 * h) : 0;
+		/* each shape's centres in the share: every other one */
 		int end = sh->hi < s->P ? sh->hi : s->P;
-		for (int cx = x0 + 2 * h * k0, ph = k0 & 1; cx < end;
-		    cx += 2 * h, ph ^= 1) {
-			double w = -1;
-			for (int k = 0; k < nt[ph]; k++) {
-				double err = tri_scan(s, sh->dd, &T[ph][k], cx);
-				if (err > w)
-					w = err;
-			}
-			if (w > acc[cx])
-				acc[cx] = (float)w;
+		for (int ph = 0; ph < 2; ph++) {
+			int first = x0 + 2 * h * ph;
+			if (first < sh->lo)
+				first += (sh->lo - first + 4 * h - 1) /
+				    (4 * h) * (4 * h);
+			for (int k = 0; k < nt[ph]; k++)
+				scan_template(s, sh->dd, &T[ph][k], acc, first,
+				    end, 4 * h);
 		}
 	}
 }
