@@ -24,7 +24,7 @@
  * keeps its own base errors, merged by max: the blocks are the same bits
  * whatever the thread count.
  *
- * Memory: rings of 512 level rows of Z and offsets and of 1024 rows of
+ * Memory: rings of 512 level rows of Z and offsets and of 640 rows of
  * local errors, the saturation band (385 rows), 32 DEM rows as doubles
  * and, displaced, 8 rows of positions per scale and thread. */
 #ifndef TL_TILES_H

@@ -21,7 +21,10 @@
 #define REACH BT_CELLS
 #define BAND (BT_CELLS + 2 * REACH + 1) /* rows saturated per block row */
 #define RINGV 512   /* level rows of heights and offsets held; a power of 2 */
-#define RINGE 1024  /* level rows of local errors held; a power of 2 */
+/* level rows of local errors held: a block row's band starts 128 rows
+ * before it, and the rows loaded when it is handed out reach 484 past it
+ * (ready at 322, a batch of 32, 130 below the DEM row): 612 at most */
+#define RINGE 640
 /* Closed containment, level units: 3D positions come from float32
  * offsets, so a sample on a shared edge must count on both sides; in 1D
  * samples are exactly on edges or a grid step away. */
@@ -103,7 +106,7 @@ static inline size_t
 eslot(const state *s, int gj)
 {
 	assert(gj >= 0 && gj < s->loaded && gj >= s->loaded - RINGE);
-	return (size_t)(gj & (RINGE - 1)) * s->P;
+	return (size_t)(gj % RINGE) * s->P;
 }
 
 /* max |z0 + dz * (i / step) - DEM[i]| over the valid i in [a, b]; -1
