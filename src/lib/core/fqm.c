@@ -161,43 +161,106 @@ static const int celltri[4][3] = {
 };
 static const int without[4] = { 3, 1, 2, 0 }; /* corner k: all but this */
 
+/* The x, y parts of the edges e1 = p1 - p0, e2 = p2 - p0 of the cell's
+ * triangles (celltri), as quadric_add_triangle would form them from the
+ * corners of the trapezoid of widths a (row J) and b (row J + 1) and
+ * height dy. They depend on the metric only: one per band for a per-row
+ * metric, whose cells are all alike. */
+typedef struct {
+	double e1[4][2], e2[4][2];
+} cell_shape;
+
+static void
+cell_shape_of(double a, double b, double dy, cell_shape *s)
+{
+	const double p[4][2] = {
+		{ -0.5 * a, 0 }, { 0.5 * a, 0 }, { 0.5 * b, dy }, { -0.5 * b, dy },
+	};
+
+	for (int k = 0; k < 4; k++) {
+		const int *c = celltri[k];
+		for (int d = 0; d < 2; d++) {
+			s->e1[k][d] = p[c[1]][d] - p[c[0]][d];
+			s->e2[k][d] = p[c[2]][d] - p[c[0]][d];
+		}
+	}
+}
+
+/* A cell's corner sums C[k] (corner k as in fqm.h): each triangle's A
+ * (zero for one with a void corner), the cell's total in the triangles'
+ * order, and each corner's total less the triangle that leaves it out.
+ * z[] and ok[] are the corners' heights and validity. */
+static inline void
+cell_corners(const cell_shape *s, const double z[4], const int ok[4],
+    double C[4][6])
+{
+	double t[4][6], total[6];
+
+	for (int k = 0; k < 4; k++) {
+		const int *c = celltri[k];
+		if (ok[c[0]] && ok[c[1]] && ok[c[2]]) {
+			double e1[3] = { s->e1[k][0], s->e1[k][1],
+			    z[c[1]] - z[c[0]] };
+			double e2[3] = { s->e2[k][0], s->e2[k][1],
+			    z[c[2]] - z[c[0]] };
+			quadric_triangle_a(e1, e2, 0.5, t[k]);
+		} else {
+			for (int a = 0; a < 6; a++)
+				t[k][a] = 0;
+		}
+	}
+	for (int a = 0; a < 6; a++)
+		total[a] = 0 + t[0][a] + t[1][a] + t[2][a] + t[3][a];
+	for (int k = 0; k < 4; k++)
+		for (int a = 0; a < 6; a++)
+			C[k][a] = total[a] - t[without[k]][a];
+}
+
+/* The metric along rows J and J + 1, taken at each cell's middle column
+ * (one value per row for per-row metrics). */
+typedef struct {
+	const geo_metric *m;
+	double sx0[GEO_MAX_NODES], sx1[GEO_MAX_NODES];
+	double y0[GEO_MAX_NODES], y1[GEO_MAX_NODES];
+} band_metric;
+
+static void
+band_metric_of(const geo_metric *m, int J, band_metric *b)
+{
+	b->m = m;
+	geo_row_sx(m, J, b->sx0), geo_row_sx(m, J + 1, b->sx1);
+	geo_row_y(m, J, b->y0), geo_row_y(m, J + 1, b->y1);
+}
+
+/* The shape of cell i, computed only where it differs from cell i - 1's
+ * (every cell of a per-row metric's band is alike). */
+static inline void
+cell_shape_at(const band_metric *b, size_t i, cell_shape *s)
+{
+	const geo_metric *m = b->m;
+	double I = i + 0.5;
+
+	if (i == 0 || !m->per_row)
+		cell_shape_of(geo_on_row(m, b->sx0, I),
+		    geo_on_row(m, b->sx1, I),
+		    geo_on_row(m, b->y1, I) - geo_on_row(m, b->y0, I), s);
+}
+
 void
 fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
     const unsigned char *v1, int w, int J, const geo_metric *m,
     double *band)
 {
-	/* the metric along rows J and J + 1, taken at each cell's middle
-	 * column (one value per row for per-row metrics) */
-	double sx0[GEO_MAX_NODES], sx1[GEO_MAX_NODES];
-	double y0[GEO_MAX_NODES], y1[GEO_MAX_NODES];
+	band_metric b;
+	cell_shape s;
 
-	geo_row_sx(m, J, sx0), geo_row_sx(m, J + 1, sx1);
-	geo_row_y(m, J, y0), geo_row_y(m, J + 1, y1);
-	for (int i = 0; i + 1 < w; i++) {
-		double *out = band + (size_t)i * FQM_BAND0_DOUBLES, I = i + 0.5;
-		double a = geo_on_row(m, sx0, I), b = geo_on_row(m, sx1, I);
-		double dy = geo_on_row(m, y1, I) - geo_on_row(m, y0, I);
-		double p[4][3] = {
-			{ -0.5 * a, 0, z0[i] },
-			{ 0.5 * a, 0, z0[i + 1] },
-			{ 0.5 * b, dy, z1[i + 1] },
-			{ -0.5 * b, dy, z1[i] },
-		};
-		int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
-		quadric t[4], total;
-
-		quadric_zero(&total);
-		for (int k = 0; k < 4; k++) {
-			const int *c = celltri[k];
-			quadric_zero(&t[k]);
-			if (ok[c[0]] && ok[c[1]] && ok[c[2]])
-				quadric_add_triangle(&t[k], p[c[0]], p[c[1]],
-				    p[c[2]], 0.5);
-			quadric_add(&total, &t[k], 1);
-		}
-		for (int k = 0; k < 4; k++)
-			for (int c = 0; c < 6; c++)
-				out[k * 6 + c] = total.a[c] - t[without[k]].a[c];
+	band_metric_of(m, J, &b);
+	for (size_t i = 0; i + 1 < (size_t)w; i++) {
+		const double z[4] = { z0[i], z0[i + 1], z1[i + 1], z1[i] };
+		const int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
+		cell_shape_at(&b, i, &s);
+		cell_corners(&s, z, ok, (double (*)[6])(band +
+		    i * FQM_BAND0_DOUBLES));
 	}
 }
 
@@ -228,6 +291,93 @@ fqm_row0(const double *above, const double *below, const float *z,
 		o->z = o->s = z[i];
 		o->v = valid[i] ? 1 : 0;
 	}
+}
+
+/* fqm_step0's work: A of row J's vertices into out[].q.a or, encoded,
+ * into the channel planes qa[] (the other of the two NULL). Per vertex
+ * the sum fqm_row0 makes, in its order: part[] holds the first two terms
+ * (the band above), the cells of band J on either side add the last two,
+ * and the same cells' upper corners start row J + 1's part[]. */
+static inline void
+step0(const float *z0, const unsigned char *v0, const float *z1,
+    const unsigned char *v1, size_t w, int J, const geo_metric *m,
+    double *part, fqm_vertex *out, float *const qa[6])
+{
+	double c1[6] = { 0 }, c2[6] = { 0 }; /* cell i - 1's corners 1, 2 */
+	band_metric b;
+	cell_shape s;
+
+	if (z1 == NULL) { /* the last row: no band below */
+		for (size_t i = 0; i < w; i++)
+			for (int a = 0; a < 6; a++) {
+				if (out != NULL)
+					out[i].q.a[a] = part[i * 6 + a];
+				else
+					qa[a][i] = (float)part[i * 6 + a];
+			}
+		return;
+	}
+	band_metric_of(m, J, &b);
+	for (size_t i = 0; i < w; i++) {
+		double C[4][6];
+		if (i + 1 < w) {
+			const double z[4] = { z0[i], z0[i + 1], z1[i + 1],
+			    z1[i] };
+			const int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
+			cell_shape_at(&b, i, &s);
+			cell_corners(&s, z, ok, C);
+		}
+		for (int a = 0; a < 6; a++) {
+			double q = part[i * 6 + a], r = 0;
+			if (i > 0)
+				q += c1[a], r += c2[a];
+			if (i + 1 < w)
+				q += C[0][a], r += C[3][a];
+			if (out != NULL)
+				out[i].q.a[a] = q;
+			else
+				qa[a][i] = (float)q;
+			part[i * 6 + a] = r;
+			if (i + 1 < w)
+				c1[a] = C[1][a], c2[a] = C[2][a];
+		}
+	}
+}
+
+void
+fqm_step0(const float *z0, const unsigned char *v0, const float *z1,
+    const unsigned char *v1, int w, int J, const geo_metric *m,
+    double *part, fqm_vertex *out)
+{
+	for (int i = 0; i < w; i++) {
+		fqm_vertex *o = &out[i];
+		quadric_zero(&o->q);
+		o->z = o->s = z0[i];
+		o->v = v0[i] ? 1 : 0;
+	}
+	step0(z0, v0, z1, v1, (size_t)w, J, m, part, out, NULL);
+}
+
+void
+fqm_step0_encode(const float *z0, const unsigned char *v0, const float *z1,
+    const unsigned char *v1, int w, int J, const geo_metric *m,
+    double *part, const fqm_layout *L, float *row)
+{
+	size_t W = (size_t)w;
+	float *qa[6];
+
+	assert(layout_ok(L));
+	for (int a = 0; a < 6; a++)
+		qa[a] = row + (size_t)L->q[a] * W;
+	step0(z0, v0, z1, v1, W, J, m, part, NULL, qa);
+	/* b = 0 and c = 0: +0.0f is all zero bytes */
+	for (int c = 6; c < 10; c++)
+		memset(row + (size_t)L->q[c] * W, 0, W * sizeof *row);
+	/* Z and S: a finite float is its own double and back */
+	memcpy(row + (size_t)L->z * W, z0, W * sizeof *row);
+	memcpy(row + (size_t)L->s * W, z0, W * sizeof *row);
+	for (size_t i = 0; i < W; i++)
+		row[(size_t)L->v * W + i] = v0[i] ? 1 : 0;
 }
 
 rs_reader *

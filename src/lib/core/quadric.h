@@ -8,6 +8,8 @@
 #ifndef TL_QUADRIC_H
 #define TL_QUADRIC_H
 
+#include <math.h>
+
 typedef struct {
 	double a[6];
 	double b[3];
@@ -32,6 +34,38 @@ void quadric_add_plane(quadric *q, const double n[3], double d, double w);
  * nothing). Points are in q's frame. */
 double quadric_add_triangle(quadric *q, const double p0[3], const double p1[3],
     const double p2[3], double w);
+/* The A that quadric_add_triangle(q, p0, p1, p2, w) adds to a zero q,
+ * bit for bit, from the edges e1 = p1 - p0 and e2 = p2 - p0 as it forms
+ * them: all +0 for a degenerate triangle. b and c are left out (a plane
+ * through the frame's origin has none), and it is inline so that a loop
+ * over a grid's cells computes only what varies from cell to cell (the
+ * edges' x, y parts and the products of them are loop invariants). */
+static inline void
+quadric_triangle_a(const double e1[3], const double e2[3], double w,
+    double a[6])
+{
+	double n0 = e1[1] * e2[2] - e1[2] * e2[1];
+	double n1 = e1[2] * e2[0] - e1[0] * e2[2];
+	double n2 = e1[0] * e2[1] - e1[1] * e2[0];
+	double len = sqrt(n0 * n0 + n1 * n1 + n2 * n2), s, s0, s1, s2;
+
+	if (!(len > 0)) {
+		for (int k = 0; k < 6; k++)
+			a[k] = 0;
+		return;
+	}
+	n0 /= len, n1 /= len, n2 /= len;
+	s = w * 0.5 * len;
+	s0 = s * n0, s1 = s * n1, s2 = s * n2;
+	/* 0 + x, as quadric_add_plane adds to a zero quadric: a -0 product
+	 * becomes +0 */
+	a[QUADRIC_A11] = 0 + s0 * n0;
+	a[QUADRIC_A12] = 0 + s0 * n1;
+	a[QUADRIC_A13] = 0 + s0 * n2;
+	a[QUADRIC_A22] = 0 + s1 * n1;
+	a[QUADRIC_A23] = 0 + s1 * n2;
+	a[QUADRIC_A33] = 0 + s2 * n2;
+}
 void quadric_add(quadric *q, const quadric *r, double w); /* q += w r */
 /* Re-express q in a frame whose origin is point d of the old frame:
  * A' = A, b' = b + A d, c' = c + 2 b.d + d.A d. */
