@@ -161,106 +161,43 @@ static const int celltri[4][3] = {
 };
 static const int without[4] = { 3, 1, 2, 0 }; /* corner k: all but this */
 
-/* The x, y parts of the edges e1 = p1 - p0, e2 = p2 - p0 of the cell's
- * triangles (celltri), as quadric_add_triangle would form them from the
- * corners of the trapezoid of widths a (row J) and b (row J + 1) and
- * height dy. They depend on the metric only: one per band for a per-row
- * metric, whose cells are all alike. */
-typedef struct {
-	double e1[4][2], e2[4][2];
-} cell_shape;
-
-static void
-cell_shape_of(double a, double b, double dy, cell_shape *s)
-{
-	const double p[4][2] = {
-		{ -0.5 * a, 0 }, { 0.5 * a, 0 }, { 0.5 * b, dy }, { -0.5 * b, dy },
-	};
-
-	for (int k = 0; k < 4; k++) {
-		const int *c = celltri[k];
-		for (int d = 0; d < 2; d++) {
-			s->e1[k][d] = p[c[1]][d] - p[c[0]][d];
-			s->e2[k][d] = p[c[2]][d] - p[c[0]][d];
-		}
-	}
-}
-
-/* A cell's corner sums C[k] (corner k as in fqm.h): each triangle's A
- * (zero for one with a void corner), the cell's total in the triangles'
- * order, and each corner's total less the triangle that leaves it out.
- * z[] and ok[] are the corners' heights and validity. */
-static inline void
-cell_corners(const cell_shape *s, const double z[4], const int ok[4],
-    double C[4][6])
-{
-	double t[4][6], total[6];
-
-	for (int k = 0; k < 4; k++) {
-		const int *c = celltri[k];
-		if (ok[c[0]] && ok[c[1]] && ok[c[2]]) {
-			double e1[3] = { s->e1[k][0], s->e1[k][1],
-			    z[c[1]] - z[c[0]] };
-			double e2[3] = { s->e2[k][0], s->e2[k][1],
-			    z[c[2]] - z[c[0]] };
-			quadric_triangle_a(e1, e2, 0.5, t[k]);
-		} else {
-			for (int a = 0; a < 6; a++)
-				t[k][a] = 0;
-		}
-	}
-	for (int a = 0; a < 6; a++)
-		total[a] = 0 + t[0][a] + t[1][a] + t[2][a] + t[3][a];
-	for (int k = 0; k < 4; k++)
-		for (int a = 0; a < 6; a++)
-			C[k][a] = total[a] - t[without[k]][a];
-}
-
-/* The metric along rows J and J + 1, taken at each cell's middle column
- * (one value per row for per-row metrics). */
-typedef struct {
-	const geo_metric *m;
-	double sx0[GEO_MAX_NODES], sx1[GEO_MAX_NODES];
-	double y0[GEO_MAX_NODES], y1[GEO_MAX_NODES];
-} band_metric;
-
-static void
-band_metric_of(const geo_metric *m, int J, band_metric *b)
-{
-	b->m = m;
-	geo_row_sx(m, J, b->sx0), geo_row_sx(m, J + 1, b->sx1);
-	geo_row_y(m, J, b->y0), geo_row_y(m, J + 1, b->y1);
-}
-
-/* The shape of cell i, computed only where it differs from cell i - 1's
- * (every cell of a per-row metric's band is alike). */
-static inline void
-cell_shape_at(const band_metric *b, size_t i, cell_shape *s)
-{
-	const geo_metric *m = b->m;
-	double I = i + 0.5;
-
-	if (i == 0 || !m->per_row)
-		cell_shape_of(geo_on_row(m, b->sx0, I),
-		    geo_on_row(m, b->sx1, I),
-		    geo_on_row(m, b->y1, I) - geo_on_row(m, b->y0, I), s);
-}
-
 void
 fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
     const unsigned char *v1, int w, int J, const geo_metric *m,
     double *band)
 {
-	band_metric b;
-	cell_shape s;
+	/* the metric along rows J and J + 1, taken at each cell's middle
+	 * column (one value per row for per-row metrics) */
+	double sx0[GEO_MAX_NODES], sx1[GEO_MAX_NODES];
+	double y0[GEO_MAX_NODES], y1[GEO_MAX_NODES];
 
-	band_metric_of(m, J, &b);
-	for (size_t i = 0; i + 1 < (size_t)w; i++) {
-		const double z[4] = { z0[i], z0[i + 1], z1[i + 1], z1[i] };
-		const int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
-		cell_shape_at(&b, i, &s);
-		cell_corners(&s, z, ok, (double (*)[6])(band +
-		    i * FQM_BAND0_DOUBLES));
+	geo_row_sx(m, J, sx0), geo_row_sx(m, J + 1, sx1);
+	geo_row_y(m, J, y0), geo_row_y(m, J + 1, y1);
+	for (int i = 0; i + 1 < w; i++) {
+		double *out = band + (size_t)i * FQM_BAND0_DOUBLES, I = i + 0.5;
+		double a = geo_on_row(m, sx0, I), b = geo_on_row(m, sx1, I);
+		double dy = geo_on_row(m, y1, I) - geo_on_row(m, y0, I);
+		double p[4][3] = {
+			{ -0.5 * a, 0, z0[i] },
+			{ 0.5 * a, 0, z0[i + 1] },
+			{ 0.5 * b, dy, z1[i + 1] },
+			{ -0.5 * b, dy, z1[i] },
+		};
+		int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
+		quadric t[4], total;
+
+		quadric_zero(&total);
+		for (int k = 0; k < 4; k++) {
+			const int *c = celltri[k];
+			quadric_zero(&t[k]);
+			if (ok[c[0]] && ok[c[1]] && ok[c[2]])
+				quadric_add_triangle(&t[k], p[c[0]], p[c[1]],
+				    p[c[2]], 0.5);
+			quadric_add(&total, &t[k], 1);
+		}
+		for (int k = 0; k < 4; k++)
+			for (int c = 0; c < 6; c++)
+				out[k * 6 + c] = total.a[c] - t[without[k]].a[c];
 	}
 }
 
@@ -293,54 +230,221 @@ fqm_row0(const double *above, const double *below, const float *z,
 	}
 }
 
+/* --- level 0, streamed (fqm_step0) ------------------------------------
+ * fqm_band0's and fqm_row0's arithmetic, operation for operation, with
+ * two neighbouring cells at once, a cell a lane of a quadric_v2: the bits
+ * are the same and the divisions and square roots, most of the time,
+ * are done in pairs. The triangle that fqm_band0 skips (a void corner)
+ * is computed and masked to its +0. */
+
+/* The metric along rows J and J + 1 (see fqm_band0). */
+typedef struct {
+	const geo_metric *m;
+	double sx0[GEO_MAX_NODES], sx1[GEO_MAX_NODES];
+	double y0[GEO_MAX_NODES], y1[GEO_MAX_NODES];
+} band_metric;
+
+static void
+band_metric_of(const geo_metric *m, int J, band_metric *b)
+{
+	b->m = m;
+	geo_row_sx(m, J, b->sx0), geo_row_sx(m, J + 1, b->sx1);
+	geo_row_y(m, J, b->y0), geo_row_y(m, J + 1, b->y1);
+}
+
+/* The x, y parts of the edges e1 = p1 - p0, e2 = p2 - p0 of triangle k
+ * (celltri) of two cells, a lane each. They depend on the metric only:
+ * one for a whole band of a per-row metric, whose cells are alike. */
+typedef struct {
+	quadric_v2 e1[4][2], e2[4][2]; /* [triangle][x or y] */
+} pair_shape;
+
+/* Lane l of s: cell i's trapezoid, as fqm_band0 makes it. */
+static void
+shape_lane(const band_metric *b, size_t i, int l, pair_shape *s)
+{
+	const geo_metric *m = b->m;
+	double I = i + 0.5;
+	double a = geo_on_row(m, b->sx0, I), c = geo_on_row(m, b->sx1, I);
+	double dy = geo_on_row(m, b->y1, I) - geo_on_row(m, b->y0, I);
+	const double p[4][2] = {
+		{ -0.5 * a, 0 }, { 0.5 * a, 0 }, { 0.5 * c, dy }, { -0.5 * c, dy },
+	};
+
+	for (int k = 0; k < 4; k++) {
+		const int *t = celltri[k];
+		for (int d = 0; d < 2; d++) {
+			s->e1[k][d][l] = p[t[1]][d] - p[t[0]][d];
+			s->e2[k][d][l] = p[t[2]][d] - p[t[0]][d];
+		}
+	}
+}
+
+/* The pair code is inlined where it is called with constant triangle k,
+ * lane count d and first-pair flag, so that the corners it reads and its
+ * branches are settled when compiling. */
+#define PAIR_INLINE static inline __attribute__((always_inline))
+
+/* Triangle k's A (t[6]) of two cells: corner heights z[] and validity
+ * masks ok[] (all ones: a real sample) a cell a lane. */
+PAIR_INLINE void
+pair_triangle(const pair_shape *s, const quadric_v2 z[4],
+    const quadric_m2 ok[4], int k, quadric_v2 t[6])
+{
+	const int *c = celltri[k];
+	const quadric_v2 e1[3] = { s->e1[k][0], s->e1[k][1], z[c[1]] - z[c[0]] };
+	const quadric_v2 e2[3] = { s->e2[k][0], s->e2[k][1], z[c[2]] - z[c[0]] };
+
+	quadric_triangle_a2(e1, e2, ok[c[0]] & ok[c[1]] & ok[c[2]], 0.5, t);
+}
+
+/* fqm_band0's corner sums C[k] of two cells: the total in the triangles'
+ * order from 0 (fqm_band0's quadric_add of each to a zero total), less
+ * the triangle that leaves corner k out. */
+PAIR_INLINE void
+pair_corners(const pair_shape *s, const quadric_v2 z[4],
+    const quadric_m2 ok[4], quadric_v2 C[4][6])
+{
+	quadric_v2 t[4][6];
+
+	pair_triangle(s, z, ok, 0, t[0]);
+	pair_triangle(s, z, ok, 1, t[1]);
+	pair_triangle(s, z, ok, 2, t[2]);
+	pair_triangle(s, z, ok, 3, t[3]);
+#pragma GCC unroll 6
+	for (int a = 0; a < 6; a++) {
+		quadric_v2 total = 0 + t[0][a] + t[1][a] + t[2][a] + t[3][a];
+		for (int k = 0; k < 4; k++)
+			C[k][a] = total - t[without[k]][a];
+	}
+}
+
+/* A validity byte as a lane mask. */
+static inline long long
+mask_of(unsigned char v)
+{
+	return -(long long)(v != 0);
+}
+
+/* What step0 carries along a row. */
+typedef struct {
+	size_t w;
+	const float *z0, *z1;
+	const unsigned char *v0, *v1;
+	int full;              /* both rows without a void */
+	double *part;          /* 6 planes of w */
+	double c1[6], c2[6];   /* cell i - 1's corners 1 and 2 */
+	fqm_vertex *out;       /* or */
+	float *const *qa;
+} row_pass;
+
+/* Cells i and i + d (d 1, or 0 for a lone last cell), a lane each, and
+ * vertices i and i + d of the row. Vertex i's sum is fqm_row0's, in its
+ * order: part[] holds the band above's two terms, cells i - 1 and i of
+ * this band add the last two, and their corners 2 and 3 start the next
+ * row's part[]. first: i is 0, the vertex without a cell on its left. */
+PAIR_INLINE void
+pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first)
+{
+	const float *z0 = r->z0, *z1 = r->z1;
+	const unsigned char *v0 = r->v0, *v1 = r->v1;
+	const quadric_v2 z[4] = {
+		{ z0[i], z0[i + d] }, { z0[i + 1], z0[i + 1 + d] },
+		{ z1[i + 1], z1[i + 1 + d] }, { z1[i], z1[i + d] },
+	};
+	quadric_m2 ok[4] = { { -1, -1 }, { -1, -1 }, { -1, -1 }, { -1, -1 } };
+	quadric_v2 C[4][6];
+
+	if (!r->full) {
+		const quadric_m2 m[4] = {
+			{ mask_of(v0[i]), mask_of(v0[i + d]) },
+			{ mask_of(v0[i + 1]), mask_of(v0[i + 1 + d]) },
+			{ mask_of(v1[i + 1]), mask_of(v1[i + 1 + d]) },
+			{ mask_of(v1[i]), mask_of(v1[i + d]) },
+		};
+		for (int k = 0; k < 4; k++)
+			ok[k] = m[k];
+	}
+	pair_corners(s, z, ok, C);
+#pragma GCC unroll 6
+	for (int a = 0; a < 6; a++) {
+		double *p = r->part + a * r->w + i;
+		/* vertices i and i + 1, a lane each */
+		quadric_v2 q = (quadric_v2){ p[0], p[d] } +
+		    (quadric_v2){ r->c1[a], C[1][a][0] } + C[0][a];
+		quadric_v2 n = 0 + (quadric_v2){ r->c2[a], C[2][a][0] } +
+		    C[3][a];
+		if (first) /* vertex 0: no cell on its left */
+			q[0] = p[0] + C[0][a][0], n[0] = 0 + C[3][a][0];
+		if (r->out != NULL) {
+			r->out[i].q.a[a] = q[0];
+			if (d)
+				r->out[i + 1].q.a[a] = q[1];
+		} else {
+			r->qa[a][i] = (float)q[0];
+			if (d)
+				r->qa[a][i + 1] = (float)q[1];
+		}
+		p[0] = n[0];
+		if (d)
+			p[1] = n[1];
+		r->c1[a] = C[1][a][d], r->c2[a] = C[2][a][d];
+	}
+}
+
+/* The last row's A: what the band above gave (fqm_row0 without a band
+ * below). */
+static void
+last0(const double *part, size_t w, fqm_vertex *out, float *const qa[6])
+{
+	for (int a = 0; a < 6; a++)
+		for (size_t i = 0; i < w; i++) {
+			if (out != NULL)
+				out[i].q.a[a] = part[a * w + i];
+			else
+				qa[a][i] = (float)part[a * w + i];
+		}
+}
+
 /* fqm_step0's work: A of row J's vertices into out[].q.a or, encoded,
- * into the channel planes qa[] (the other of the two NULL). Per vertex
- * the sum fqm_row0 makes, in its order: part[] holds the first two terms
- * (the band above), the cells of band J on either side add the last two,
- * and the same cells' upper corners start row J + 1's part[]. */
-static inline void
+ * into the channel planes qa[] (the other of the two NULL), from the
+ * cells of band J in pairs (pair_step). */
+static void
 step0(const float *z0, const unsigned char *v0, const float *z1,
     const unsigned char *v1, size_t w, int J, const geo_metric *m,
     double *part, fqm_vertex *out, float *const qa[6])
 {
-	double c1[6] = { 0 }, c2[6] = { 0 }; /* cell i - 1's corners 1, 2 */
+	size_t n = w - 1, i; /* cells */
+	row_pass r = { w, z0, z1, v0, v1, 0, part, { 0 }, { 0 }, out, qa };
 	band_metric b;
-	cell_shape s;
+	pair_shape s;
 
-	if (z1 == NULL) { /* the last row: no band below */
-		for (size_t i = 0; i < w; i++)
-			for (int a = 0; a < 6; a++) {
-				if (out != NULL)
-					out[i].q.a[a] = part[i * 6 + a];
-				else
-					qa[a][i] = (float)part[i * 6 + a];
-			}
+	if (z1 == NULL) {
+		last0(part, w, out, qa);
 		return;
 	}
+	r.full = memchr(v0, 0, w) == NULL && memchr(v1, 0, w) == NULL;
 	band_metric_of(m, J, &b);
-	for (size_t i = 0; i < w; i++) {
-		double C[4][6];
-		if (i + 1 < w) {
-			const double z[4] = { z0[i], z0[i + 1], z1[i + 1],
-			    z1[i] };
-			const int ok[4] = { v0[i], v0[i + 1], v1[i + 1], v1[i] };
-			cell_shape_at(&b, i, &s);
-			cell_corners(&s, z, ok, C);
-		}
-		for (int a = 0; a < 6; a++) {
-			double q = part[i * 6 + a], r = 0;
-			if (i > 0)
-				q += c1[a], r += c2[a];
-			if (i + 1 < w)
-				q += C[0][a], r += C[3][a];
-			if (out != NULL)
-				out[i].q.a[a] = q;
-			else
-				qa[a][i] = (float)q;
-			part[i * 6 + a] = r;
-			if (i + 1 < w)
-				c1[a] = C[1][a], c2[a] = C[2][a];
-		}
+	/* a per-row metric's cells are alike: one shape for the band */
+	shape_lane(&b, 0, 0, &s), shape_lane(&b, 1, 1, &s);
+	pair_step(&r, &s, 0, 1, 1); /* w >= 3: two cells at least */
+	for (i = 2; i + 1 < n; i += 2) {
+		if (!m->per_row)
+			shape_lane(&b, i, 0, &s), shape_lane(&b, i + 1, 1, &s);
+		pair_step(&r, &s, i, 1, 0);
+	}
+	if (i < n) {
+		if (!m->per_row)
+			shape_lane(&b, i, 0, &s), shape_lane(&b, i, 1, &s);
+		pair_step(&r, &s, i, 0, 0);
+	}
+	for (int a = 0; a < 6; a++) { /* vertex n: no cell on its right */
+		double *p = part + a * w + n, q = p[0] + r.c1[a];
+		if (out != NULL)
+			out[n].q.a[a] = q;
+		else
+			qa[a][n] = (float)q;
+		p[0] = 0 + r.c2[a];
 	}
 }
 

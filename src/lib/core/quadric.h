@@ -9,6 +9,9 @@
 #define TL_QUADRIC_H
 
 #include <math.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 typedef struct {
 	double a[6];
@@ -34,38 +37,59 @@ void quadric_add_plane(quadric *q, const double n[3], double d, double w);
  * nothing). Points are in q's frame. */
 double quadric_add_triangle(quadric *q, const double p0[3], const double p1[3],
     const double p2[3], double w);
-/* The A that quadric_add_triangle(q, p0, p1, p2, w) adds to a zero q,
- * bit for bit, from the edges e1 = p1 - p0 and e2 = p2 - p0 as it forms
- * them: all +0 for a degenerate triangle. b and c are left out (a plane
- * through the frame's origin has none), and it is inline so that a loop
- * over a grid's cells computes only what varies from cell to cell (the
- * edges' x, y parts and the products of them are loop invariants). */
-static inline void
-quadric_triangle_a(const double e1[3], const double e2[3], double w,
-    double a[6])
-{
-	double n0 = e1[1] * e2[2] - e1[2] * e2[1];
-	double n1 = e1[2] * e2[0] - e1[0] * e2[2];
-	double n2 = e1[0] * e2[1] - e1[1] * e2[0];
-	double len = sqrt(n0 * n0 + n1 * n1 + n2 * n2), s, s0, s1, s2;
+/* Two doubles, or two masks, a lane each: GCC's and Clang's generic
+ * vectors. Their +, -, *, / and comparisons work lane by lane in IEEE
+ * double, exactly as on scalars, so code written on them gives each
+ * lane the bits the scalar code would, two at a time. */
+typedef double quadric_v2 __attribute__((vector_size(2 * sizeof(double))));
+typedef long long quadric_m2
+    __attribute__((vector_size(2 * sizeof(long long))));
 
-	if (!(len > 0)) {
-		for (int k = 0; k < 6; k++)
-			a[k] = 0;
-		return;
-	}
+/* Correctly rounded square roots, lane by lane (sqrt is): one
+ * instruction for both lanes where there is one. */
+static inline quadric_v2
+quadric_v2_sqrt(quadric_v2 x)
+{
+#ifdef __SSE2__
+	return (quadric_v2)_mm_sqrt_pd((__m128d)x);
+#else
+	return (quadric_v2){ sqrt(x[0]), sqrt(x[1]) };
+#endif
+}
+
+/* The A that quadric_add_triangle(q, p0, p1, p2, w) adds to a zero q,
+ * for two triangles a lane each, bit for bit: from the edges
+ * e1 = p1 - p0 and e2 = p2 - p0 as it forms them, b and c left out (a
+ * plane through the frame's origin has none). A lane comes out +0, as
+ * the zero q, where the triangle is degenerate (the function adds
+ * nothing) or keep is 0 (a triangle not to add). Inline, so that a loop
+ * over a grid's cells keeps the edges' x, y parts, which depend on the
+ * grid only, out of the loop. */
+static inline void
+quadric_triangle_a2(const quadric_v2 e1[3], const quadric_v2 e2[3],
+    quadric_m2 keep, double w, quadric_v2 a[6])
+{
+	quadric_v2 n0 = e1[1] * e2[2] - e1[2] * e2[1];
+	quadric_v2 n1 = e1[2] * e2[0] - e1[0] * e2[2];
+	quadric_v2 n2 = e1[0] * e2[1] - e1[1] * e2[0];
+	quadric_v2 len = quadric_v2_sqrt(n0 * n0 + n1 * n1 + n2 * n2);
+	quadric_v2 s, s0, s1, s2;
+	quadric_m2 m = keep & (quadric_m2)(len > 0);
+
+	/* a dropped lane may divide by 0: computed, then masked to +0 (all
+	 * zero bits) */
 	n0 /= len, n1 /= len, n2 /= len;
 	s = w * 0.5 * len;
 	s0 = s * n0, s1 = s * n1, s2 = s * n2;
-	/* 0 + x, as quadric_add_plane adds to a zero quadric: a -0 product
-	 * becomes +0 */
-	a[QUADRIC_A11] = 0 + s0 * n0;
-	a[QUADRIC_A12] = 0 + s0 * n1;
-	a[QUADRIC_A13] = 0 + s0 * n2;
-	a[QUADRIC_A22] = 0 + s1 * n1;
-	a[QUADRIC_A23] = 0 + s1 * n2;
-	a[QUADRIC_A33] = 0 + s2 * n2;
+	/* 0 + x, as quadric_add_plane adds to the zero q: -0 becomes +0 */
+	a[QUADRIC_A11] = (quadric_v2)((quadric_m2)(0 + s0 * n0) & m);
+	a[QUADRIC_A12] = (quadric_v2)((quadric_m2)(0 + s0 * n1) & m);
+	a[QUADRIC_A13] = (quadric_v2)((quadric_m2)(0 + s0 * n2) & m);
+	a[QUADRIC_A22] = (quadric_v2)((quadric_m2)(0 + s1 * n1) & m);
+	a[QUADRIC_A23] = (quadric_v2)((quadric_m2)(0 + s1 * n2) & m);
+	a[QUADRIC_A33] = (quadric_v2)((quadric_m2)(0 + s2 * n2) & m);
 }
+
 void quadric_add(quadric *q, const quadric *r, double w); /* q += w r */
 /* Re-express q in a frame whose origin is point d of the old frame:
  * A' = A, b' = b + A d, c' = c + 2 b.d + d.A d. */
