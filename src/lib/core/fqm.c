@@ -333,10 +333,14 @@ typedef struct {
 	const unsigned char *v0, *v1;
 	int full;              /* both rows without a void */
 	double *part;          /* 6 planes of w */
-	double c1[6], c2[6];   /* cell i - 1's corners 1 and 2 */
+	quadric_v2 c1[6], c2[6]; /* corners 1 and 2 of the last pair, lane 1
+	                        * the cell left of the next pair's */
 	fqm_vertex *out;       /* or */
 	float *const *qa;
 } row_pass;
+
+/* Two floats, to store two lanes converted at once. */
+typedef float pair_f2 __attribute__((vector_size(2 * sizeof(float))));
 
 /* Cells i and i + d (d 1, or 0 for a lone last cell), a lane each, and
  * vertices i and i + d of the row. Vertex i's sum is fqm_row0's, in its
@@ -353,7 +357,9 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first)
 		{ z1[i + 1], z1[i + 1 + d] }, { z1[i], z1[i + d] },
 	};
 	quadric_m2 ok[4] = { { -1, -1 }, { -1, -1 }, { -1, -1 }, { -1, -1 } };
-	quadric_v2 C[4][6];
+	quadric_v2 C[4][6], q[6], n[6];
+	double *p = r->part + i;
+	size_t w = r->w;
 
 	if (!r->full) {
 		const quadric_m2 m[4] = {
@@ -366,29 +372,41 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first)
 			ok[k] = m[k];
 	}
 	pair_corners(s, z, ok, C);
+	/* vertices i and i + 1, a lane each (lane 1 unused when d is 0) */
 #pragma GCC unroll 6
 	for (int a = 0; a < 6; a++) {
-		double *p = r->part + a * r->w + i;
-		/* vertices i and i + 1, a lane each */
-		quadric_v2 q = (quadric_v2){ p[0], p[d] } +
-		    (quadric_v2){ r->c1[a], C[1][a][0] } + C[0][a];
-		quadric_v2 n = 0 + (quadric_v2){ r->c2[a], C[2][a][0] } +
-		    C[3][a];
+		quadric_v2 pa;
+		memcpy(&pa, p + a * w, sizeof pa); /* p[w - 1] is vertex n */
+		q[a] = pa + (quadric_v2){ r->c1[a][1], C[1][a][0] } + C[0][a];
+		n[a] = 0 + (quadric_v2){ r->c2[a][1], C[2][a][0] } + C[3][a];
 		if (first) /* vertex 0: no cell on its left */
-			q[0] = p[0] + C[0][a][0], n[0] = 0 + C[3][a][0];
-		if (r->out != NULL) {
-			r->out[i].q.a[a] = q[0];
+			q[a][0] = pa[0] + C[0][a][0], n[a][0] = 0 + C[3][a][0];
+		/* lane 1 is the cell left of the next pair */
+		r->c1[a] = d ? C[1][a] : (quadric_v2){ 0, C[1][a][0] };
+		r->c2[a] = d ? C[2][a] : (quadric_v2){ 0, C[2][a][0] };
+	}
+	if (r->out != NULL) {
+		for (int a = 0; a < 6; a++) {
+			r->out[i].q.a[a] = q[a][0];
 			if (d)
-				r->out[i + 1].q.a[a] = q[1];
-		} else {
-			r->qa[a][i] = (float)q[0];
-			if (d)
-				r->qa[a][i + 1] = (float)q[1];
+				r->out[i + 1].q.a[a] = q[a][1];
 		}
-		p[0] = n[0];
+	} else {
+#pragma GCC unroll 6
+		for (int a = 0; a < 6; a++) {
+			pair_f2 f = __builtin_convertvector(q[a], pair_f2);
+			if (d)
+				memcpy(r->qa[a] + i, &f, sizeof f);
+			else
+				r->qa[a][i] = f[0];
+		}
+	}
+#pragma GCC unroll 6
+	for (int a = 0; a < 6; a++) {
 		if (d)
-			p[1] = n[1];
-		r->c1[a] = C[1][a][d], r->c2[a] = C[2][a][d];
+			memcpy(p + a * w, &n[a], sizeof n[a]);
+		else
+			p[a * w] = n[a][0];
 	}
 }
 
@@ -415,7 +433,8 @@ step0(const float *z0, const unsigned char *v0, const float *z1,
     double *part, fqm_vertex *out, float *const qa[6])
 {
 	size_t n = w - 1, i; /* cells */
-	row_pass r = { w, z0, z1, v0, v1, 0, part, { 0 }, { 0 }, out, qa };
+	row_pass r = { w, z0, z1, v0, v1, 0, part, { { 0 } }, { { 0 } }, out,
+	    qa };
 	band_metric b;
 	pair_shape s;
 
@@ -439,12 +458,12 @@ step0(const float *z0, const unsigned char *v0, const float *z1,
 		pair_step(&r, &s, i, 0, 0);
 	}
 	for (int a = 0; a < 6; a++) { /* vertex n: no cell on its right */
-		double *p = part + a * w + n, q = p[0] + r.c1[a];
+		double *p = part + a * w + n, q = p[0] + r.c1[a][1];
 		if (out != NULL)
 			out[n].q.a[a] = q;
 		else
 			qa[a][n] = (float)q;
-		p[0] = 0 + r.c2[a];
+		p[0] = 0 + r.c2[a][1];
 	}
 }
 
