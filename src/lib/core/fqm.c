@@ -232,10 +232,13 @@ fqm_row0(const double *above, const double *below, const float *z,
 
 /* --- level 0, streamed (fqm_step0) ------------------------------------
  * fqm_band0's and fqm_row0's arithmetic, operation for operation, with
- * two neighbouring cells at once, a cell a lane of a quadric_v2: the bits
- * are the same and the divisions and square roots, most of the time,
- * are done in pairs. The triangle that fqm_band0 skips (a void corner)
- * is computed and masked to its +0. */
+ * two neighbouring cells at once, a cell a lane of a quadric_v2, so that
+ * the divisions and square roots are done in pairs, and what depends on
+ * the metric only once per band (per-row metrics) or pair of cells. The
+ * bits are fqm_band0's: quadric_triangle_a2 is quadric_add_triangle's
+ * but for zeros' signs, which the corner sums cannot tell (see there),
+ * and a triangle that fqm_band0 skips (a void corner, or degenerate) is
+ * computed and masked to its +0. */
 
 /* The metric along rows J and J + 1 (see fqm_band0). */
 typedef struct {
@@ -252,16 +255,17 @@ band_metric_of(const geo_metric *m, int J, band_metric *b)
 	geo_row_y(m, J, b->y0), geo_row_y(m, J + 1, b->y1);
 }
 
-/* The x, y parts of the edges e1 = p1 - p0, e2 = p2 - p0 of triangle k
- * (celltri) of two cells, a lane each. They depend on the metric only:
- * one for a whole band of a per-row metric, whose cells are alike. */
+/* The x, y parts of the 4 triangles (celltri) of two cells, a cell a
+ * lane. They depend on the metric only: one for a whole band of a
+ * per-row metric, whose cells are alike. */
 typedef struct {
-	quadric_v2 e1[4][2], e2[4][2]; /* [triangle][x or y] */
+	quadric_xy2 t[4];
 } pair_shape;
 
-/* Lane l of s: cell i's trapezoid, as fqm_band0 makes it. */
+/* Cell i's trapezoid, as fqm_band0 makes it: x, y of the edges
+ * e1 = p1 - p0, e2 = p2 - p0 of each triangle k, xy[k] = x1 y1 x2 y2. */
 static void
-shape_lane(const band_metric *b, size_t i, int l, pair_shape *s)
+cell_xy(const band_metric *b, size_t i, double xy[4][4])
 {
 	const geo_metric *m = b->m;
 	double I = i + 0.5;
@@ -274,43 +278,68 @@ shape_lane(const band_metric *b, size_t i, int l, pair_shape *s)
 	for (int k = 0; k < 4; k++) {
 		const int *t = celltri[k];
 		for (int d = 0; d < 2; d++) {
-			s->e1[k][d][l] = p[t[1]][d] - p[t[0]][d];
-			s->e2[k][d][l] = p[t[2]][d] - p[t[0]][d];
+			xy[k][d] = p[t[1]][d] - p[t[0]][d];
+			xy[k][2 + d] = p[t[2]][d] - p[t[0]][d];
 		}
 	}
 }
 
-/* The pair code is inlined where it is called with constant triangle k,
- * lane count d and first-pair flag, so that the corners it reads and its
- * branches are settled when compiling. */
-#define PAIR_INLINE static inline __attribute__((always_inline))
-
-/* Triangle k's A (t[6]) of two cells: corner heights z[] and validity
- * masks ok[] (all ones: a real sample) a cell a lane. */
-PAIR_INLINE void
-pair_triangle(const pair_shape *s, const quadric_v2 z[4],
-    const quadric_m2 ok[4], int k, quadric_v2 t[6])
+/* The shape of cells i and j (lanes 0 and 1). */
+static void
+pair_shape_of(const band_metric *b, size_t i, size_t j, pair_shape *s)
 {
-	const int *c = celltri[k];
-	const quadric_v2 e1[3] = { s->e1[k][0], s->e1[k][1], z[c[1]] - z[c[0]] };
-	const quadric_v2 e2[3] = { s->e2[k][0], s->e2[k][1], z[c[2]] - z[c[0]] };
+	double u[4][4], v[4][4];
 
-	quadric_triangle_a2(e1, e2, ok[c[0]] & ok[c[1]] & ok[c[2]], 0.5, t);
+	cell_xy(b, i, u), cell_xy(b, j, v);
+	for (int k = 0; k < 4; k++)
+		quadric_xy2_init(&s->t[k], (quadric_v2){ u[k][0], v[k][0] },
+		    (quadric_v2){ u[k][1], v[k][1] },
+		    (quadric_v2){ u[k][2], v[k][2] },
+		    (quadric_v2){ u[k][3], v[k][3] });
 }
 
-/* fqm_band0's corner sums C[k] of two cells: the total in the triangles'
- * order from 0 (fqm_band0's quadric_add of each to a zero total), less
- * the triangle that leaves corner k out. */
+/* The pair code is inlined where it is called with constant triangle k,
+ * lane count d and flags, so that the corners it reads and its branches
+ * are settled when compiling. */
+#define PAIR_INLINE static inline __attribute__((always_inline))
+
+/* Triangle k's A (t[6]) of two cells, corner heights z[] a cell a lane;
+ * returns its len (see quadric_triangle_a2). */
+PAIR_INLINE quadric_v2
+pair_triangle(const pair_shape *s, const quadric_v2 z[4], int k,
+    quadric_v2 t[6])
+{
+	const int *c = celltri[k];
+
+	return quadric_triangle_a2(&s->t[k], z[c[1]] - z[c[0]],
+	    z[c[2]] - z[c[0]], 0.5, t);
+}
+
+/* fqm_band0's corner sums C[k] of two cells: each triangle's A, +0 for
+ * one with a corner whose validity mask ok[] is 0 and for a degenerate
+ * one, the total in the triangles' order from 0 (fqm_band0's quadric_add
+ * of each to a zero total), less the triangle that leaves corner k out. */
 PAIR_INLINE void
 pair_corners(const pair_shape *s, const quadric_v2 z[4],
     const quadric_m2 ok[4], quadric_v2 C[4][6])
 {
-	quadric_v2 t[4][6];
+	quadric_v2 t[4][6], len[4];
+	quadric_m2 keep[4], all;
 
-	pair_triangle(s, z, ok, 0, t[0]);
-	pair_triangle(s, z, ok, 1, t[1]);
-	pair_triangle(s, z, ok, 2, t[2]);
-	pair_triangle(s, z, ok, 3, t[3]);
+#pragma GCC unroll 4
+	for (int k = 0; k < 4; k++) {
+		const int *c = celltri[k];
+		len[k] = pair_triangle(s, z, k, t[k]);
+		keep[k] = ok[c[0]] & ok[c[1]] & ok[c[2]] &
+		    (quadric_m2)(len[k] > 0);
+	}
+	/* all kept, as nearly always: nothing to mask */
+	all = keep[0] & keep[1] & keep[2] & keep[3];
+	if (all[0] != -1 || all[1] != -1)
+		for (int k = 0; k < 4; k++)
+			for (int a = 0; a < 6; a++)
+				t[k][a] = (quadric_v2)((quadric_m2)t[k][a] &
+				    keep[k]);
 #pragma GCC unroll 6
 	for (int a = 0; a < 6; a++) {
 		quadric_v2 total = 0 + t[0][a] + t[1][a] + t[2][a] + t[3][a];
@@ -331,7 +360,6 @@ typedef struct {
 	size_t w;
 	const float *z0, *z1;
 	const unsigned char *v0, *v1;
-	int full;              /* both rows without a void */
 	double *part;          /* 6 planes of w */
 	quadric_v2 c1[6], c2[6]; /* corners 1 and 2 of the last pair, lane 1
 	                        * the cell left of the next pair's */
@@ -346,9 +374,11 @@ typedef float pair_f2 __attribute__((vector_size(2 * sizeof(float))));
  * vertices i and i + d of the row. Vertex i's sum is fqm_row0's, in its
  * order: part[] holds the band above's two terms, cells i - 1 and i of
  * this band add the last two, and their corners 2 and 3 start the next
- * row's part[]. first: i is 0, the vertex without a cell on its left. */
+ * row's part[]. first: i is 0, the vertex without a cell on its left;
+ * full: both rows are without a void. */
 PAIR_INLINE void
-pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first)
+pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first,
+    int full)
 {
 	const float *z0 = r->z0, *z1 = r->z1;
 	const unsigned char *v0 = r->v0, *v1 = r->v1;
@@ -361,7 +391,7 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first)
 	double *p = r->part + i;
 	size_t w = r->w;
 
-	if (!r->full) {
+	if (!full) {
 		const quadric_m2 m[4] = {
 			{ mask_of(v0[i]), mask_of(v0[i + d]) },
 			{ mask_of(v0[i + 1]), mask_of(v0[i + 1 + d]) },
@@ -433,7 +463,8 @@ step0(const float *z0, const unsigned char *v0, const float *z1,
     double *part, fqm_vertex *out, float *const qa[6])
 {
 	size_t n = w - 1, i; /* cells */
-	row_pass r = { w, z0, z1, v0, v1, 0, part, { { 0 } }, { { 0 } }, out,
+	int full;
+	row_pass r = { w, z0, z1, v0, v1, part, { { 0 } }, { { 0 } }, out,
 	    qa };
 	band_metric b;
 	pair_shape s;
@@ -442,20 +473,23 @@ step0(const float *z0, const unsigned char *v0, const float *z1,
 		last0(part, w, out, qa);
 		return;
 	}
-	r.full = memchr(v0, 0, w) == NULL && memchr(v1, 0, w) == NULL;
+	full = memchr(v0, 0, w) == NULL && memchr(v1, 0, w) == NULL;
 	band_metric_of(m, J, &b);
 	/* a per-row metric's cells are alike: one shape for the band */
-	shape_lane(&b, 0, 0, &s), shape_lane(&b, 1, 1, &s);
-	pair_step(&r, &s, 0, 1, 1); /* w >= 3: two cells at least */
+	pair_shape_of(&b, 0, 1, &s);
+	pair_step(&r, &s, 0, 1, 1, 0); /* w >= 3: two cells at least */
 	for (i = 2; i + 1 < n; i += 2) {
 		if (!m->per_row)
-			shape_lane(&b, i, 0, &s), shape_lane(&b, i + 1, 1, &s);
-		pair_step(&r, &s, i, 1, 0);
+			pair_shape_of(&b, i, i + 1, &s);
+		if (full)
+			pair_step(&r, &s, i, 1, 0, 1);
+		else
+			pair_step(&r, &s, i, 1, 0, 0);
 	}
 	if (i < n) {
 		if (!m->per_row)
-			shape_lane(&b, i, 0, &s), shape_lane(&b, i, 1, &s);
-		pair_step(&r, &s, i, 0, 0);
+			pair_shape_of(&b, i, i, &s);
+		pair_step(&r, &s, i, 0, 0, 0);
 	}
 	for (int a = 0; a < 6; a++) { /* vertex n: no cell on its right */
 		double *p = part + a * w + n, q = p[0] + r.c1[a][1];

@@ -57,37 +57,54 @@ quadric_v2_sqrt(quadric_v2 x)
 #endif
 }
 
-/* The A that quadric_add_triangle(q, p0, p1, p2, w) adds to a zero q,
- * for two triangles a lane each, bit for bit: from the edges
- * e1 = p1 - p0 and e2 = p2 - p0 as it forms them, b and c left out (a
- * plane through the frame's origin has none). A lane comes out +0, as
- * the zero q, where the triangle is degenerate (the function adds
- * nothing) or keep is 0 (a triangle not to add). Inline, so that a loop
- * over a grid's cells keeps the edges' x, y parts, which depend on the
- * grid only, out of the loop. */
-static inline void
-quadric_triangle_a2(const quadric_v2 e1[3], const quadric_v2 e2[3],
-    quadric_m2 keep, double w, quadric_v2 a[6])
-{
-	quadric_v2 n0 = e1[1] * e2[2] - e1[2] * e2[1];
-	quadric_v2 n1 = e1[2] * e2[0] - e1[0] * e2[2];
-	quadric_v2 n2 = e1[0] * e2[1] - e1[1] * e2[0];
-	quadric_v2 len = quadric_v2_sqrt(n0 * n0 + n1 * n1 + n2 * n2);
-	quadric_v2 s, s0, s1, s2;
-	quadric_m2 m = keep & (quadric_m2)(len > 0);
+/* The x, y parts of two triangles' edges e1 = p1 - p0 and e2 = p2 - p0 (a
+ * triangle a lane), with the terms of their quadrics that depend on them
+ * only: the z of e1 x e2 and its square. Triangles that differ in their
+ * heights only, as a grid's cells along a row do, share one. */
+typedef struct {
+	quadric_v2 x1, y1, x2, y2;
+	quadric_v2 n2, n2n2; /* x1 y2 - y1 x2, its square */
+} quadric_xy2;
 
-	/* a dropped lane may divide by 0: computed, then masked to +0 (all
-	 * zero bits) */
+static inline void
+quadric_xy2_init(quadric_xy2 *t, quadric_v2 x1, quadric_v2 y1,
+    quadric_v2 x2, quadric_v2 y2)
+{
+	t->x1 = x1, t->y1 = y1, t->x2 = x2, t->y2 = y2;
+	t->n2 = x1 * y2 - y1 * x2;
+	t->n2n2 = t->n2 * t->n2;
+}
+
+/* The A that quadric_add_triangle(q, p0, p1, p2, w) adds to a zero q, for
+ * two triangles a lane each: the x, y parts t and the z parts z1, z2 of
+ * their edges, formed as it forms them. b and c are left out (a plane
+ * through the frame's origin has none). Bit for bit, operation for
+ * operation, but for the sign of zero: quadric_add_triangle adds each
+ * coefficient to q's +0, which makes a -0 product +0, and this leaves the
+ * -0, which no sum begun at +0 (nor such a sum less it) can tell from +0.
+ * Returns the triangles' len (twice their area): a lane whose len is not
+ * > 0 is degenerate (quadric_add_triangle adds nothing) and its A is
+ * junk. Inline, so that a loop over a grid's cells computes t once. */
+static inline quadric_v2
+quadric_triangle_a2(const quadric_xy2 *t, quadric_v2 z1, quadric_v2 z2,
+    double w, quadric_v2 a[6])
+{
+	quadric_v2 n0 = t->y1 * z2 - z1 * t->y2;
+	quadric_v2 n1 = z1 * t->x2 - t->x1 * z2;
+	quadric_v2 n2 = t->n2;
+	quadric_v2 len = quadric_v2_sqrt(n0 * n0 + n1 * n1 + t->n2n2);
+	quadric_v2 s, s0, s1, s2;
+
 	n0 /= len, n1 /= len, n2 /= len;
 	s = w * 0.5 * len;
 	s0 = s * n0, s1 = s * n1, s2 = s * n2;
-	/* 0 + x, as quadric_add_plane adds to the zero q: -0 becomes +0 */
-	a[QUADRIC_A11] = (quadric_v2)((quadric_m2)(0 + s0 * n0) & m);
-	a[QUADRIC_A12] = (quadric_v2)((quadric_m2)(0 + s0 * n1) & m);
-	a[QUADRIC_A13] = (quadric_v2)((quadric_m2)(0 + s0 * n2) & m);
-	a[QUADRIC_A22] = (quadric_v2)((quadric_m2)(0 + s1 * n1) & m);
-	a[QUADRIC_A23] = (quadric_v2)((quadric_m2)(0 + s1 * n2) & m);
-	a[QUADRIC_A33] = (quadric_v2)((quadric_m2)(0 + s2 * n2) & m);
+	a[QUADRIC_A11] = s0 * n0;
+	a[QUADRIC_A12] = s0 * n1;
+	a[QUADRIC_A13] = s0 * n2;
+	a[QUADRIC_A22] = s1 * n1;
+	a[QUADRIC_A23] = s1 * n2;
+	a[QUADRIC_A33] = s2 * n2;
+	return len;
 }
 
 void quadric_add(quadric *q, const quadric *r, double w); /* q += w r */
