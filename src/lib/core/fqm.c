@@ -315,17 +315,42 @@ pair_triangle(const pair_shape *s, const quadric_v2 z[4], int k,
 	    z[c[2]] - z[c[0]], 0.5, t);
 }
 
-/* fqm_band0's corner sums C[k] of two cells: each triangle's A, +0 for
- * one with a corner whose validity mask ok[] is 0 and for a degenerate
- * one, the total in the triangles' order from 0 (fqm_band0's quadric_add
- * of each to a zero total), less the triangle that leaves corner k out. */
+/* What the corners of a pair of cells are: all real samples; in each
+ * cell two voids or more, so that every triangle has one and the pair
+ * adds nothing (fqm_band0's zero quadrics); anything else. */
+enum { PAIR_FULL, PAIR_EMPTY, PAIR_SOME };
+
+static inline int
+pair_kind(const unsigned char *v0, const unsigned char *v1, size_t i)
+{
+	int a = v0[i] != 0, b = v0[i + 1] != 0, c = v0[i + 2] != 0;
+	int d = v1[i] != 0, e = v1[i + 1] != 0, f = v1[i + 2] != 0;
+
+	if (a && b && c && d && e && f)
+		return PAIR_FULL;
+	if (a + b + e + d <= 2 && b + c + f + e <= 2)
+		return PAIR_EMPTY;
+	return PAIR_SOME;
+}
+
+/* fqm_band0's corner sums C[k] of two cells of the given kind: each
+ * triangle's A, +0 for one with a corner whose validity mask ok[] is 0
+ * and for a degenerate one, the total in the triangles' order from 0
+ * (fqm_band0's quadric_add of each to a zero total), less the triangle
+ * that leaves corner k out. */
 PAIR_INLINE void
 pair_corners(const pair_shape *s, const quadric_v2 z[4],
-    const quadric_m2 ok[4], quadric_v2 C[4][6])
+    const quadric_m2 ok[4], int kind, quadric_v2 C[4][6])
 {
 	quadric_v2 t[4][6], len[4];
 	quadric_m2 keep[4], all;
 
+	if (kind == PAIR_EMPTY) { /* the sums below of +0s, as constants */
+		for (int k = 0; k < 4; k++)
+			for (int a = 0; a < 6; a++)
+				t[k][a] = (quadric_v2){ 0, 0 };
+		goto sums;
+	}
 #pragma GCC unroll 4
 	for (int k = 0; k < 4; k++) {
 		const int *c = celltri[k];
@@ -340,6 +365,7 @@ pair_corners(const pair_shape *s, const quadric_v2 z[4],
 			for (int a = 0; a < 6; a++)
 				t[k][a] = (quadric_v2)((quadric_m2)t[k][a] &
 				    keep[k]);
+sums:
 #pragma GCC unroll 6
 	for (int a = 0; a < 6; a++) {
 		quadric_v2 total = 0 + t[0][a] + t[1][a] + t[2][a] + t[3][a];
@@ -375,10 +401,10 @@ typedef float pair_f2 __attribute__((vector_size(2 * sizeof(float))));
  * order: part[] holds the band above's two terms, cells i - 1 and i of
  * this band add the last two, and their corners 2 and 3 start the next
  * row's part[]. first: i is 0, the vertex without a cell on its left;
- * full: both rows are without a void. */
+ * kind: pair_kind's, or PAIR_SOME when not known. */
 PAIR_INLINE void
 pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first,
-    int full)
+    int kind)
 {
 	const float *z0 = r->z0, *z1 = r->z1;
 	const unsigned char *v0 = r->v0, *v1 = r->v1;
@@ -391,7 +417,7 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first,
 	double *p = r->part + i;
 	size_t w = r->w;
 
-	if (!full) {
+	if (kind == PAIR_SOME) {
 		const quadric_m2 m[4] = {
 			{ mask_of(v0[i]), mask_of(v0[i + d]) },
 			{ mask_of(v0[i + 1]), mask_of(v0[i + 1 + d]) },
@@ -401,7 +427,7 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first,
 		for (int k = 0; k < 4; k++)
 			ok[k] = m[k];
 	}
-	pair_corners(s, z, ok, C);
+	pair_corners(s, z, ok, kind, C);
 	/* vertices i and i + 1, a lane each (lane 1 unused when d is 0) */
 #pragma GCC unroll 6
 	for (int a = 0; a < 6; a++) {
@@ -477,19 +503,25 @@ step0(const float *z0, const unsigned char *v0, const float *z1,
 	band_metric_of(m, J, &b);
 	/* a per-row metric's cells are alike: one shape for the band */
 	pair_shape_of(&b, 0, 1, &s);
-	pair_step(&r, &s, 0, 1, 1, 0); /* w >= 3: two cells at least */
+	pair_step(&r, &s, 0, 1, 1, PAIR_SOME); /* w >= 3: two cells at least */
 	for (i = 2; i + 1 < n; i += 2) {
 		if (!m->per_row)
 			pair_shape_of(&b, i, i + 1, &s);
-		if (full)
-			pair_step(&r, &s, i, 1, 0, 1);
-		else
-			pair_step(&r, &s, i, 1, 0, 0);
+		switch (full ? PAIR_FULL : pair_kind(v0, v1, i)) {
+		case PAIR_FULL:
+			pair_step(&r, &s, i, 1, 0, PAIR_FULL);
+			break;
+		case PAIR_EMPTY:
+			pair_step(&r, &s, i, 1, 0, PAIR_EMPTY);
+			break;
+		default:
+			pair_step(&r, &s, i, 1, 0, PAIR_SOME);
+		}
 	}
 	if (i < n) {
 		if (!m->per_row)
 			pair_shape_of(&b, i, i, &s);
-		pair_step(&r, &s, i, 0, 0, 0);
+		pair_step(&r, &s, i, 0, 0, PAIR_SOME);
 	}
 	for (int a = 0; a < 6; a++) { /* vertex n: no cell on its right */
 		double *p = part + a * w + n, q = p[0] + r.c1[a][1];
