@@ -333,30 +333,21 @@ pair_kind(const unsigned char *v0, const unsigned char *v1, size_t i)
 	return PAIR_SOME;
 }
 
-/* fqm_band0's corner sums C[k] of two cells of the given kind: each
- * triangle's A, +0 for one with a corner whose validity mask ok[] is 0
- * and for a degenerate one, the total in the triangles' order from 0
- * (fqm_band0's quadric_add of each to a zero total), less the triangle
- * that leaves corner k out. */
+/* The 4 triangles' A (t[k]) of two cells: +0 for one with a corner whose
+ * validity mask ok[] is 0 and for a degenerate one (fqm_band0 adds
+ * nothing to their zero quadrics). */
 PAIR_INLINE void
-pair_corners(const pair_shape *s, const quadric_v2 z[4],
-    const quadric_m2 ok[4], int kind, quadric_v2 C[4][6])
+pair_triangles(const pair_shape *s, const quadric_v2 z[4],
+    const quadric_m2 ok[4], quadric_v2 t[4][6])
 {
-	quadric_v2 t[4][6], len[4];
 	quadric_m2 keep[4], all;
 
-	if (kind == PAIR_EMPTY) { /* the sums below of +0s, as constants */
-		for (int k = 0; k < 4; k++)
-			for (int a = 0; a < 6; a++)
-				t[k][a] = (quadric_v2){ 0, 0 };
-		goto sums;
-	}
 #pragma GCC unroll 4
 	for (int k = 0; k < 4; k++) {
 		const int *c = celltri[k];
-		len[k] = pair_triangle(s, z, k, t[k]);
+		quadric_v2 len = pair_triangle(s, z, k, t[k]);
 		keep[k] = ok[c[0]] & ok[c[1]] & ok[c[2]] &
-		    (quadric_m2)(len[k] > 0);
+		    (quadric_m2)(len > 0);
 	}
 	/* all kept, as nearly always: nothing to mask */
 	all = keep[0] & keep[1] & keep[2] & keep[3];
@@ -365,7 +356,23 @@ pair_corners(const pair_shape *s, const quadric_v2 z[4],
 			for (int a = 0; a < 6; a++)
 				t[k][a] = (quadric_v2)((quadric_m2)t[k][a] &
 				    keep[k]);
-sums:
+}
+
+/* fqm_band0's corner sums C[k] of two cells of the given kind: the
+ * triangles' total in their order from 0 (fqm_band0's quadric_add of
+ * each to a zero total), less the triangle that leaves corner k out. */
+PAIR_INLINE void
+pair_corners(const pair_shape *s, const quadric_v2 z[4],
+    const quadric_m2 ok[4], int kind, quadric_v2 C[4][6])
+{
+	quadric_v2 t[4][6];
+
+	if (kind == PAIR_EMPTY) /* then the sums are of constant +0s */
+		for (int k = 0; k < 4; k++)
+			for (int a = 0; a < 6; a++)
+				t[k][a] = (quadric_v2){ 0, 0 };
+	else
+		pair_triangles(s, z, ok, t);
 #pragma GCC unroll 6
 	for (int a = 0; a < 6; a++) {
 		quadric_v2 total = 0 + t[0][a] + t[1][a] + t[2][a] + t[3][a];
@@ -413,7 +420,7 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first,
 		{ z1[i + 1], z1[i + 1 + d] }, { z1[i], z1[i + d] },
 	};
 	quadric_m2 ok[4] = { { -1, -1 }, { -1, -1 }, { -1, -1 }, { -1, -1 } };
-	quadric_v2 C[4][6], q[6], n[6];
+	quadric_v2 C[4][6], q[6], nxt[6];
 	double *p = r->part + i;
 	size_t w = r->w;
 
@@ -434,9 +441,11 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first,
 		quadric_v2 pa;
 		memcpy(&pa, p + a * w, sizeof pa); /* p[w - 1] is vertex n */
 		q[a] = pa + (quadric_v2){ r->c1[a][1], C[1][a][0] } + C[0][a];
-		n[a] = 0 + (quadric_v2){ r->c2[a][1], C[2][a][0] } + C[3][a];
+		nxt[a] = 0 + (quadric_v2){ r->c2[a][1], C[2][a][0] } +
+		    C[3][a];
 		if (first) /* vertex 0: no cell on its left */
-			q[a][0] = pa[0] + C[0][a][0], n[a][0] = 0 + C[3][a][0];
+			q[a][0] = pa[0] + C[0][a][0], nxt[a][0] = 0 +
+			    C[3][a][0];
 		/* lane 1 is the cell left of the next pair */
 		r->c1[a] = d ? C[1][a] : (quadric_v2){ 0, C[1][a][0] };
 		r->c2[a] = d ? C[2][a] : (quadric_v2){ 0, C[2][a][0] };
@@ -460,9 +469,9 @@ pair_step(row_pass *r, const pair_shape *s, size_t i, size_t d, int first,
 #pragma GCC unroll 6
 	for (int a = 0; a < 6; a++) {
 		if (d)
-			memcpy(p + a * w, &n[a], sizeof n[a]);
+			memcpy(p + a * w, &nxt[a], sizeof nxt[a]);
 		else
-			p[a * w] = n[a][0];
+			p[a * w] = nxt[a][0];
 	}
 }
 
@@ -562,7 +571,8 @@ fqm_step0_encode(const float *z0, const unsigned char *v0, const float *z1,
 	/* b = 0 and c = 0: +0.0f is all zero bytes */
 	for (int c = 6; c < 10; c++)
 		memset(row + (size_t)L->q[c] * W, 0, W * sizeof *row);
-	/* Z and S: a finite float is its own double and back */
+	/* Z and S, as fqm_row0 and fqm_encode make them: a float height
+	 * (finite) is its own double and back */
 	memcpy(row + (size_t)L->z * W, z0, W * sizeof *row);
 	memcpy(row + (size_t)L->s * W, z0, W * sizeof *row);
 	for (size_t i = 0; i < W; i++)

@@ -13,7 +13,7 @@ typedef struct {
 	int w, h, next;              /* DEM size; the row expected next */
 	float *z[2];                 /* DEM rows j, j+1 (by parity) */
 	unsigned char *valid[2];
-	double *part;                /* w x 6: fqm_step0's sums */
+	double *part;                /* 6 planes of w: fqm_step0's sums */
 } fqm0_state;
 
 /* d of at least 3x3 samples, its metric m: both outlive the state. */
@@ -21,7 +21,7 @@ int fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e);
 /* FQM row j of level 0 (w vertices); rows strictly in order from 0. */
 int fqm0_row(fqm0_state *s, int j, fqm_vertex *out, tl_err *e);
 
-/* The same rows encoded (fqm_row0_encode), as a row source for
+/* The same rows encoded (fqm_step0_encode), as a row source for
  * rowpipe_run (rowpipe.h): ctx an fqm0_source whose state is initialised
  * and layout L that of the output header. */
 typedef struct {

@@ -37,6 +37,7 @@ void quadric_add_plane(quadric *q, const double n[3], double d, double w);
  * nothing). Points are in q's frame. */
 double quadric_add_triangle(quadric *q, const double p0[3], const double p1[3],
     const double p2[3], double w);
+
 /* Two doubles, or two masks, a lane each: GCC's and Clang's generic
  * vectors. Their +, -, *, / and comparisons work lane by lane in IEEE
  * double, exactly as on scalars, so code written on them gives each
@@ -80,11 +81,13 @@ quadric_xy2_init(quadric_xy2 *t, quadric_v2 x1, quadric_v2 y1,
  * their edges, formed as it forms them. b and c are left out (a plane
  * through the frame's origin has none). Bit for bit, operation for
  * operation, but for the sign of zero: quadric_add_triangle adds each
- * coefficient to q's +0, which makes a -0 product +0, and this leaves the
- * -0, which no sum begun at +0 (nor such a sum less it) can tell from +0.
- * Returns the triangles' len (twice their area): a lane whose len is not
- * > 0 is degenerate (quadric_add_triangle adds nothing) and its A is
- * junk. Inline, so that a loop over a grid's cells computes t once. */
+ * coefficient to q's +0, which turns a -0 product into +0, and this
+ * leaves the -0. A sum begun at +0 does not tell them apart (x + -0 and
+ * x + +0 differ only for x = -0, which such a sum never is), nor does
+ * subtracting them from one. Returns the triangles' len (twice their
+ * area): a lane whose len is not > 0 is degenerate (quadric_add_triangle
+ * adds nothing) and its A is junk. Inline, so that a loop over a grid's
+ * cells computes t once. */
 static inline quadric_v2
 quadric_triangle_a2(const quadric_xy2 *t, quadric_v2 z1, quadric_v2 z2,
     double w, quadric_v2 a[6])
