@@ -1,7 +1,5 @@
 /* dem2fqm - a DEM in, its level-0 fundamental quadric map out: per vertex
  * the area-weighted plane quadrics of its triangles, in its own frame. */
-#include <stdlib.h>
-
 #include "core/cli.h"
 #include "core/fqm0.h"
 #include "core/rowpipe.h"
@@ -51,12 +49,10 @@ convert(const cli *c, const options *o, dem *d, tl_err *e)
 	if (geo_metric_init(&m, &fi.geo, e) == 0 &&
 	    fqm_header(&h, &fi, "none", e) == 0 &&
 	    fqm_layout_of(&h, &j.L, c->prog, e) == 0 &&
-	    fqm0_init(&j.s, d, &m, e) == 0 &&
-	    (j.fv = tl_alloc(fi.geo.width, sizeof *j.fv, e)) != NULL)
+	    fqm0_init(&j.s, d, &m, e) == 0)
 		r = rowpipe_run(c->prog, o->out, &h, c->comp,
 		    fqm0_encoded_row, &j, e);
 	fqm0_free(&j.s);
-	free(j.fv);
 	rs_header_free(&h);
 	geo_metric_free(&m);
 	return r;

@@ -97,6 +97,108 @@ test_rows(const dem_opts *o, const char *what)
 	dem_close(d);
 }
 
+/* fqm_step0 (and _encode) against fqm_band0 / fqm_row0 (and fqm_encode),
+ * bit for bit, on grids built to reach every path: widths odd and even
+ * (a lone last cell), voids sparse and dense (pairs all real, empty,
+ * mixed), flats (zero normals, -0 products), zero-width rows (degenerate
+ * triangles), per-row and lattice metrics. */
+static int
+step0_case(const geo_metric *m, int w, int h, unsigned seed, int voidpct,
+    int levels)
+{
+	float *z = malloc(sizeof *z * (size_t)w * h);
+	unsigned char *v = malloc((size_t)w * h);
+	double *band = malloc(sizeof *band * (size_t)(w - 1) * FQM_BAND0_DOUBLES *
+	    (h - 1));
+	double *part = malloc(sizeof *part * 6 * (size_t)w);
+	fqm_vertex *want = malloc(sizeof *want * w), *got = malloc(sizeof *got * w);
+	float *rw = malloc(sizeof *rw * 13 * (size_t)w);
+	float *rg = malloc(sizeof *rg * 13 * (size_t)w);
+	fqm_layout L = { { 12, 3, 7, 0, 9, 5, 1, 11, 2, 6 }, 10, 4, 8 };
+	int bad = 0;
+
+	for (int k = 0; k < w * h; k++) {
+		seed = seed * 1103515245 + 12345;
+		z[k] = (float)((seed >> 8) % (unsigned)levels) * 0.75f - 3;
+		seed = seed * 1103515245 + 12345;
+		v[k] = (int)((seed >> 8) % 100) >= voidpct;
+	}
+	for (int j = 0; j + 1 < h; j++)
+		fqm_band0(z + (size_t)j * w, v + (size_t)j * w,
+		    z + (size_t)(j + 1) * w, v + (size_t)(j + 1) * w, w, j, m,
+		    band + (size_t)j * (w - 1) * FQM_BAND0_DOUBLES);
+	for (int pass = 0; pass < 2; pass++) {
+		memset(part, 0, sizeof *part * 6 * (size_t)w);
+		for (int j = 0; j < h; j++) {
+			const float *z0 = z + (size_t)j * w;
+			const unsigned char *v0 = v + (size_t)j * w;
+			const float *z1 = j + 1 < h ? z0 + w : NULL;
+			const unsigned char *v1 = j + 1 < h ? v0 + w : NULL;
+			fqm_row0(j > 0 ? band + (size_t)(j - 1) * (w - 1) *
+			    FQM_BAND0_DOUBLES : NULL, j + 1 < h ? band +
+			    (size_t)j * (w - 1) * FQM_BAND0_DOUBLES : NULL, z0,
+			    v0, w, want);
+			if (pass == 0) {
+				fqm_step0(z0, v0, z1, v1, w, j, m, part, got);
+				bad += memcmp(got, want, sizeof *got * w) != 0;
+			} else {
+				fqm_encode(&L, want, w, rw);
+				fqm_step0_encode(z0, v0, z1, v1, w, j, m, part,
+				    &L, rg);
+				bad += memcmp(rw, rg, sizeof *rg * 13 * w) != 0;
+			}
+		}
+	}
+	free(z), free(v), free(band), free(part), free(want), free(got);
+	free(rw), free(rg);
+	return bad;
+}
+
+static void
+test_step0(void)
+{
+	static const int widths[] = { 3, 4, 5, 6, 9, 40, 67 };
+	static const int voids[] = { 0, 5, 40, 80, 100 };
+	geo_metric m[3];
+	georef g;
+	tl_err e = { "" };
+	int bad = 0, cases = 0, ok3;
+
+	ok3 = geo_metric_const(&m[0], 9, 30, 20, &e) == 0 &&
+	    geo_metric_const(&m[1], 9, 30, 20, &e) == 0;
+	/* zero-width cells: flat ones are degenerate triangles */
+	if (ok3)
+		m[1].dx[2] = m[1].dx[3] = m[1].dx[7] = 0;
+	memset(&g, 0, sizeof g);
+	g.model = GEO_PROJECTED;
+	g.epsg = 32611;
+	strcpy(g.crs, "EPSG:32611");
+	g.origin[0] = 384000.5, g.origin[1] = 3795000.25;
+	g.step[0] = 10, g.step[1] = -10;
+	g.unit = 1;
+	g.width = 67, g.height = 9;
+	ok3 = ok3 && geo_metric_init(&m[2], &g, &e) == 0 && !m[2].per_row;
+	if (!ok(ok3, "metrics for fqm_step0 (%s)", e.msg))
+		return;
+	for (int k = 0; k < 3; k++)
+		for (size_t wi = 0; wi < sizeof widths / sizeof *widths; wi++)
+			for (size_t vi = 0; vi < sizeof voids / sizeof *voids;
+			    vi++)
+				for (int levels = 2; levels <= 1000;
+				    levels *= 31) {
+					bad += step0_case(&m[k], widths[wi], 9,
+					    (unsigned)(wi * 131 + vi * 7 + levels),
+					    voids[vi], levels) != 0;
+					cases++;
+				}
+	ok(bad == 0, "fqm_step0 and fqm_step0_encode: fqm_row0 of fqm_band0 "
+	    "and its fqm_encode bit for bit (%d of %d grids differ: widths 3 "
+	    "to 67, 0 to 100%% voids, flats, zero-width rows, per-row and "
+	    "UTM metrics)", bad, cases);
+	for (int k = 0; k < 3; k++)
+		geo_metric_free(&m[k]);
+}
+
 /* fqm0_row asserts that rows come in order. */
 static void
 test_order(void)
@@ -141,6 +243,7 @@ main(void)
 	o.cell[0] = 30, o.cell[1] = 20;
 	test_rows(&o, "7x5 grid, -s 30,20");
 	test_order();
+	test_step0();
 	unlink(path);
 	rmdir(dir);
 	return tap_done();

@@ -79,12 +79,25 @@ void fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w,
  * J, J+1, its widths and height taken at its middle column.
  *
  * fqm_row0: level-0 FQM row J from the bands above and below it (NULL past
- * the edges) and the DEM row itself. */
+ * the edges) and the DEM row itself.
+ *
+ * fqm_step0: the same rows, bit for bit, streamed without the bands (a
+ * band of a wide DEM outgrows the caches): row J from the DEM rows J (z0,
+ * v0) and J+1 (z1, v1; NULL for the last row) and part[], 6 planes of w
+ * doubles (a coefficient a plane) holding the sums of the band above (all
+ * 0 for row 0), which it leaves holding those of row J+1.
+ * fqm_step0_encode: that row as fqm_encode would encode it, layout L. */
 #define FQM_BAND0_DOUBLES 24
 void fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
     const unsigned char *v1, int w, int J, const geo_metric *m,
     double *band);
 void fqm_row0(const double *above, const double *below, const float *z,
     const unsigned char *valid, int w, fqm_vertex *out);
+void fqm_step0(const float *z0, const unsigned char *v0, const float *z1,
+    const unsigned char *v1, int w, int J, const geo_metric *m,
+    double *part, fqm_vertex *out);
+void fqm_step0_encode(const float *z0, const unsigned char *v0,
+    const float *z1, const unsigned char *v1, int w, int J,
+    const geo_metric *m, double *part, const fqm_layout *L, float *row);
 
 #endif

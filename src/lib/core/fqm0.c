@@ -16,34 +16,41 @@ fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e)
 	for (int k = 0; k < 2; k++) {
 		s->z[k] = tl_alloc(s->w, sizeof *s->z[k], e);
 		s->valid[k] = tl_alloc(s->w, 1, e);
-		s->band[k] = tl_alloc((size_t)(s->w - 1) * FQM_BAND0_DOUBLES,
-		    sizeof(double), e);
-		if (s->z[k] == NULL || s->valid[k] == NULL ||
-		    s->band[k] == NULL)
+		if (s->z[k] == NULL || s->valid[k] == NULL)
 			return -1;
 	}
+	s->part = tl_alloc((size_t)s->w * 6, sizeof *s->part, e);
+	return s->part != NULL ? 0 : -1;
+}
+
+/* Reads the DEM rows row j needs: j + 1 into the slot of j - 1 (row 0
+ * first); row j is then in slot j & 1. Row 0 starts part[] at 0. */
+static int
+advance(fqm0_state *s, int j, tl_err *e)
+{
+	assert(j == s->next && j < s->h);
+	s->next++;
+	if (j == 0) {
+		for (size_t k = 0; k < (size_t)s->w * 6; k++)
+			s->part[k] = 0;
+		if (dem_read_row(s->d, 0, s->z[0], s->valid[0], e) < 0)
+			return -1;
+	}
+	if (j + 1 < s->h && dem_read_row(s->d, j + 1, s->z[!(j & 1)],
+	    s->valid[!(j & 1)], e) < 0)
+		return -1;
 	return 0;
 }
 
 int
 fqm0_row(fqm0_state *s, int j, fqm_vertex *out, tl_err *e)
 {
-	int cur = j & 1, nxt = !cur;
+	int cur = j & 1, more = j + 1 < s->h;
 
-	assert(j == s->next && j < s->h);
-	s->next++;
-	if (j == 0 && dem_read_row(s->d, 0, s->z[0], s->valid[0], e) < 0)
+	if (advance(s, j, e) < 0)
 		return -1;
-	/* band j (rows j, j+1) goes where band j-2 was */
-	if (j + 1 < s->h) {
-		if (dem_read_row(s->d, j + 1, s->z[nxt], s->valid[nxt], e) < 0)
-			return -1;
-		fqm_band0(s->z[cur], s->valid[cur], s->z[nxt], s->valid[nxt],
-		    s->w, j, s->m, s->band[cur]);
-	}
-	fqm_row0(j > 0 ? s->band[nxt] : NULL,
-	    j + 1 < s->h ? s->band[cur] : NULL, s->z[cur], s->valid[cur],
-	    s->w, out);
+	fqm_step0(s->z[cur], s->valid[cur], more ? s->z[!cur] : NULL,
+	    more ? s->valid[!cur] : NULL, s->w, j, s->m, s->part, out);
 	return 0;
 }
 
@@ -51,7 +58,8 @@ void
 fqm0_free(fqm0_state *s)
 {
 	for (int k = 0; k < 2; k++)
-		free(s->z[k]), free(s->valid[k]), free(s->band[k]);
+		free(s->z[k]), free(s->valid[k]);
+	free(s->part);
 	memset(s, 0, sizeof *s);
 }
 
@@ -59,9 +67,13 @@ int
 fqm0_encoded_row(void *ctx, int y, float *row, tl_err *e)
 {
 	fqm0_source *src = ctx;
+	fqm0_state *s = &src->s;
+	int cur = y & 1, more = y + 1 < s->h;
 
-	if (fqm0_row(&src->s, y, src->fv, e) < 0)
+	if (advance(s, y, e) < 0)
 		return -1;
-	fqm_encode(&src->L, src->fv, src->s.w, row);
+	fqm_step0_encode(s->z[cur], s->valid[cur], more ? s->z[!cur] : NULL,
+	    more ? s->valid[!cur] : NULL, s->w, y, s->m, s->part, &src->L,
+	    row);
 	return 0;
 }

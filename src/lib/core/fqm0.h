@@ -1,6 +1,6 @@
 /* fqm0.h - level 0 of the FQM from a DEM, streamed: a window of two DEM
- * rows and the cell bands above and below the current row (fqm_band0,
- * fqm_row0 in fqm.h), so every triangle's quadric is computed once. */
+ * rows and, per vertex of the current row, the sums of the cells above it
+ * (fqm_step0 in fqm.h), so every triangle's quadric is computed once. */
 #ifndef TL_FQM0_H
 #define TL_FQM0_H
 
@@ -13,7 +13,7 @@ typedef struct {
 	int w, h, next;              /* DEM size; the row expected next */
 	float *z[2];                 /* DEM rows j, j+1 (by parity) */
 	unsigned char *valid[2];
-	double *band[2];             /* cell bands j-1..j and j..j+1 */
+	double *part;                /* 6 planes of w: fqm_step0's sums */
 } fqm0_state;
 
 /* d of at least 3x3 samples, its metric m: both outlive the state. */
@@ -21,13 +21,12 @@ int fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e);
 /* FQM row j of level 0 (w vertices); rows strictly in order from 0. */
 int fqm0_row(fqm0_state *s, int j, fqm_vertex *out, tl_err *e);
 
-/* The same rows encoded, as a row source for rowpipe_run (rowpipe.h):
- * ctx an fqm0_source whose state is initialised and layout L that of
- * the output header. */
+/* The same rows encoded (fqm_step0_encode), as a row source for
+ * rowpipe_run (rowpipe.h): ctx an fqm0_source whose state is initialised
+ * and layout L that of the output header. */
 typedef struct {
 	fqm0_state s;
 	fqm_layout L;
-	fqm_vertex *fv; /* s.w vertices, allocated by the caller */
 } fqm0_source;
 int fqm0_encoded_row(void *ctx, int y, float *row, tl_err *e);
 void fqm0_free(fqm0_state *s);

@@ -8,6 +8,11 @@
 #ifndef TL_QUADRIC_H
 #define TL_QUADRIC_H
 
+#include <math.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 typedef struct {
 	double a[6];
 	double b[3];
@@ -32,6 +37,79 @@ void quadric_add_plane(quadric *q, const double n[3], double d, double w);
  * nothing). Points are in q's frame. */
 double quadric_add_triangle(quadric *q, const double p0[3], const double p1[3],
     const double p2[3], double w);
+
+/* Two doubles, or two masks, a lane each: GCC's and Clang's generic
+ * vectors. Their +, -, *, / and comparisons work lane by lane in IEEE
+ * double, exactly as on scalars, so code written on them gives each
+ * lane the bits the scalar code would, two at a time. */
+typedef double quadric_v2 __attribute__((vector_size(2 * sizeof(double))));
+typedef long long quadric_m2
+    __attribute__((vector_size(2 * sizeof(long long))));
+
+/* Correctly rounded square roots, lane by lane (sqrt is): one
+ * instruction for both lanes where there is one. */
+static inline quadric_v2
+quadric_v2_sqrt(quadric_v2 x)
+{
+#ifdef __SSE2__
+	return (quadric_v2)_mm_sqrt_pd((__m128d)x);
+#else
+	return (quadric_v2){ sqrt(x[0]), sqrt(x[1]) };
+#endif
+}
+
+/* The x, y parts of two triangles' edges e1 = p1 - p0 and e2 = p2 - p0 (a
+ * triangle a lane), with the terms of their quadrics that depend on them
+ * only: the z of e1 x e2 and its square. Triangles that differ in their
+ * heights only, as a grid's cells along a row do, share one. */
+typedef struct {
+	quadric_v2 x1, y1, x2, y2;
+	quadric_v2 n2, n2n2; /* x1 y2 - y1 x2, its square */
+} quadric_xy2;
+
+static inline void
+quadric_xy2_init(quadric_xy2 *t, quadric_v2 x1, quadric_v2 y1,
+    quadric_v2 x2, quadric_v2 y2)
+{
+	t->x1 = x1, t->y1 = y1, t->x2 = x2, t->y2 = y2;
+	t->n2 = x1 * y2 - y1 * x2;
+	t->n2n2 = t->n2 * t->n2;
+}
+
+/* The A that quadric_add_triangle(q, p0, p1, p2, w) adds to a zero q, for
+ * two triangles a lane each: the x, y parts t and the z parts z1, z2 of
+ * their edges, formed as it forms them. b and c are left out (a plane
+ * through the frame's origin has none). Bit for bit, operation for
+ * operation, but for the sign of zero: quadric_add_triangle adds each
+ * coefficient to q's +0, which turns a -0 product into +0, and this
+ * leaves the -0. A sum begun at +0 does not tell them apart (x + -0 and
+ * x + +0 differ only for x = -0, which such a sum never is), nor does
+ * subtracting them from one. Returns the triangles' len (twice their
+ * area): a lane whose len is not > 0 is degenerate (quadric_add_triangle
+ * adds nothing) and its A is junk. Inline, so that a loop over a grid's
+ * cells computes t once. */
+static inline quadric_v2
+quadric_triangle_a2(const quadric_xy2 *t, quadric_v2 z1, quadric_v2 z2,
+    double w, quadric_v2 a[6])
+{
+	quadric_v2 n0 = t->y1 * z2 - z1 * t->y2;
+	quadric_v2 n1 = z1 * t->x2 - t->x1 * z2;
+	quadric_v2 n2 = t->n2;
+	quadric_v2 len = quadric_v2_sqrt(n0 * n0 + n1 * n1 + t->n2n2);
+	quadric_v2 s, s0, s1, s2;
+
+	n0 /= len, n1 /= len, n2 /= len;
+	s = w * 0.5 * len;
+	s0 = s * n0, s1 = s * n1, s2 = s * n2;
+	a[QUADRIC_A11] = s0 * n0;
+	a[QUADRIC_A12] = s0 * n1;
+	a[QUADRIC_A13] = s0 * n2;
+	a[QUADRIC_A22] = s1 * n1;
+	a[QUADRIC_A23] = s1 * n2;
+	a[QUADRIC_A33] = s2 * n2;
+	return len;
+}
+
 void quadric_add(quadric *q, const quadric *r, double w); /* q += w r */
 /* Re-express q in a frame whose origin is point d of the old frame:
  * A' = A, b' = b + A d, c' = c + 2 b.d + d.A d. */
