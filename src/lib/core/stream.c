@@ -300,8 +300,9 @@ get(rs_reader *r, void *dst, size_t n, tl_err *e)
 			s->pos += k, got += k;
 			continue;
 		}
-		/* Large requests go straight to the destination. */
-		if (n - got >= BUFSZ)
+		/* Large requests go straight to the destination, never
+		 * past it: no copy through the buffer for a row. */
+		if (n - got >= BUFSZ / 8)
 			m = read(r->fd, p + got, n - got);
 		else
 			m = read(r->fd, s->buf, BUFSZ);
@@ -311,7 +312,7 @@ get(rs_reader *r, void *dst, size_t n, tl_err *e)
 			return tl_failsys(e, "%s: read", r->name);
 		if (m == 0)
 			break;
-		if (n - got >= BUFSZ)
+		if (n - got >= BUFSZ / 8)
 			got += (size_t)m;
 		else
 			s->pos = 0, s->len = (size_t)m;
