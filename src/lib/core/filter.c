@@ -227,57 +227,70 @@ static inline __attribute__((always_inline)) void
 filter_taps(const taps *T, const double *zref, double *out, size_t st,
     size_t n, const int nt, const int zt, const int vert)
 {
+	/* the taps in locals: stores to out cannot change them */
+	const double *p[NTAP], *dd[NTAP];
+	vd w[NTAP], m[NTAP];
+	int with_v[NTAP];
+	double vw = T->vw;
+
+	for (int t = 0; t < nt; t++) {
+		p[t] = T->p[t], dd[t] = T->dd[t];
+		w[t] = vd_splat(T->w[t]), m[t] = vd_splat(T->m[t]);
+		with_v[t] = T->with_v[t];
+	}
 	for (int k = 0; k < 6; k++)
 		for (size_t c = 0; c < n; c += VEC_N) {
 			vd q = vd_splat(0);
+#pragma GCC unroll 5
 			for (int t = 0; t < nt; t++)
-				q += T->w[t] * vd_load(T->p[t] + k * st + c);
+				q += w[t] * vd_load(p[t] + k * st + c);
 			vd_store(out + k * st + c, q);
 		}
 	for (size_t c = 0; c < n; c += VEC_N) {
 		vd v = vd_splat(0);
+#pragma GCC unroll 5
 		for (int t = 0; t < nt; t++)
-			if (T->with_v[t])
-				v += T->w[t] * vd_load(T->p[t] + F_V * st + c);
-		vd_store(out + F_V * st + c, T->vw > 0 ? v / T->vw :
-		    vd_splat(0));
+			if (with_v[t])
+				v += w[t] * vd_load(p[t] + F_V * st + c);
+		vd_store(out + F_V * st + c, vw > 0 ? v / vw : vd_splat(0));
 	}
 	for (size_t c = 0; c < n; c += VEC_N) {
 		vd z = vd_load(zref + c), q0 = vd_splat(0), q1 = q0, q2 = q0;
 		vd qc = q0;
+#pragma GCC unroll 5
 		for (int t = 0; t < nt; t++) {
-			const double *p = T->p[t] + c;
-			vd dz = z - vd_load(p + F_Z * st);
-			vd a13 = vd_load(p + 2 * st), a23 = vd_load(p + 4 * st);
-			vd a33 = vd_load(p + 5 * st), b0 = vd_load(p + 6 * st);
-			vd b1 = vd_load(p + 7 * st), b2 = vd_load(p + 8 * st);
-			vd cc = vd_load(p + 9 * st), ad0, ad1, ad2;
+			const double *h = p[t] + c;
+			vd dz = z - vd_load(h + F_Z * st);
+			vd a13 = vd_load(h + 2 * st), a23 = vd_load(h + 4 * st);
+			vd a33 = vd_load(h + 5 * st), b0 = vd_load(h + 6 * st);
+			vd b1 = vd_load(h + 7 * st), b2 = vd_load(h + 8 * st);
+			vd cc = vd_load(h + 9 * st), ad0, ad1, ad2;
 			if (t == zt) { /* d = (0, 0, dz) */
 				ad0 = a13 * dz;
 				ad1 = a23 * dz;
 				ad2 = a33 * dz;
 				cc = cc + (2 * (b2 * dz) + ad2 * dz);
-			} else if (!vert) { /* d = (dd, 0, dz) */
-				vd dd = T->m[t] * vd_load(T->dd[t] + c);
-				vd a11 = vd_load(p), a12 = vd_load(p + st);
-				ad0 = a11 * dd + a13 * dz;
-				ad1 = a12 * dd + a23 * dz;
-				ad2 = a13 * dd + a33 * dz;
-				cc = cc + ((2 * (b0 * dd + b2 * dz) + ad0 * dd) +
+			} else if (!vert) { /* d = (dx, 0, dz) */
+				vd dx = m[t] * vd_load(dd[t] + c);
+				vd a11 = vd_load(h), a12 = vd_load(h + st);
+				ad0 = a11 * dx + a13 * dz;
+				ad1 = a12 * dx + a23 * dz;
+				ad2 = a13 * dx + a33 * dz;
+				cc = cc + ((2 * (b0 * dx + b2 * dz) + ad0 * dx) +
 				    ad2 * dz);
-			} else { /* d = (0, dd, dz) */
-				vd dd = T->m[t] * vd_load(T->dd[t] + c);
-				vd a12 = vd_load(p + st), a22 = vd_load(p + 3 * st);
-				ad0 = a12 * dd + a13 * dz;
-				ad1 = a22 * dd + a23 * dz;
-				ad2 = a23 * dd + a33 * dz;
-				cc = cc + ((2 * (b1 * dd + b2 * dz) + ad1 * dd) +
+			} else { /* d = (0, dy, dz) */
+				vd dy = m[t] * vd_load(dd[t] + c);
+				vd a12 = vd_load(h + st), a22 = vd_load(h + 3 * st);
+				ad0 = a12 * dy + a13 * dz;
+				ad1 = a22 * dy + a23 * dz;
+				ad2 = a23 * dy + a33 * dz;
+				cc = cc + ((2 * (b1 * dy + b2 * dz) + ad1 * dy) +
 				    ad2 * dz);
 			}
-			q0 += T->w[t] * (b0 + ad0);
-			q1 += T->w[t] * (b1 + ad1);
-			q2 += T->w[t] * (b2 + ad2);
-			qc += T->w[t] * cc;
+			q0 += w[t] * (b0 + ad0);
+			q1 += w[t] * (b1 + ad1);
+			q2 += w[t] * (b2 + ad2);
+			qc += w[t] * cc;
 		}
 		vd_store(out + F_B * st + c, q0);
 		vd_store(out + (F_B + 1) * st + c, q1);
