@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
 #define ST_VERSION 1
@@ -107,17 +108,45 @@ flush(rs_writer *w, tl_err *e)
 	return r;
 }
 
-/* Buffers n bytes and adds them to the running CRC. */
+/* The buffered bytes, then n bytes at p, by writev: a row goes out
+ * without a copy through the buffer. */
+static int
+drain2(rs_writer *w, const unsigned char *p, size_t n, tl_err *e)
+{
+	struct st_wr *s = w->impl;
+	struct iovec v[2] = { { s->buf, s->len }, { (void *)p, n } };
+	int k = s->len > 0 ? 0 : 1;
+
+	s->len = 0;
+	while (k < 2) {
+		ssize_t r = writev(s->fd, v + k, 2 - k);
+		size_t m;
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0)
+			return tl_failsys(e, "%s: write", w->name);
+		for (m = (size_t)r; k < 2 && m >= v[k].iov_len; k++)
+			m -= v[k].iov_len;
+		if (k < 2) {
+			v[k].iov_base = (unsigned char *)v[k].iov_base + m;
+			v[k].iov_len -= m;
+		}
+	}
+	return 0;
+}
+
+/* Buffers n bytes (large ones go out at once, after the buffered ones)
+ * and adds them to the running CRC. */
 static int
 put(rs_writer *w, const void *p, size_t n, tl_err *e)
 {
 	struct st_wr *s = w->impl;
 
 	s->crc = crc(s->crc, p, n);
+	if (n >= BUFSZ / 8)
+		return drain2(w, p, n, e);
 	if (s->len + n > BUFSZ && flush(w, e) < 0)
 		return -1;
-	if (n >= BUFSZ)
-		return drain(w, p, n, e);
 	memcpy(s->buf + s->len, p, n);
 	s->len += n;
 	return 0;
