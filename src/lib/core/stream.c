@@ -329,11 +329,15 @@ get(rs_reader *r, void *dst, size_t n, tl_err *e)
 			s->pos += k, got += k;
 			continue;
 		}
-		/* Large requests go straight to the destination, never
-		 * past it: no copy through the buffer for a row. */
-		if (n - got >= BUFSZ / 8)
-			m = read(r->fd, p + got, n - got);
-		else
+		/* Large requests (rows) go straight to the destination,
+		 * and only the 4 bytes after them (the row's CRC) into the
+		 * buffer: the next row is not read ahead into the buffer,
+		 * so it too goes straight to its destination. */
+		if (n - got >= BUFSZ / 8) {
+			struct iovec v[2] = { { p + got, n - got },
+			    { s->buf, 4 } };
+			m = readv(r->fd, v, 2);
+		} else
 			m = read(r->fd, s->buf, BUFSZ);
 		if (m < 0 && errno == EINTR)
 			continue;
@@ -341,8 +345,10 @@ get(rs_reader *r, void *dst, size_t n, tl_err *e)
 			return tl_failsys(e, "%s: read", r->name);
 		if (m == 0)
 			break;
-		if (n - got >= BUFSZ / 8)
+		if (n - got >= BUFSZ / 8 && (size_t)m <= n - got)
 			got += (size_t)m;
+		else if (n - got >= BUFSZ / 8)
+			s->pos = 0, s->len = (size_t)m - (n - got), got = n;
 		else
 			s->pos = 0, s->len = (size_t)m;
 	}

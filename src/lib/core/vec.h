@@ -18,7 +18,6 @@ typedef int64_t vl __attribute__((vector_size(VEC_N * sizeof(int64_t))));
 typedef float vf4 __attribute__((vector_size(4 * sizeof(float))));
 typedef double vd4 __attribute__((vector_size(4 * sizeof(double))));
 typedef uint32_t vu4 __attribute__((vector_size(4 * sizeof(uint32_t))));
-typedef int64_t vl4 __attribute__((vector_size(4 * sizeof(int64_t))));
 
 static inline vd
 vd_load(const double *p)
