@@ -26,10 +26,10 @@ WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 # program links the layers it uses and their packages only
 # (tests/cmd/t_layers.sh checks includes, archives and links). Package flags are resolved when a recipe runs, i.e. after
 # $(B)/.deps has installed them.
-CORE_PKGS := OpenEXR gdal geographiclib proj zlib
+CORE_PKGS := OpenEXR gdal geographiclib proj libdeflate
 PYR_PKGS  := jansson
 PLAY_PKGS := egl epoxy glfw3 stb
-TEST_PKGS := libtiff-4 jansson
+TEST_PKGS := libtiff-4 jansson zlib
 PKGS    := $(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS) OpenImageIO
 pkgcf    = $(shell pkg-config --cflags $(1))
 pkglibs  = $(shell pkg-config --libs $(1))

@@ -22,11 +22,10 @@ typedef struct {
 	const char *in, *out;
 } options;
 
-/* The work: the fine rows read so far, the filter, one coarse row. */
+/* The work: the fine rows read so far, the filter. */
 typedef struct {
 	fqm_input in;
 	filter_state f;
-	fqm_vertex *coarse;
 } job;
 
 static int
@@ -35,12 +34,11 @@ coarse_row(void *ctx, int y, float *row, tl_err *e)
 	job *j = ctx;
 
 	while (!filter_ready(&j->f)) {
-		if (fqm_input_next(&j->in, e) < 0)
+		if (fqm_input_read(&j->in, e) < 0)
 			return -1;
-		filter_push(&j->f, j->in.v);
+		filter_push_row(&j->f, &j->in.L, j->in.row);
 	}
-	filter_pull(&j->f, j->coarse);
-	fqm_encode(&j->in.L, j->coarse, j->f.cw, row);
+	filter_pull_row(&j->f, &j->in.L, row);
 	return 0;
 }
 
@@ -69,14 +67,11 @@ filter(const cli *c, const options *o, tl_err *e)
 	if (rs_set_int(&oh, FQM_ATTR_LEVEL, j.in.fi.level + 1, e) < 0 ||
 	    rs_set_string(&oh, FQM_ATTR_KERNEL, o->kernel->name, e) < 0)
 		goto done;
-	if ((j.coarse = tl_alloc(j.f.cw, sizeof *j.coarse, e)) != NULL)
-		r = rowpipe_run(c->prog, o->out, &oh, c->comp, coarse_row, &j,
-		    e);
+	r = rowpipe_run(c->prog, o->out, &oh, c->comp, coarse_row, &j, e);
 done:
 	fqm_input_close(&j.in);
 	rs_header_free(&oh);
 	filter_free(&j.f);
-	free(j.coarse);
 	return r;
 }
 

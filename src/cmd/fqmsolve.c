@@ -38,6 +38,12 @@ vertex_row(void *ctx, int y, float *row, tl_err *e)
 {
 	job *j = ctx;
 
+	if (j->s.mode != SOLVE_QEM3D) {
+		if (fqm_input_read(&j->in, e) < 0)
+			return -1;
+		solve_row_direct(&j->s, &j->in.L, j->in.row, j->oh, row);
+		return 0;
+	}
 	if (fqm_input_next(&j->in, e) < 0)
 		return -1;
 	solve_row(&j->s, j->in.v, j->sv);

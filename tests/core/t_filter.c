@@ -242,6 +242,261 @@ plane_pyramid(const filter_kernel *k, int W, int H, double *worst3d)
 	return worst;
 }
 
+
+/* --- the filter as first written, the reference for its vector form --- */
+
+/* The level filter as it was written first: every tap through
+ * quadric_translate and quadric_add, one vertex structure at a time.
+ * filter.c must compute its outputs bit for bit. */
+typedef struct {
+	filter_state f; /* sizes, kernel, metric; its ring unused */
+	fqm_vertex *ring;
+} ref_state;
+
+static void
+ref_add_moved(quadric *q, const quadric *r, double dx, double dy, double dz,
+    double w)
+{
+	quadric t = *r;
+	double d[3] = { dx, dy, dz };
+
+	quadric_translate(&t, d);
+	quadric_add(q, &t, w);
+}
+
+static void
+ref_push(ref_state *R, const fqm_vertex *fine)
+{
+	filter_state *f = &R->f;
+	const filter_kernel *k = f->k;
+	int j = f->next++, slot = j % f->nring;
+	fqm_vertex *out = R->ring + (size_t)slot * f->cw;
+	double step = (double)(1L << f->level), sx[GEO_MAX_NODES];
+	size_t st = sizeof *fine / sizeof(double);
+	double vw;
+
+	f->tag[slot] = j;
+	geo_row_sx(f->m, (double)((long)j << f->level), sx);
+	for (int c = 0; c < f->cw; c++) {
+		fqm_vertex *o = &out[c];
+		double s = step * geo_on_row(f->m, sx,
+		    (double)((long)c << (f->level + 1)));
+		double zh = 0;
+		memset(o, 0, sizeof *o);
+		for (int a = -k->radius; a <= k->radius; a++)
+			zh += k->w[abs(a)] *
+			    filter_extend(&fine[0].z, st, f->fw, 2 * c + a);
+		o->z = zh;
+		o->s = filter_extend(&fine[0].s, st, f->fw, 2 * c);
+		vw = 0;
+		for (int a = -k->radius; a <= k->radius; a++) {
+			int i = 2 * c + a;
+			double w = k->w[abs(a)];
+			if (i >= f->fw) {
+				if (k->radius > 0)
+					continue;
+				i = f->fw - 1, w = 1;
+			}
+			if (i < 0)
+				continue;
+			ref_add_moved(&o->q, &fine[i].q, -(i - 2 * c) * s, 0,
+			    zh - fine[i].z, w);
+			if (i == 2 * c + a)
+				o->v += w * fine[i].v, vw += w;
+		}
+		o->v = vw > 0 ? o->v / vw : 0;
+	}
+}
+
+static double
+ref_ext_rows(const ref_state *R, int c, int i, int field)
+{
+	const filter_state *f = &R->f;
+	int n = f->fh, r;
+
+	if (i >= 0 && i < n) {
+		const fqm_vertex *row = R->ring + (size_t)(i % f->nring) * f->cw;
+		return field ? row[c].s : row[c].z;
+	}
+	if (i < 0) {
+		r = -i < n ? -i : n - 1;
+		return 2 * ref_ext_rows(R, c, 0, field) -
+		    ref_ext_rows(R, c, r, field);
+	}
+	r = 2 * (n - 1) - i;
+	if (r < 0)
+		r = 0;
+	return 2 * ref_ext_rows(R, c, n - 1, field) -
+	    ref_ext_rows(R, c, r, field);
+}
+
+static void
+ref_pull(ref_state *R, fqm_vertex *coarse)
+{
+	filter_state *f = &R->f;
+	const filter_kernel *k = f->k;
+	int m = f->out, j0 = 2 * m;
+	double vw, y0[GEO_MAX_NODES], y[2 * FILTER_MAX_RADIUS + 1][GEO_MAX_NODES];
+
+	f->out++;
+	geo_row_y(f->m, (double)((long)j0 << f->level), y0);
+	for (int b = -k->radius; b <= k->radius; b++) {
+		int i = j0 + b < f->fh ? j0 + b : f->fh - 1;
+		if (i >= 0)
+			geo_row_y(f->m, (double)((long)i << f->level),
+			    y[b + k->radius]);
+	}
+	for (int c = 0; c < f->cw; c++) {
+		fqm_vertex *o = &coarse[c];
+		double I = (double)((long)c << (f->level + 1));
+		double zc = 0;
+		memset(o, 0, sizeof *o);
+		for (int b = -k->radius; b <= k->radius; b++)
+			zc += k->w[abs(b)] * ref_ext_rows(R, c, j0 + b, 0);
+		o->z = zc;
+		o->s = ref_ext_rows(R, c, j0, 1);
+		vw = 0;
+		for (int b = -k->radius; b <= k->radius; b++) {
+			int i = j0 + b;
+			double w = k->w[abs(b)];
+			const fqm_vertex *h;
+			if (i >= f->fh) {
+				if (k->radius > 0)
+					continue;
+				i = f->fh - 1, w = 1;
+			}
+			if (i < 0)
+				continue;
+			h = R->ring + (size_t)(i % f->nring) * f->cw + c;
+			ref_add_moved(&o->q, &h->q, 0, geo_on_row(f->m, y0, I) -
+			    geo_on_row(f->m, y[b + k->radius], I), zc - h->z,
+			    w);
+			if (i == j0 + b)
+				o->v += w * h->v, vw += w;
+		}
+		o->v = vw > 0 ? o->v / vw : 0;
+		if ((long)c << (f->level + 1) > f->w0 - 1 ||
+		    (long)m << (f->level + 1) > f->h0 - 1)
+			o->v = 0;
+	}
+}
+
+/* A float an FQM could hold, with the values that test signs and
+ * edges: zeros of both signs, negatives, tiny and huge magnitudes. */
+static float
+any_float(unsigned *seed)
+{
+	double u = urand(seed), r = urand(seed);
+
+	if (u < -0.7)
+		return 0.0f;
+	if (u < -0.55)
+		return -0.0f;
+	if (u > 0.97)
+		return (float)(r * 1e30);
+	if (u > 0.94)
+		return (float)(r * 1e-30);
+	if (u > 0.9)
+		return r < 0 ? -1.0f : 1.0f;
+	return (float)(r * pow(10, 6 * urand(seed)));
+}
+
+/* fqmfilter's own path (filter_push_row, filter_pull_row: floats in the
+ * FQM's channels) and the vertex one (filter_push, filter_pull) against
+ * the reference, on random rows: the outputs must be the same bits. */
+static int
+identity_case(const filter_kernel *k, int fw, int fh, int level,
+    const geo_metric *m, unsigned seed)
+{
+	/* the channels in their sorted order, as a header has them */
+	const fqm_layout L = { { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9 }, 12, 10, 11 };
+	int w0 = level > 0 ? ((fw - 2) << level) + 2 : fw;
+	int h0 = level > 0 ? ((fh - 2) << level) + 2 : fh, bad = 0;
+	filter_state f, g;
+	ref_state R;
+	float *row = malloc((size_t)fw * 13 * sizeof *row), *out, *want;
+	fqm_vertex *fine = malloc((size_t)fw * sizeof *fine), *cr, *cv;
+
+	if (filter_init(&f, k, level, fw, fh, w0, h0, m, NULL) < 0 ||
+	    filter_init(&g, k, level, fw, fh, w0, h0, m, NULL) < 0 ||
+	    filter_init(&R.f, k, level, fw, fh, w0, h0, m, NULL) < 0)
+		return 1;
+	R.ring = calloc((size_t)R.f.nring * R.f.cw, sizeof *R.ring);
+	out = malloc((size_t)f.cw * 13 * sizeof *out);
+	want = malloc((size_t)f.cw * 13 * sizeof *want);
+	cr = malloc((size_t)f.cw * sizeof *cr);
+	cv = malloc((size_t)f.cw * sizeof *cv);
+	for (int y = 0; y < f.ch; y++) {
+		while (!filter_ready(&f)) {
+			for (int i = 0; i < fw * 13; i++)
+				row[i] = any_float(&seed);
+			for (int i = 0; i < fw; i++) /* V: 0, 1 or between */
+				row[11 * fw + i] = fabsf(row[11 * fw + i]) > 1 ?
+				    1 : fabsf(row[11 * fw + i]);
+			fqm_decode(&L, row, fw, fine);
+			filter_push_row(&f, &L, row);
+			filter_push(&g, fine);
+			ref_push(&R, fine);
+		}
+		filter_pull_row(&f, &L, out);
+		filter_pull(&g, cv);
+		ref_pull(&R, cr);
+		fqm_encode(&L, cr, f.cw, want);
+		bad += memcmp(out, want, (size_t)f.cw * 13 * sizeof *out) != 0;
+		bad += memcmp(cv, cr, (size_t)f.cw * sizeof *cr) != 0;
+	}
+	filter_free(&f), filter_free(&g), filter_free(&R.f);
+	free(R.ring), free(row), free(fine), free(out), free(want), free(cr);
+	free(cv);
+	return bad;
+}
+
+static void
+test_identity(void)
+{
+	static const int sizes[][2] = { { 2, 5 }, { 3, 3 }, { 5, 2 },
+		{ 4, 6 }, { 8, 9 }, { 9, 8 }, { 37, 23 }, { 64, 7 } };
+	geo_metric m[2];
+	georef g;
+	int bad = 0, n = 0;
+	unsigned seed = 11;
+
+	/* a per-row metric whose rows differ (as a geographic DEM's do) */
+	geo_metric_const(&m[0], 1024, 30, 20, NULL);
+	for (int j = 0; j < 1024; j++) {
+		m[0].dx[j] = 30 - 0.01 * j + 1e-3 * urand(&seed);
+		m[0].y[j] = j > 0 ? m[0].y[j - 1] + 20 + 1e-3 * j : 0;
+	}
+	/* a projected lattice: UTM 11N, 30 m cells */
+	memset(&g, 0, sizeof g);
+	g.model = GEO_PROJECTED, g.epsg = 32611;
+	strcpy(g.crs, "EPSG:32611");
+	g.origin[0] = 400000, g.origin[1] = 3800000;
+	g.step[0] = 30, g.step[1] = -30, g.unit = 1, g.point = 1;
+	g.width = g.height = 1024;
+	if (geo_metric_init(&m[1], &g, NULL) < 0) {
+		ok(0, "UTM metric for the identity test");
+		geo_metric_free(&m[0]);
+		return;
+	}
+	for (int mi = 0; mi < 2; mi++)
+		for (const filter_kernel *k = filter_kernels; k->name; k++)
+			for (size_t s = 0; s < sizeof sizes / sizeof sizes[0];
+			    s++)
+				for (int level = 0; level <= 3; level += 3) {
+					bad += identity_case(k, sizes[s][0],
+					    sizes[s][1], level, &m[mi],
+					    seed++) != 0;
+					n++;
+				}
+	ok(bad == 0, "filter_push_row / filter_pull_row and filter_push / "
+	    "filter_pull give the bits of the filter as first written "
+	    "(quadric_translate per tap): %d cases of %d, every kernel, "
+	    "per-row and lattice metrics, levels 0 and 3, random rows with "
+	    "zeros of both signs, tiny and huge values", n - bad, n);
+	geo_metric_free(&m[0]), geo_metric_free(&m[1]);
+}
+
 int
 main(void)
 {
@@ -254,6 +509,7 @@ main(void)
 	test_stream("binomial5", 10, 12);
 	test_stream("none", 5, 2);
 	test_padding();
+	test_identity();
 	for (const filter_kernel *k = filter_kernels; k->name; k++)
 		for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
 			double w3, w1 = plane_pyramid(k, sizes[s][0], sizes[s][1],

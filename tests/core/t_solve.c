@@ -235,12 +235,92 @@ test_folds(int level, int W, int H, double reach)
 	geo_metric_free(&m);
 }
 
+
+/* A float an FQM could hold, with the values that test signs and
+ * edges: zeros of both signs, negatives, tiny and huge magnitudes. */
+static float
+any_float(unsigned *seed)
+{
+	double u = urand(seed), r = urand(seed);
+
+	if (u < -0.6)
+		return 0.0f;
+	if (u < -0.4)
+		return -0.0f;
+	if (u > 0.97)
+		return (float)(r * 1e30);
+	if (u > 0.94)
+		return (float)(r * 1e-30);
+	if (u > 0.9)
+		return r < 0 ? -1.0f : 1.0f;
+	return (float)(r * pow(10, 6 * urand(seed)));
+}
+
+/* solve_row_direct (fqmsolve's path: the FQM's channels in, the map's
+ * out) gives the bits of solve_row and solve_encode, for every mode but
+ * QEM-3D, on random rows: zeros of both signs in Z and the quadric,
+ * a33 zero or negative (no plane), widths not a multiple of 4. */
+static void
+test_direct(void)
+{
+	static const char *const qch[10] = { "Q.a11", "Q.a12", "Q.a13",
+		"Q.a22", "Q.a23", "Q.a33", "Q.b1", "Q.b2", "Q.b3", "Q.c" };
+	static const enum solve_mode modes[3] = { SOLVE_QEM1D, SOLVE_FILTERED,
+		SOLVE_SUBSAMPLE };
+	unsigned seed = 5;
+	int bad = 0, n = 0;
+
+	for (int w = 1; w <= 13; w += 3)
+		for (int mi = 0; mi < 3; mi++) {
+			rs_header fqm, oh;
+			fqm_layout L;
+			geo_metric m;
+			solve_state s, t;
+			int h = 64;
+			float *in = malloc((size_t)w * 13 * sizeof *in);
+			float *a = malloc((size_t)w * 2 * sizeof *a);
+			float *b = malloc((size_t)w * 2 * sizeof *b);
+			fqm_vertex *v = malloc((size_t)w * sizeof *v);
+			solve_vertex *sv = malloc((size_t)w * sizeof *sv);
+			rs_header_init(&fqm, w, h);
+			for (int k = 0; k < 10; k++)
+				rs_add_channel(&fqm, qch[k], NULL);
+			rs_add_channel(&fqm, "Z", NULL);
+			rs_add_channel(&fqm, "S", NULL);
+			rs_add_channel(&fqm, "V", NULL);
+			fqm_layout_of(&fqm, &L, "t", NULL);
+			solve_header(&oh, &fqm, modes[mi], NULL);
+			geo_metric_const(&m, 64, DX, DY, NULL);
+			solve_init(&s, modes[mi], 2, w, h, &m, NULL);
+			solve_init(&t, modes[mi], 2, w, h, &m, NULL);
+			for (int y = 0; y < h; y++, n++) {
+				for (int i = 0; i < w * 13; i++)
+					in[i] = any_float(&seed);
+				fqm_decode(&L, in, w, v);
+				solve_row(&s, v, sv);
+				solve_encode(&oh, sv, a);
+				solve_row_direct(&t, &L, in, &oh, b);
+				bad += memcmp(a, b, (size_t)w * 2 *
+				    sizeof *a) != 0;
+			}
+			solve_free(&s), solve_free(&t);
+			geo_metric_free(&m);
+			rs_header_free(&oh), rs_header_free(&fqm);
+			free(in), free(a), free(b), free(v), free(sv);
+		}
+	ok(bad == 0, "solve_row_direct: the bits of solve_row + "
+	    "solve_encode (QEM-1D, filtered, sub-sampled; %d random rows "
+	    "of 1 to 13 vertices, zeros of both signs, no-plane vertices)",
+	    n - bad);
+}
+
 int
 main(void)
 {
 	test_modes();
 	test_header();
 	test_rows();
+	test_direct();
 	test_cell();
 	test_folds(0, 60, 40, 0.3);
 	test_folds(2, 60, 40, 1.0);

@@ -19,7 +19,11 @@ extern const filter_kernel filter_kernels[]; /* terminated by name == NULL */
 const filter_kernel *filter_find(const char *name);
 
 /* The level filter holds 2r+1 horizontally filtered rows of the coarse
- * width: memory O(coarse width x kernel height), never a level. */
+ * width: memory O(coarse width x kernel height), never a level. Rows are
+ * held field by field (FILTER_NF arrays of cw doubles, in fqm_vertex's
+ * order: a[6] b[3] c z s v), so that the loops over a row's vertices run
+ * on vectors. */
+#define FILTER_NF 13
 typedef struct {
 	const filter_kernel *k;
 	int level;         /* of the fine input */
@@ -27,10 +31,14 @@ typedef struct {
 	int w0, h0;        /* level-0 size: vertices past it are padding */
 	const geo_metric *m;
 	int nring;
-	fqm_vertex *ring;  /* nring x cw */
+	double *ring;      /* nring x FILTER_NF x cw */
 	int *tag;          /* fine row held by each ring slot */
 	int next;          /* next fine row to push */
 	int out;           /* next coarse row to pull */
+	double *fine;      /* the fine row being pushed: its even columns
+	                    * (FILTER_NF x cw), then its odd ones (same) */
+	double *coarse;    /* the coarse row being pulled (FILTER_NF x cw) */
+	double *tmp;       /* per column: reference heights, metric (2r+2 x cw) */
 } filter_state;
 
 int filter_init(filter_state *f, const filter_kernel *k, int level, int fw, int fh,
@@ -40,6 +48,11 @@ int filter_init(filter_state *f, const filter_kernel *k, int level, int fw, int 
 int filter_ready(const filter_state *f);
 void filter_push(filter_state *f, const fqm_vertex *fine); /* fine row f->next */
 void filter_pull(filter_state *f, fqm_vertex *coarse);      /* coarse row f->out */
+/* The same from and into rows of an FQM's channels, channel-planar floats
+ * of the fine and coarse widths as fqm_decode reads and fqm_encode writes
+ * them: the same values, without the vertex structures. */
+void filter_push_row(filter_state *f, const fqm_layout *L, const float *row);
+void filter_pull_row(filter_state *f, const fqm_layout *L, float *row);
 void filter_free(filter_state *f);
 
 /* Value i of n samples, odd reflection (2h0 - h(-i)) past either end: it

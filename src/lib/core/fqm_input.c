@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/fqm_input.h"
+#include "core/vec.h"
 
 int
 fqm_input_open(fqm_input *in, const char *path, tl_err *e)
@@ -22,14 +23,26 @@ fqm_input_open(fqm_input *in, const char *path, tl_err *e)
 }
 
 int
-fqm_input_next(fqm_input *in, tl_err *e)
+fqm_input_read(fqm_input *in, tl_err *e)
 {
+	size_t n = (size_t)in->h->width * (size_t)in->h->nch;
+
 	assert(in->y < in->h->height);
-	if (rs_read_row(in->r, in->row, e) < 0 ||
-	    fqm_check_row(in->row, in->h->width, in->h->nch, in->y, in->what,
-	    e) < 0)
+	if (rs_read_row(in->r, in->row, e) < 0)
+		return -1;
+	/* the vector test first; fqm_check_row names the first bad value */
+	if (!vec_all_finite(in->row, n) && fqm_check_row(in->row,
+	    in->h->width, in->h->nch, in->y, in->what, e) < 0)
 		return -1;
 	in->y++;
+	return 0;
+}
+
+int
+fqm_input_next(fqm_input *in, tl_err *e)
+{
+	if (fqm_input_read(in, e) < 0)
+		return -1;
 	fqm_decode(&in->L, in->row, in->h->width, in->v);
 	return 0;
 }

@@ -22,6 +22,8 @@ typedef struct {
 int fqm_input_open(fqm_input *in, const char *path, tl_err *e);
 /* Reads, checks and decodes the next row into in->v. */
 int fqm_input_next(fqm_input *in, tl_err *e);
+/* Reads and checks the next row into in->row, without decoding it. */
+int fqm_input_read(fqm_input *in, tl_err *e);
 void fqm_input_close(fqm_input *in);
 
 #endif

@@ -3,9 +3,12 @@
 #include "core/solve.h"
 
 #include <assert.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "core/vec.h"
 
 static const char *const mode_names[] = {
 	[SOLVE_QEM1D] = "qem1d", [SOLVE_QEM3D] = "qem3d",
@@ -329,4 +332,86 @@ solve_encode(const rs_header *oh, const solve_vertex *v, float *row)
 			row[(size_t)cy * w + i] = (float)v[i].y;
 		}
 	}
+}
+
+/* quadric_min_z's z, or 0 where it fails, on two vertices, with the
+ * products by x = y = 0 (they decide the sign of a zero quotient, and so
+ * that of Z + the quotient when Z is a zero). Lanes where it fails get
+ * +0 bit for bit. */
+static inline vd
+min_z2(vd a13, vd a23, vd a33, vd b3)
+{
+	const double zero = 0; /* out.x, out.y */
+	vd t = -(b3 + a13 * zero + a23 * zero) / a33;
+	/* a33 > 0 and finite, and so the quotient */
+	vl ok = (a33 > 0) & (a33 <= DBL_MAX) & (t >= -DBL_MAX) &
+	    (t <= DBL_MAX);
+
+	if (ok[0] && ok[1])
+		return t;
+	if (!ok[0] && !ok[1])
+		return vd_splat(0);
+	return (vd){ ok[0] ? t[0] : 0, ok[1] ? t[1] : 0 };
+}
+
+/* QEM-1D of n vertices on their grid positions: z = Z + quadric_min_z(q,
+ * 0, 0) where a33 > 0 and the quotient is finite, else Z + 0: every
+ * operation of solve_row's, in its order, on vectors. */
+static void
+qem1d_direct(const float *fa13, const float *fa23, const float *fa33,
+    const float *fb3, const float *fz, float *out, size_t n)
+{
+	size_t i = 0;
+
+	for (; i + 4 <= n; i += 4) {
+		vd4 a13 = __builtin_convertvector(vf4_load(fa13 + i), vd4);
+		vd4 a23 = __builtin_convertvector(vf4_load(fa23 + i), vd4);
+		vd4 a33 = __builtin_convertvector(vf4_load(fa33 + i), vd4);
+		vd4 b3 = __builtin_convertvector(vf4_load(fb3 + i), vd4);
+		vd4 z = __builtin_convertvector(vf4_load(fz + i), vd4);
+		vd lo = min_z2(__builtin_shufflevector(a13, a13, 0, 1),
+		    __builtin_shufflevector(a23, a23, 0, 1),
+		    __builtin_shufflevector(a33, a33, 0, 1),
+		    __builtin_shufflevector(b3, b3, 0, 1));
+		vd hi = min_z2(__builtin_shufflevector(a13, a13, 2, 3),
+		    __builtin_shufflevector(a23, a23, 2, 3),
+		    __builtin_shufflevector(a33, a33, 2, 3),
+		    __builtin_shufflevector(b3, b3, 2, 3));
+		z = z + __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+		vf4_store(out + i, __builtin_convertvector(z, vf4));
+	}
+	for (; i < n; i++) {
+		quadric q;
+		double z = 0;
+		q.a[QUADRIC_A13] = fa13[i], q.a[QUADRIC_A23] = fa23[i];
+		q.a[QUADRIC_A33] = fa33[i], q.b[2] = fb3[i];
+		if (quadric_min_z(&q, 0, 0, &z) < 0)
+			z = 0;
+		out[i] = (float)((double)fz[i] + z);
+	}
+}
+
+void
+solve_row_direct(solve_state *s, const fqm_layout *L, const float *in,
+    const rs_header *oh, float *row)
+{
+	size_t w = (size_t)s->w;
+	int cz = rs_channel(oh, "Z"), cv = rs_channel(oh, "V");
+
+	assert(s->mode != SOLVE_QEM3D && s->row < s->h);
+	assert(cz >= 0 && cv >= 0 && oh->width == s->w);
+	s->row++;
+	/* a float widened to double and back is itself: V, and Z or S,
+	 * are copies */
+	memcpy(row + (size_t)cv * w, in + (size_t)L->v * w, w * sizeof *row);
+	if (s->mode == SOLVE_FILTERED || s->mode == SOLVE_SUBSAMPLE) {
+		int c = s->mode == SOLVE_FILTERED ? L->z : L->s;
+		memcpy(row + (size_t)cz * w, in + (size_t)c * w,
+		    w * sizeof *row);
+		return;
+	}
+	qem1d_direct(in + (size_t)L->q[QUADRIC_A13] * w,
+	    in + (size_t)L->q[QUADRIC_A23] * w,
+	    in + (size_t)L->q[QUADRIC_A33] * w, in + (size_t)L->q[8] * w,
+	    in + (size_t)L->z * w, row + (size_t)cz * w, w);
 }

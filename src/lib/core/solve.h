@@ -49,6 +49,13 @@ int solve_header(rs_header *oh, const rs_header *fqm, enum solve_mode mode,
     tl_err *e);
 /* One row of solved vertices into a row of that header's channels. */
 void solve_encode(const rs_header *oh, const solve_vertex *v, float *row);
+/* solve_row then solve_encode for every mode but QEM-3D, from the FQM
+ * row's channels (layout L, channel-planar floats as fqm_decode reads
+ * them) into the vertex map's (header oh): the same values, without
+ * decoding the vertices. The FQM row holds finite values only
+ * (fqm_check_row). */
+void solve_row_direct(solve_state *s, const fqm_layout *L, const float *in,
+    const rs_header *oh, float *row);
 void solve_free(solve_state *s);
 
 /* 1 when the cell with corners p[0] (i,j), p[1] (i+1,j), p[2] (i+1,j+1),
