@@ -95,18 +95,25 @@ for k in 1 2 3 4 5 6 7 8 9 10; do
 	kids=$(ps -eo pid,ppid | awk -v p=$pid '$2 == p { print $1 }')
 	kill -$sig $pid 2>/dev/null
 	wait $pid 2>/dev/null
-	sleep 1.5
-	alive=0
-	for c in $kids; do
-		[ -d /proc/$c ] && [ "$(awk '{ print $3 }' /proc/$c/stat)" != Z ] &&
-		    alive=$((alive + 1))
+	# the stages get SIGTERM and remove their temporaries (tilepack a
+	# directory of blocks): on a loaded machine that may take a while,
+	# so up to 10 s, polled
+	n=0
+	while :; do
+		alive=0
+		for c in $kids; do
+			[ -d /proc/$c ] && [ "$(awk '{ print $3 }' /proc/$c/stat 2>/dev/null)" != Z ] &&
+			    alive=$((alive + 1))
+		done
+		[ $alive -eq 0 ] || [ $n -ge 100 ] && break
+		sleep 0.1; n=$((n + 1))
 	done
 	state=mixed
 	diff -r "$T/p" "$T/old" >/dev/null 2>&1 && state=old
 	diff -r "$T/p" "$T/new3" >/dev/null 2>&1 && state=new
 	hidden=$(ls -A "$T" | grep -c '^\.' || true)
 	[ $alive -eq 0 ] && [ $state != mixed ] && [ "$hidden" -eq 0 ]
-	ok $? "SIG$sig at ${at} s of ${full} s: $alive stages alive, pyramid $state, $hidden temporaries"
+	ok $? "SIG$sig at ${at} s of ${full} s: $alive stages alive after $((n / 10)).$((n % 10)) s, pyramid $state, $hidden temporaries"
 done
 # a killed run's scratch is swept by the next run
 rm -rf "$TMPDIR"/*; "$B/dem2vgis" -q "$dem" "$T/s1" 2>/dev/null & pid=$!
