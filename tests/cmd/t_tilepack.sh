@@ -141,12 +141,17 @@ dem2fqm "$DATA/N44W072.hgt" - | fqmsolve - "$T/nv0.exr"
     sleep 0.5; kill -TERM $p; wait $p) 2>/dev/null
 [ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ]
 ok $? "tilepack killed by SIGTERM leaves no directory, no temporary"
-for t in 0.3 1.2; do
+# at a quarter and at three fifths of a whole run (measured: it must not
+# have ended before the signal)
+full=$( { /usr/bin/time -f %e dem2vgis -q "$DATA/N44W072.hgt" "$T/o/timing"; } 2>&1 | tail -1)
+rm -rf "$T/o/timing"
+for f in 0.25 0.6; do
+	t=$(awk -v a="$full" -v f="$f" 'BEGIN { printf "%.2f", a * f }')
 	(TMPDIR=$T/scratch dem2vgis -q "$DATA/N44W072.hgt" "$T/o/k2" & p=$!
 	    sleep $t; kill -TERM $p; wait $p) 2>/dev/null
 	sleep 0.3
 	[ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ] && nothing_left "$T/scratch"
-	ok $? "dem2vgis killed by SIGTERM after $t s leaves no directory, no scratch"
+	ok $? "dem2vgis killed by SIGTERM after $t s of $full s leaves no directory, no scratch"
 done
 printf 'not a raster\n' >"$T/garbage.txt"
 fails "dem2vgis on a non-raster" 1 "not a" dem2vgis "$T/garbage.txt" "$T/o/g"
@@ -171,8 +176,11 @@ mkdir "$T/fifo"
 fl=""; l=0
 while [ $l -lt "$fn" ]; do mkfifo "$T/fifo/v$l"; fl="$fl $T/fifo/v$l"; l=$((l + 1)); done
 chain() {	# L: level L's FQM on stdin; its vertex map and those above
-	if [ "$1" -eq $((fn - 1)) ]; then fqmsolve - - >"$T/fifo/v$1"
-	else tee >(fqmfilter - - | chain $(($1 + 1))) | fqmsolve - - >"$T/fifo/v$1"; fi
+	if [ "$1" -eq $((fn - 1)) ]; then fqmsolve - - >"$T/fifo/v$1"; return; fi
+	mkfifo "$T/fifo/q$1"
+	(fqmfilter - - <"$T/fifo/q$1" | chain $(($1 + 1))) &
+	tee "$T/fifo/q$1" | fqmsolve - - >"$T/fifo/v$1"
+	wait
 }
 (dem2fqm "$fdem" - | chain 0) 2>/dev/null &
 # shellcheck disable=SC2086
