@@ -10,13 +10,7 @@
 #include "core/filter.h"
 #include "core/solve.h"
 #include "tap.h"
-
-static double
-urand(unsigned *s)
-{
-	*s = *s * 1103515245u + 12345u;
-	return ((*s >> 8) & 0xffffff) / (double)0x1000000 * 2 - 1;
-}
+#include "urand.h"
 
 static void
 test_kernels(void)
@@ -379,26 +373,6 @@ ref_pull(ref_state *R, fqm_vertex *coarse)
 		    (long)m << (f->level + 1) > f->h0 - 1)
 			o->v = 0;
 	}
-}
-
-/* A float an FQM could hold, with the values that test signs and
- * edges: zeros of both signs, negatives, tiny and huge magnitudes. */
-static float
-any_float(unsigned *seed)
-{
-	double u = urand(seed), r = urand(seed);
-
-	if (u < -0.7)
-		return 0.0f;
-	if (u < -0.55)
-		return -0.0f;
-	if (u > 0.97)
-		return (float)(r * 1e30);
-	if (u > 0.94)
-		return (float)(r * 1e-30);
-	if (u > 0.9)
-		return r < 0 ? -1.0f : 1.0f;
-	return (float)(r * pow(10, 6 * urand(seed)));
 }
 
 /* fqmfilter's own path (filter_push_row, filter_pull_row: floats in the

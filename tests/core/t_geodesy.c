@@ -3,18 +3,12 @@
  * against the haversine formula, symmetry, and bad input refused. */
 #include "core/geodesy.h"
 #include "tap.h"
+#include "urand.h"
 
 #include <math.h>
 
 #define WGS84_A 6378137.0
 #define WGS84_F (1 / 298.257223563)
-
-static double
-urand(unsigned *s)
-{
-	*s = *s * 1103515245u + 12345u;
-	return ((*s >> 8) & 0xffffff) / (double)0x1000000 * 2 - 1;
-}
 
 /* Great-circle distance on a sphere of radius r, degrees in. */
 static double

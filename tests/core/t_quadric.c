@@ -7,13 +7,7 @@
 
 #include "core/quadric.h"
 #include "tap.h"
-
-static double
-urand(unsigned *s)
-{
-	*s = *s * 1103515245u + 12345u;
-	return ((*s >> 8) & 0xffffff) / (double)0x1000000 * 2 - 1;
-}
+#include "urand.h"
 
 static void
 rand_quadric(quadric *q, unsigned *s)

@@ -8,13 +8,7 @@
 
 #include "core/solve.h"
 #include "tap.h"
-
-static double
-urand(unsigned *s)
-{
-	*s = *s * 1103515245u + 12345u;
-	return ((*s >> 8) & 0xffffff) / (double)0x1000000 * 2 - 1;
-}
+#include "urand.h"
 
 #define DX 30.0
 #define DY 20.0
@@ -235,26 +229,6 @@ test_folds(int level, int W, int H, double reach)
 	geo_metric_free(&m);
 }
 
-
-/* A float an FQM could hold, with the values that test signs and
- * edges: zeros of both signs, negatives, tiny and huge magnitudes. */
-static float
-any_float(unsigned *seed)
-{
-	double u = urand(seed), r = urand(seed);
-
-	if (u < -0.6)
-		return 0.0f;
-	if (u < -0.4)
-		return -0.0f;
-	if (u > 0.97)
-		return (float)(r * 1e30);
-	if (u > 0.94)
-		return (float)(r * 1e-30);
-	if (u > 0.9)
-		return r < 0 ? -1.0f : 1.0f;
-	return (float)(r * pow(10, 6 * urand(seed)));
-}
 
 /* solve_row_direct (fqmsolve's path: the FQM's channels in, the map's
  * out) gives the bits of solve_row and solve_encode, for every mode but

@@ -699,10 +699,12 @@ read_batch(state *s, int J0, int J1, tl_err *e)
 		double *dd = s->dd + (size_t)(J - J0) * (s->W0 + 1);
 		if (dem_read_row(s->d, J, s->dz, s->dv, e) < 0)
 			return -1;
-		for (int i = 0; i < s->W0; i++)
+		long long n = 0;
+		for (int i = 0; i < s->W0; i++) {
 			dd[i] = s->dv[i] ? (double)s->dz[i] : NAN;
-		for (int i = 0; i < s->W0; i++)
-			s->st->samples += s->dv[i];
+			n += s->dv[i];
+		}
+		s->st->samples += n;
 	}
 	return 0;
 }
