@@ -6,7 +6,9 @@
  * With -d CH -o OUT it instead copies the raster to OUT without channel
  * CH (to make rasters with wrong channels for the tests).
  *
- * usage: rsinfo [-c] file
+ * With several files, each one's report follows a line "file NAME".
+ *
+ * usage: rsinfo [-c] file ...
  *        rsinfo -d channel -o out file */
 #include <inttypes.h>
 #include <math.h>
@@ -69,6 +71,49 @@ drop(rs_reader *r, const char *ch, const char *out, tl_err *e)
 	return rs_finish(w, e);
 }
 
+/* The header and, with sums, the pixels' hash and ranges. */
+static int
+report(rs_reader *r, int sums)
+{
+	tl_err e;
+	const rs_header *h = rs_header_of(r);
+	printf("size %d %d\nchannels", h->width, h->height);
+	for (int k = 0; k < h->nch; k++)
+		printf(" %s", h->ch[k]);
+	printf("\n");
+	for (int k = 0; k < h->nattr; k++)
+		print_attr(&h->attr[k]);
+	if (sums) {
+		size_t n = (size_t)h->width * h->nch;
+		float *row = malloc(n * sizeof *row);
+		double *lo = malloc(h->nch * sizeof *lo);
+		double *hi = malloc(h->nch * sizeof *hi);
+		uint64_t hash = 1469598103934665603ULL; /* FNV-1a */
+		for (int k = 0; k < h->nch; k++)
+			lo[k] = INFINITY, hi[k] = -INFINITY;
+		for (int y = 0; y < h->height; y++) {
+			if (rs_read_row(r, row, &e) < 0) {
+				fprintf(stderr, "rsinfo: %s\n", e.msg);
+				return -1;
+			}
+			const unsigned char *p = (const unsigned char *)row;
+			for (size_t b = 0; b < n * sizeof *row; b++)
+				hash = (hash ^ p[b]) * 1099511628211ULL;
+			for (int k = 0; k < h->nch; k++)
+				for (int i = 0; i < h->width; i++) {
+					double v = row[(size_t)k * h->width + i];
+					lo[k] = fmin(lo[k], v), hi[k] = fmax(hi[k], v);
+				}
+		}
+		printf("hash %016" PRIx64 "\n", hash);
+		for (int k = 0; k < h->nch; k++)
+			printf("range %s %.9g %.9g\n", h->ch[k], lo[k], hi[k]);
+		free(row), free(lo), free(hi);
+	}
+	rs_close(r);
+	return 0;
+}
+
 /* A test tool exits right after its work: its own leaks are not what
  * make check-asan looks for (the programs' and the library's are). */
 const char *__asan_default_options(void);
@@ -95,54 +140,27 @@ main(int argc, char **argv)
 			out = optarg;
 		else
 			return 2;
-	if (argc - optind != 1) {
-		fprintf(stderr, "usage: rsinfo [-c] file\n");
+	if (argc - optind < 1 || (dropch != NULL && argc - optind != 1)) {
+		fprintf(stderr, "usage: rsinfo [-c] file ...\n");
 		return 2;
 	}
-	if ((r = rs_open(argv[optind], &e)) == NULL) {
-		fprintf(stderr, "rsinfo: %s\n", e.msg);
-		return 1;
-	}
 	if (dropch != NULL && out != NULL) {
-		if (drop(r, dropch, out, &e) < 0) {
+		if ((r = rs_open(argv[optind], &e)) == NULL ||
+		    drop(r, dropch, out, &e) < 0) {
 			fprintf(stderr, "rsinfo: %s\n", e.msg);
 			return 1;
 		}
 		return 0;
 	}
-	const rs_header *h = rs_header_of(r);
-	printf("size %d %d\nchannels", h->width, h->height);
-	for (int k = 0; k < h->nch; k++)
-		printf(" %s", h->ch[k]);
-	printf("\n");
-	for (int k = 0; k < h->nattr; k++)
-		print_attr(&h->attr[k]);
-	if (sums) {
-		size_t n = (size_t)h->width * h->nch;
-		float *row = malloc(n * sizeof *row);
-		double *lo = malloc(h->nch * sizeof *lo);
-		double *hi = malloc(h->nch * sizeof *hi);
-		uint64_t hash = 1469598103934665603ULL; /* FNV-1a */
-		for (int k = 0; k < h->nch; k++)
-			lo[k] = INFINITY, hi[k] = -INFINITY;
-		for (int y = 0; y < h->height; y++) {
-			if (rs_read_row(r, row, &e) < 0) {
-				fprintf(stderr, "rsinfo: %s\n", e.msg);
-				return 1;
-			}
-			const unsigned char *p = (const unsigned char *)row;
-			for (size_t b = 0; b < n * sizeof *row; b++)
-				hash = (hash ^ p[b]) * 1099511628211ULL;
-			for (int k = 0; k < h->nch; k++)
-				for (int i = 0; i < h->width; i++) {
-					double v = row[(size_t)k * h->width + i];
-					lo[k] = fmin(lo[k], v), hi[k] = fmax(hi[k], v);
-				}
+	for (int a = optind; a < argc; a++) {
+		if (argc - optind > 1)
+			printf("file %s\n", argv[a]);
+		if ((r = rs_open(argv[a], &e)) == NULL) {
+			fprintf(stderr, "rsinfo: %s\n", e.msg);
+			return 1;
 		}
-		printf("hash %016" PRIx64 "\n", hash);
-		for (int k = 0; k < h->nch; k++)
-			printf("range %s %.9g %.9g\n", h->ch[k], lo[k], hi[k]);
+		if (report(r, sums) < 0)
+			return 1;
 	}
-	rs_close(r);
 	return 0;
 }

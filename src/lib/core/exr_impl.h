@@ -6,6 +6,8 @@
 #define TL_EXR_IMPL_H
 
 #include <openexr.h>
+#include <stddef.h>
+#include <stdint.h>
 
 #include "core/rs_impl.h"
 
@@ -38,5 +40,15 @@ void rs_exr_bind(exr_coding_channel_info_t *ch, int n, const rs_header *h,
  * not carry are skipped: 0). */
 exr_result_t rs_exr_attr_put(exr_context_t c, const rs_attr *a);
 int rs_exr_attr_get(rs_header *h, const exr_attribute_t *a, tl_err *e);
+
+/* EXR's ZIP (and ZIPS) compression of a chunk's n packed bytes into dst
+ * (n bytes), through scratch (n bytes): the bytes used, n when stored as
+ * packed (it did not shrink). exr_zip.c. */
+struct libdeflate_compressor;
+#ifndef RS_EXR_ZIP_LEVEL
+#define RS_EXR_ZIP_LEVEL 4
+#endif
+size_t rs_exr_zip(struct libdeflate_compressor *c, const void *src, size_t n,
+    uint8_t *scratch, uint8_t *dst);
 
 #endif

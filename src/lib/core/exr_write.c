@@ -5,6 +5,7 @@
 #include "core/outfile.h"
 
 #include <errno.h>
+#include <libdeflate.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,34 +31,39 @@ struct exr_wr {
 	int job_y0, job_n, job_buf; /* job_n > 0: a chunk is queued or busy */
 	int quit, failed; /* failed: the encoder's error is in err */
 	tl_err err;
-	int zipped;       /* ZIP or ZIPS: compress through zip_fixed */
-	exr_result_t (*zip)(exr_encode_pipeline_t *); /* the library's */
-	uint8_t *raw;     /* zip_fixed's copy of a chunk's packed bytes */
-	size_t rawsz;
+	int zipped;       /* ZIP or ZIPS: compressed by zip_chunk */
+	struct libdeflate_compressor *dfl;
+	uint8_t *scratch, *zbuf; /* zip_chunk's: zcap bytes each */
+	size_t zcap;
 };
 
-/* OpenEXRCore 3.1.5 stores a ZIP chunk that does not compress with its
- * bytes still reordered and delta-coded, instead of raw as the format
- * says: every reader then gets garbage (seen on a lone last row of 129
- * noisy floats; ZIPS too). Keep the packed bytes and, in that case, put
- * them back. */
+/* ZIP and ZIPS chunks are compressed here (exr_zip.c) rather than by
+ * OpenEXRCore 3.1's zlib, which took half of tilepack's time; the
+ * library would also store a chunk that does not shrink with its bytes
+ * still reordered, which every reader takes for garbage. The compressed
+ * bytes are ours (zbuf): an allocated size of 0 tells the library not
+ * to free them. */
 static exr_result_t
-zip_fixed(exr_encode_pipeline_t *enc)
+zip_chunk(exr_encode_pipeline_t *enc)
 {
 	struct exr_wr *x = enc->encoding_user_data;
-	exr_result_t rv;
+	size_t n = enc->packed_bytes;
 
-	if (x->rawsz < enc->packed_bytes) {
-		uint8_t *p = realloc(x->raw, enc->packed_bytes);
-		if (p == NULL)
+	if (x->dfl == NULL &&
+	    (x->dfl = libdeflate_alloc_compressor(RS_EXR_ZIP_LEVEL)) == NULL)
+		return EXR_ERR_OUT_OF_MEMORY;
+	if (x->zcap < n) {
+		free(x->scratch), free(x->zbuf);
+		x->scratch = malloc(n), x->zbuf = malloc(n);
+		x->zcap = x->scratch && x->zbuf ? n : 0;
+		if (x->zcap == 0)
 			return EXR_ERR_OUT_OF_MEMORY;
-		x->raw = p, x->rawsz = enc->packed_bytes;
 	}
-	memcpy(x->raw, enc->packed_buffer, enc->packed_bytes);
-	rv = x->zip(enc);
-	if (rv == EXR_ERR_SUCCESS && enc->compressed_bytes >= enc->packed_bytes)
-		memcpy(enc->compressed_buffer, x->raw, enc->packed_bytes);
-	return rv;
+	enc->compressed_buffer = x->zbuf;
+	enc->compressed_alloc_size = 0;
+	enc->compressed_bytes = rs_exr_zip(x->dfl, enc->packed_buffer, n,
+	    x->scratch, x->zbuf);
+	return EXR_ERR_SUCCESS;
 }
 
 static int
@@ -118,8 +124,7 @@ put_chunk(rs_writer *w, const float *chunk, int y0, tl_err *e)
 		    &x->enc)))
 			return rs_exr_fail(e, &x->io, rv, w->name, "encoder");
 		if (x->zipped) {
-			x->zip = x->enc.compress_fn;
-			x->enc.compress_fn = zip_fixed;
+			x->enc.compress_fn = zip_chunk;
 			x->enc.encoding_user_data = x;
 		}
 		x->enc_init = 2;
@@ -223,7 +228,10 @@ wr_end(struct exr_wr *x)
 	x->ctx = NULL;
 	free(x->buf[0]);
 	free(x->buf[1]);
-	free(x->raw);
+	free(x->scratch), free(x->zbuf);
+	if (x->dfl != NULL)
+		libdeflate_free_compressor(x->dfl);
+	x->dfl = NULL, x->scratch = x->zbuf = NULL, x->zcap = 0;
 	x->buf[0] = x->buf[1] = NULL;
 	return rv;
 }
