@@ -353,8 +353,8 @@ lock_new(int fd)
 	return fstat(fd, &st) == 0 && st.st_nlink == 0;
 }
 
-int
-tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
+static int
+out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
 {
 	struct stat st;
 
@@ -362,7 +362,8 @@ tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 	o->fd = -1;
 	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
 		return tl_fail(e, "%s: is a directory", path);
-	sweep(path, 0);
+	if (!fresh)
+		sweep(path, 0);
 	for (int tries = 0;; tries++) {
 		if ((o->path = strdup(path)) == NULL ||
 		    (o->tmp = tmp_name(path, e)) == NULL) {
@@ -392,6 +393,18 @@ tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 		return -1;
 	}
 	return 0;
+}
+
+int
+tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	return out_begin(o, path, 0, e);
+}
+
+int
+tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
+{
+	return out_begin(o, path, 1, e);
 }
 
 int

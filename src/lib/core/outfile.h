@@ -22,6 +22,11 @@ typedef struct {
 } tl_outfile;
 
 int tl_out_begin(tl_outfile *o, const char *path, tl_err *e);
+/* tl_out_begin for a path inside a tree this process is building
+ * (tl_outdir_begin): no dead builder's temporaries can be there, and
+ * looking for them costs a listing of the directory per file, quadratic
+ * in a level of thousands of blocks. */
+int tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e);
 int tl_out_commit(tl_outfile *o, tl_err *e); /* fsync-free close + rename */
 void tl_out_abort(tl_outfile *o);            /* close + unlink, never fails */
 

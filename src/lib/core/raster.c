@@ -502,9 +502,9 @@ check_header(const rs_header *h, const char *name, tl_err *e)
 	return 0;
 }
 
-rs_writer *
-rs_create(const char *path, const rs_header *h, enum rs_compression c,
-    tl_err *e)
+static rs_writer *
+create(const char *path, const rs_header *h, enum rs_compression c,
+    int fresh, tl_err *e)
 {
 	int stream = strcmp(path, "-") == 0;
 	rs_writer *w;
@@ -524,11 +524,25 @@ rs_create(const char *path, const rs_header *h, enum rs_compression c,
 		return NULL;
 	}
 	if ((stream ? rs_stream_create(w, STDOUT_FILENO, e) :
-	    rs_exr_create(w, path, c, e)) < 0) {
+	    rs_exr_create(w, path, c, fresh, e)) < 0) {
 		rs_abort(w);
 		return NULL;
 	}
 	return w;
+}
+
+rs_writer *
+rs_create(const char *path, const rs_header *h, enum rs_compression c,
+    tl_err *e)
+{
+	return create(path, h, c, 0, e);
+}
+
+rs_writer *
+rs_create_fresh(const char *path, const rs_header *h, enum rs_compression c,
+    tl_err *e)
+{
+	return create(path, h, c, strcmp(path, "-") != 0, e);
 }
 
 int

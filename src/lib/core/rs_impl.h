@@ -41,8 +41,9 @@ int rs_check_size(const rs_header *h, const char *name, tl_err *e);
 
 /* EXR: fd is a regular file (or scratch spool), read with pread from base. */
 int rs_exr_open_read(rs_reader *r, long long base, tl_err *e);
+/* fresh: path is in a tree under construction (tl_out_begin_fresh) */
 int rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
-    tl_err *e);
+    int fresh, tl_err *e);
 
 /* Stream: r->pre holds the 8 magic bytes already consumed from r->fd. */
 int rs_stream_open_read(rs_reader *r, tl_err *e);

@@ -103,7 +103,7 @@ pyramid_block_write(const char *path, const pyramid_block *b,
 	    rs_set_double(&h, VGIS_ATTR_BASE_ERROR, b->base, e) < 0 ||
 	    rs_set_v2d(&h, VGIS_ATTR_ZRANGE, b->zmin, b->zmax, e) < 0)
 		goto done;
-	if ((w = rs_create(path, &h, RS_ZIP, e)) == NULL)
+	if ((w = rs_create_fresh(path, &h, RS_ZIP, e)) == NULL)
 		goto done;
 	for (int j = 0; j < BT_SIZE; j++) {
 		for (int c = 0; c < n; c++)

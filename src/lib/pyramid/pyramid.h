@@ -68,7 +68,8 @@ typedef struct {
 int pyramid_block_alloc(pyramid_block *b, int displaced, tl_err *e);
 void pyramid_block_free(pyramid_block *b);
 /* Writes the block with the attributes of `attrs` (geo:*, fqm:*) and its
- * own vgis:* attributes. */
+ * own vgis:* attributes, at a path inside a tree under construction
+ * (rs_create_fresh). */
 int pyramid_block_write(const char *path, const pyramid_block *b,
     const rs_header *attrs, tl_err *e);
 /* Reads a block and checks its size, channels and vgis:* attributes

@@ -8,9 +8,7 @@
 #include <math.h>
 #include <stddef.h>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
+#include <string.h>
 
 #include "pyramid/bintree.h"
 #include "pyramid/tiles.h"
@@ -109,35 +107,55 @@ eslot(const state *s, int gj)
 	return (size_t)(gj % RINGE) * s->P;
 }
 
+/* Four doubles as one value (GCC's vector extension): the operations are
+ * lane by lane the scalar ones, in the same order, on AVX2 where a
+ * function is compiled for it and as pairs of SSE2 ones elsewhere. No
+ * FMA: -std=c11 contracts nothing. */
+/* (the functions taking and returning them are inlined: no ABI to keep) */
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef double v4d __attribute__((vector_size(32)));
+typedef long long v4l __attribute__((vector_size(32)));
+
+static inline __attribute__((always_inline)) v4d
+v4abs(v4d d)
+{
+	const v4l m = { 0x7fffffffffffffffLL, 0x7fffffffffffffffLL,
+	    0x7fffffffffffffffLL, 0x7fffffffffffffffLL };
+	return (v4d)((v4l)d & m);
+}
+
+/* max(d, w) lane by lane, w where d is NaN (an invalid sample) */
+static inline __attribute__((always_inline)) v4d
+v4max(v4d d, v4d w)
+{
+	v4l m = d > w;
+	return (v4d)(((v4l)d & m) | ((v4l)w & ~m));
+}
+
 /* max |z0 + dz * (i / step) - DEM[i]| over the valid i in [a, b]; -1
- * when none is. */
-static inline double
+ * when none is. Eight samples a step into two maxima, so that no chain
+ * of dependent maxima sets the pace (a maximum's order does not
+ * matter); i / step is i x inv, i exact as a double. */
+static inline __attribute__((always_inline)) double
 sweep(const double *dd, long a, long b, double z0, double dz, double inv)
 {
 	double w = -1;
 	long i = a;
 
-#ifdef __SSE2__
-	if (b - a >= 1) {
-		const __m128d abs = _mm_castsi128_pd(
-		    _mm_set1_epi64x(0x7fffffffffffffffLL));
-		const __m128d vz0 = _mm_set1_pd(z0), vdz = _mm_set1_pd(dz);
-		const __m128d vinv = _mm_set1_pd(inv), two = _mm_set1_pd(2);
-		__m128d vi = _mm_set_pd((double)(a + 1), (double)a);
-		__m128d vw = _mm_set1_pd(-1);
-		for (; i + 1 <= b; i += 2) {
-			__m128d x = _mm_mul_pd(vi, vinv);
-			__m128d z = _mm_add_pd(vz0, _mm_mul_pd(vdz, x));
-			__m128d d = _mm_and_pd(_mm_sub_pd(z,
-			    _mm_loadu_pd(dd + i)), abs);
-			vw = _mm_max_pd(d, vw); /* d NaN: vw */
-			vi = _mm_add_pd(vi, two);
+	if (b - a >= 7) {
+		v4d x0 = { a, a + 1, a + 2, a + 3 }, x1 = x0 + 4;
+		v4d w0 = { -1, -1, -1, -1 }, w1 = w0;
+		for (; i + 7 <= b; i += 8, x0 += 8, x1 += 8) {
+			v4d v0, v1;
+			memcpy(&v0, dd + i, sizeof v0);
+			memcpy(&v1, dd + i + 4, sizeof v1);
+			w0 = v4max(v4abs(z0 + dz * (x0 * inv) - v0), w0);
+			w1 = v4max(v4abs(z0 + dz * (x1 * inv) - v1), w1);
 		}
-		double l[2];
-		_mm_storeu_pd(l, vw);
-		w = l[0] > l[1] ? l[0] : l[1];
+		w0 = v4max(w0, w1); /* neither holds a NaN */
+		for (int k = 0; k < 4; k++)
+			w = w0[k] > w ? w0[k] : w;
 	}
-#endif
 	for (; i <= b; i++) {
 		double d = fabs(z0 + dz * (i * inv) - dd[i]);
 		if (d > w)

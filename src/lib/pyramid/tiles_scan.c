@@ -123,7 +123,7 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
  * valid sample. The plane is tri_row's, operation for operation: its
  * coordinate differences are the template's (exact either way), its
  * divisions by n2 multiplications by 1 / n2 where that is exact. */
-static inline double
+static inline __attribute__((always_inline)) double
 tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 {
 	double z0, z1, z2, e1, e2, n0, n1, p00, z, dz;
@@ -153,35 +153,111 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 	return sweep(dd, a, b, z, dz, 1 / s->step);
 }
 
-/* tri_at with its checks: off the grid, or no plane. */
-static inline double
-tri_scan(const state *s, const double *dd, const tmpl *t, int cx)
+/* Four centres at once: short chords (every one of level 0's, most of
+ * level 1's) make tri_at's set-up the cost, and its arithmetic is the
+ * same for every centre of a template: each lane does tri_at's and
+ * sweep's operations in their order (v4d, tiles_impl.h). */
+#define LANES 4
+/* chords of at most this many samples go LANES centres at a time;
+ * longer ones are swept along the row (sweep), which loads contiguously */
+#define SHORT 12
+
+/* tri_at of centres cx, cx + stride, ... (LANES of them) into err, every
+ * chord inside the DEM row. The maximum keeps w where d is NaN (an
+ * invalid sample), as sweep does. */
+static inline __attribute__((always_inline)) void
+tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
+    double err[LANES])
 {
-	if (!t->ok || cx + t->xmin < 0 || cx + t->xmax >= s->P ||
-	    t->n2 == 0)
-		return -1;
-	return tri_at(s, dd, t, cx);
+	v4d z0, z1, z2, p00, e1, e2, n0, n1, z, dz, x, w = { -1, -1, -1, -1 };
+	const double *d0, *d1, *d2, *d3;
+	long S = (long)s->step, c[LANES];
+	double inv = 1 / s->step;
+
+	/* vectors built from scalars, not through memory (store forwarding) */
+	for (int k = 0; k < LANES; k++)
+		c[k] = cx + k * stride;
+#define LOAD(r) (v4d){ t->zr[r][c[0] + t->ox[r]], t->zr[r][c[1] + t->ox[r]], \
+	    t->zr[r][c[2] + t->ox[r]], t->zr[r][c[3] + t->ox[r]] }
+	z0 = LOAD(0), z1 = LOAD(1), z2 = LOAD(2);
+#undef LOAD
+	p00 = (v4d){ c[0] + t->ox[0], c[1] + t->ox[0], c[2] + t->ox[0],
+	    c[3] + t->ox[0] };
+	e1 = z1 - z0, e2 = z2 - z0;
+	n0 = t->d1y * e2 - e1 * t->d2y;
+	n1 = e1 * t->d2x - t->d1x * e2;
+	if (t->rn2 != 0) {
+		dz = -n0 * t->rn2;
+		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
+	} else {
+		dz = -n0 / t->n2;
+		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
+	}
+	/* the columns as doubles: whole numbers, so adding 1 is exact */
+	d0 = dd + c[0] * S + t->lo, d1 = dd + c[1] * S + t->lo;
+	d2 = dd + c[2] * S + t->lo, d3 = dd + c[3] * S + t->lo;
+	x = (v4d){ c[0] * S + t->lo, c[1] * S + t->lo, c[2] * S + t->lo,
+	    c[3] * S + t->lo };
+	for (long o = 0; o <= t->hi - t->lo; o++, x += 1) {
+		v4d v = { d0[o], d1[o], d2[o], d3[o] };
+		w = v4max(v4abs(z + dz * (x * inv) - v), w);
+	}
+	for (int k = 0; k < LANES; k++)
+		err[k] = w[k];
+}
+
+/* Where an error goes: a diamond's local error (a float per centre
+ * column) or, for leaves, its block's base error (a double per block
+ * column). The order of a maximum does not matter. */
+typedef struct {
+	float *acc;
+	double *base;
+} sink;
+
+static inline void
+raise_at(const sink *o, int cx, double err)
+{
+	if (o->acc != NULL) {
+		if (err > o->acc[cx])
+			o->acc[cx] = (float)err;
+	} else if (err > o->base[cx / BT_CELLS])
+		o->base[cx / BT_CELLS] = err;
 }
 
 /* Template t at centres first, first + stride, ... below end, each
- * raising acc[cx]: the range where it is on the grid found once. Raising
- * by each triangle in turn is raising by their maximum: a float's
- * rounding keeps the order. */
+ * raising its sink: the range where it is on the grid found once, short
+ * chords inside the DEM row LANES centres at a time. Raising by each
+ * triangle in turn is raising by their maximum: a float's rounding keeps
+ * the order. */
+__attribute__((target_clones("avx2", "default")))
 static void
-scan_template(const state *s, const double *dd, const tmpl *t, float *acc,
-    int first, int end, int stride)
+scan_template(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
 {
+	long S = (long)s->step, last = s->W0 - 1;
+	int cx;
+
 	if (!t->ok || t->n2 == 0)
 		return;
 	if (end > s->P - t->xmax)
 		end = s->P - t->xmax;
 	if (first < -t->xmin)
 		first += (-t->xmin - first + stride - 1) / stride * stride;
-	for (int cx = first; cx < end; cx += stride) {
-		double err = tri_at(s, dd, t, cx);
-		if (err > acc[cx])
-			acc[cx] = (float)err;
+	cx = first;
+	if (t->hi - t->lo < SHORT) {
+		for (; cx < end && (long)cx * S + t->lo < 0; cx += stride)
+			raise_at(o, cx, tri_at(s, dd, t, cx));
+		for (; cx + (LANES - 1) * stride < end &&
+		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
+		    cx += LANES * stride) {
+			double err[LANES];
+			tri_at4(s, dd, t, cx, stride, err);
+			for (int k = 0; k < LANES; k++)
+				raise_at(o, cx + k * stride, err[k]);
+		}
 	}
+	for (; cx < end; cx += stride)
+		raise_at(o, cx, tri_at(s, dd, t, cx));
 }
 
 /* row_diamonds (tiles.c) by templates: the diamonds along a centre row
@@ -198,7 +274,7 @@ scan_diamonds(strip *sh, int J, double y, int h, int edge)
 	for (long c = c0 > 0 ? c0 : 0; c <= c1 && c * h < s->Q; c++) {
 		int cy = (int)(c * h), x0, nt[2];
 		tmpl T[2][2];
-		float *acc;
+		sink o = { 0 };
 		if (!edge && (c & 1) == 0)
 			continue; /* square centres: odd multiples */
 		x0 = edge && (c & 1) ? 0 : h;
@@ -213,7 +289,7 @@ scan_diamonds(strip *sh, int J, double y, int h, int edge)
 		if (!(nt[0] && (T[0][0].ok || T[0][1].ok)) &&
 		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
 			continue;
-		acc = &s->acc[eslot(s, cy)];
+		o.acc = &s->acc[eslot(s, cy)];
 		/* each shape's centres in the share: every other one */
 		int end = sh->hi < s->P ? sh->hi : s->P;
 		for (int ph = 0; ph < 2; ph++) {
@@ -222,7 +298,7 @@ scan_diamonds(strip *sh, int J, double y, int h, int edge)
 				first += (sh->lo - first + 4 * h - 1) /
 				    (4 * h) * (4 * h);
 			for (int k = 0; k < nt[ph]; k++)
-				scan_template(s, sh->dd, &T[ph][k], acc, first,
+				scan_template(s, sh->dd, &T[ph][k], &o, first,
 				    end, 4 * h);
 		}
 	}
@@ -257,16 +333,12 @@ scan_leaves(strip *sh, int J, double y)
 			for (int k = 0; k < 2; k++)
 				make_tmpl(s, &T[ph][k], t[k], ci, j, J, y);
 		}
-		double *brow = &sh->base[(size_t)(cj / BT_CELLS) * s->bx];
-		for (int ci = sh->lo; ci < end; ci++) {
-			const tmpl *t = T[ci & 1];
-			double *base = &brow[ci / BT_CELLS];
-			for (int k = 0; k < 2; k++) {
-				double err = tri_scan(s, sh->dd, &t[k], ci);
-				if (err > *base)
-					*base = err;
-			}
-		}
+		sink o = { NULL, &sh->base[(size_t)(cj / BT_CELLS) * s->bx] };
+		/* the cells of each parity, every other one */
+		for (int ph = 0; ph < 2; ph++)
+			for (int k = 0; k < 2; k++)
+				scan_template(s, sh->dd, &T[ph][k], &o,
+				    sh->lo + ((sh->lo & 1) != ph), end, 2);
 	}
 }
 
