@@ -25,13 +25,17 @@
 
 static char tmp[PATH_MAX - 64];
 
-/* The level's rows, row-major w x h (offsets 0 on displaced levels). */
+/* The level's rows, row-major w x h (offsets 0 on displaced levels, or
+ * up to 0.45 of a cell given jitter > 0: the level's step in metres). */
 typedef struct {
 	const float *z;
 	int w, h;
 	int next, bad_order;
 	int fail_at; /* a row whose read fails, or -1 */
+	double jitter;
 } rows;
+
+static float rough(int i, int j, unsigned salt);
 
 static int
 row_fn(void *ctx, int r, float *z, float *x, float *y, tl_err *e)
@@ -45,6 +49,10 @@ row_fn(void *ctx, int r, float *z, float *x, float *y, tl_err *e)
 	if (x != NULL) {
 		memset(x, 0, (size_t)R->w * sizeof *x);
 		memset(y, 0, (size_t)R->w * sizeof *y);
+		for (int i = 0; R->jitter > 0 && i < R->w; i++) {
+			x[i] = (float)(R->jitter * (rough(i, r, 7) / 1003 - 0.5) * 0.9);
+			y[i] = (float)(R->jitter * (rough(i, r, 8) / 1003 - 0.5) * 0.9);
+		}
 	}
 	return 0;
 }
@@ -100,11 +108,13 @@ typedef struct {
 } run;
 
 /* Level `level` (w x h, z row-major) of the DEM at path, its columns
- * shared among threads; row fail_row and block fail_block (-1: none)
- * fail. */
+ * shared among threads, as a whole or (cols > 0) in pieces of cols block
+ * columns, one after another; displaced levels get offsets when jitter;
+ * row fail_row and block fail_block (-1: none) fail. */
 static void
-run_level(run *u, const char *path, int level, int w, int h,
-    const float *z, int displaced, int fail_row, int fail_block, int threads)
+run_level_as(run *u, const char *path, int level, int w, int h,
+    const float *z, int displaced, int fail_row, int fail_block, int threads,
+    int cols, int jitter)
 {
 	static const dem_opts none;
 	tiles_level L = { 0 };
@@ -115,6 +125,7 @@ run_level(run *u, const char *path, int level, int w, int h,
 	memset(u, 0, sizeof *u);
 	u->r = -1;
 	u->R.z = z, u->R.w = w, u->R.h = h, u->R.fail_at = fail_row;
+	u->R.jitter = jitter ? (double)(1 << level) : 0;
 	u->s.bx = pyramid_nblocks(w), u->s.by = pyramid_nblocks(h);
 	u->s.gw = u->s.bx * BT_CELLS + 1;
 	u->s.last = -1, u->s.fail_at = fail_block;
@@ -135,11 +146,35 @@ run_level(run *u, const char *path, int level, int w, int h,
 	L.displaced = displaced, L.m = &m, L.threads = threads;
 	L.row = row_fn, L.row_ctx = &u->R;
 	L.block = block_fn, L.block_ctx = &u->s;
-	u->r = tiles_run(&L, d, &u->st, &u->e);
+	if (cols == 0) {
+		u->r = tiles_run(&L, d, &u->st, &u->e);
+		goto done;
+	}
+	tiles_piece p[64];
+	int n = tiles_pieces(&L, cols, p, 64);
+	u->r = 0;
+	for (int k = 0; k < n && u->r == 0; k++) {
+		tiles_stats st;
+		u->R.next = 0; /* each piece reads every row */
+		u->r = tiles_run_piece(&L, &p[k], d, &st, &u->e);
+		u->st.max_e = st.max_e > u->st.max_e ? st.max_e : u->st.max_e;
+		u->st.max_base = st.max_base > u->st.max_base ? st.max_base :
+		    u->st.max_base;
+		u->st.samples += st.samples;
+	}
+	u->s.bad_order = 0; /* row order holds within each piece only */
 done:
 	if (d != NULL)
 		dem_close(d);
 	geo_metric_free(&m);
+}
+
+static void
+run_level(run *u, const char *path, int level, int w, int h,
+    const float *z, int displaced, int fail_row, int fail_block, int threads)
+{
+	run_level_as(u, path, level, w, h, z, displaced, fail_row, fail_block,
+	    threads, 0, 0);
 }
 
 static void
@@ -371,6 +406,78 @@ test_scan(void)
 	free(z);
 }
 
+/* A level in pieces of 1, 2 and 5 block columns (windows with edges
+ * inside the level, 1D and displaced with offsets, 1 and 3 threads per
+ * piece): every block the whole level's, bit for bit. Two DEMs: a rough
+ * one with holes, and a flat one (vertices flat too) with spikes of
+ * distinct heights within 128 columns of block edges, where a window too
+ * narrow would lose the one spike that sets an E. */
+static void
+test_pieces(int spiky)
+{
+	int W = 1500, H = 300;
+	float *z = malloc((size_t)W * H * sizeof *z);
+	char path[PATH_MAX];
+
+	for (int j = 0; j < H; j++)
+		for (int i = 0; i < W; i++) {
+			int m = i % BT_CELLS, k = (i + 7 * j) % 29;
+			float *p = &z[(size_t)j * W + i];
+			if (!spiky)
+				*p = (i / 9 + j / 4) % 13 == 5 ? NAN :
+				    rough(i, j, 3);
+			else
+				*p = (m <= 3 || m >= 120) && k == 0 ?
+				    1 + rough(i, j, 5) : 0;
+		}
+	if (dem_file(path, sizeof path, spiky ? "spiky" : "wide", W, H,
+	    z) < 0) {
+		ok(0, "wide: the DEM");
+		free(z);
+		return;
+	}
+	for (int level = 0; level <= 1; level++) {
+		int w = fqm_level_size(W, level), h = fqm_level_size(H, level);
+		float *v = malloc((size_t)w * h * sizeof *v);
+		for (int j = 0; j < h; j++)
+			for (int i = 0; i < w; i++)
+				v[(size_t)j * w + i] = spiky ? 0 :
+				    rough(i, j, 11 + level);
+		for (int disp = 0; disp <= 1; disp++) {
+			run u;
+			run_level_as(&u, path, level, w, h, v, disp, -1, -1, 1,
+			    0, 1);
+			size_t ng = (size_t)u.s.gw * (u.s.by * BT_CELLS + 1);
+			size_t nb = (size_t)u.s.bx * u.s.by;
+			for (int cols = 1; cols <= 5; cols += cols < 2 ? 1 : 3) {
+				run p;
+				int th = cols == 2 ? 3 : 1;
+				run_level_as(&p, path, level, w, h, v, disp, -1,
+				    -1, th, cols, 1);
+				/* (blocks of a row on threads come in any
+				 * order: the border check needs them in order) */
+				p.s.bad_border *= th == 1;
+				ok(u.r == 0 && p.r == 0 && blocks_ok(&p) &&
+				    memcmp(u.s.e, p.s.e, ng * sizeof *u.s.e) == 0 &&
+				    memcmp(u.s.z, p.s.z, ng * sizeof *u.s.z) == 0 &&
+				    memcmp(u.s.base, p.s.base, nb * sizeof *u.s.base) == 0 &&
+				    u.st.max_e == p.st.max_e &&
+				    u.st.samples == p.st.samples,
+				    "%s level %d (%d blocks wide), %s, in pieces "
+				    "of %d block columns on %d thread(s): E, Z, "
+				    "base errors and samples the whole level's, "
+				    "bit for bit", spiky ? "spiky" : "rough",
+				    level, u.s.bx, disp ? "displaced" : "1D",
+				    cols, th);
+				run_free(&p);
+			}
+			run_free(&u);
+		}
+		free(v);
+	}
+	free(z);
+}
+
 int
 main(void)
 {
@@ -382,6 +489,8 @@ main(void)
 	test_plane(300, 200); /* 3x2 blocks, padded */
 	test_plane(257, 257); /* 2x2 blocks, then 1 */
 	test_scan();
+	test_pieces(0);
+	test_pieces(1);
 	tmpdir_done(tmp);
 	return tap_done();
 }

@@ -400,7 +400,8 @@ dem_zunit(const dem *d)
 }
 
 int
-dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e)
+dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
+    tl_err *e)
 {
 	long long w = d->g.width, h = d->g.height;
 
@@ -409,17 +410,28 @@ dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e)
 	if (j < 0 || j >= h)
 		return tl_fail(e, "%s: row %d outside 0 .. %lld", d->what, j,
 		    h - 1);
-	if (tl_pread(d->fd, z, (size_t)w * sizeof(float),
-	    j * w * (long long)sizeof(float), "DEM scratch file", e) < 0)
+	if (x0 < 0 || n < 0 || x0 + (long long)n > w)
+		return tl_fail(e, "%s: columns %d .. %lld outside 0 .. %lld",
+		    d->what, x0, x0 + (long long)n - 1, w - 1);
+	if (tl_pread(d->fd, z, (size_t)n * sizeof(float),
+	    (j * w + x0) * (long long)sizeof(float), "DEM scratch file",
+	    e) < 0)
 		return -1;
 	if (valid == NULL)
 		return 0;
 	if (!bit(d->rowvoid, j)) {
-		memset(valid, 1, (size_t)w);
+		memset(valid, 1, (size_t)n);
 		return 0;
 	}
-	return tl_pread(d->fd, valid, (size_t)w,
-	    h * w * (long long)sizeof(float) + j * w, "DEM scratch file", e);
+	return tl_pread(d->fd, valid, (size_t)n,
+	    h * w * (long long)sizeof(float) + j * w + x0, "DEM scratch file",
+	    e);
+}
+
+int
+dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e)
+{
+	return dem_read_span(d, j, 0, d->g.width, z, valid, e);
 }
 
 void

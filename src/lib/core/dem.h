@@ -67,6 +67,10 @@ double dem_zunit(const dem *d);         /* metres per unit of the file */
 /* Row j (any order): z gets heights with voids filled, valid (if not NULL)
  * gets 1 for a real sample and 0 for a void. Both have width entries. */
 int dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e);
+/* Columns x0 .. x0+n-1 of row j, likewise (n entries each). Both read
+ * with pread(2) only: threads may read one dem at once. */
+int dem_read_span(dem *d, int j, int x0, int n, float *z,
+    unsigned char *valid, tl_err *e);
 void dem_close(dem *d);
 
 /* dem2fqm -I: what a user needs to trust the result and a script to plan

@@ -21,34 +21,29 @@
 typedef char vpath_t[PATHMAX];
 
 /* The whole pipeline's one progress line, from what the stages report:
- * the quadric chain runs at dem2fqm's pace, then tilepack's levels, each
- * a pass over the DEM. The weights are the two phases' shares of the
- * time (scripts/bench-pyramid). */
-#define QUADRIC_SHARE 0.3
+ * the quadric chain runs at dem2fqm's pace, then tilepack's pieces of
+ * every level. The weights are the two phases' shares of the time
+ * (scripts/bench-pyramid). */
+#define QUADRIC_SHARE 0.35
 
 typedef struct {
 	tl_progress bar;
-	int levels;
-	double quad, lev[MAXLEVELS]; /* fractions done */
+	double quad, pack; /* fractions done */
 } meter;
 
 static void
 on_progress(void *ctx, const char *label, long long done, long long total)
 {
 	meter *m = ctx;
-	double f = total > 0 ? (double)done / (double)total : 0, sum = 0;
-	int l;
+	double f = total > 0 ? (double)done / (double)total : 0;
 
 	if (strcmp(label, "dem2fqm") == 0)
 		m->quad = f;
-	else if (sscanf(label, "tilepack: level %d", &l) == 1 && l >= 0 &&
-	    l < m->levels)
-		m->lev[l] = f;
+	else if (strcmp(label, "tilepack") == 0)
+		m->pack = f;
 	else
 		return;
-	for (l = 0; l < m->levels; l++)
-		sum += m->lev[l];
-	f = QUADRIC_SHARE * m->quad + (1 - QUADRIC_SHARE) * sum / m->levels;
+	f = QUADRIC_SHARE * m->quad + (1 - QUADRIC_SHARE) * m->pack;
 	tl_progress_step(&m->bar, (long long)(1000 * f));
 }
 
@@ -300,7 +295,6 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 		return -1;
 	for (int l = 0; l < levels; l++)
 		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", s->path, l);
-	m.levels = levels;
 	tl_progress_start(&m.bar, o->prog, 1000);
 	r = quadrics(o, dem, levels, vpath, &m, status, e);
 	if (r == 0)

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/outfile.h"
+#include "core/progress.h"
 #include "pyramid/pyramid.h"
 
 int
@@ -150,7 +151,10 @@ typedef struct {
 	pyramid_index *ix;
 	const geo_metric *m;
 	pack_level *out;
-	int threads;     /* per level */
+	int fifo;           /* a level comes through a FIFO: read once */
+	pthread_mutex_t mu; /* the stats in out, the progress */
+	tl_progress pr;
+	long long done;     /* DEM samples scanned (all pieces, all levels) */
 } work;
 
 /* The index's entry for a level, from its vertex map's header. */
@@ -169,44 +173,177 @@ level_entry(pyramid_level *pl, int l, const vmap *v, tl_err *e)
 	return 0;
 }
 
-/* Level l: its vertex map checked and read, its blocks computed and
- * written into the directory being built, its index entry filled. */
+/* Level l's index entry filled, from its open vertex map, and its
+ * directory made. */
 static int
-pack_level_run(work *w, int l, tl_err *e)
+level_begin(work *w, int l, const vmap *v, tl_err *e)
 {
-	pyramid_level *pl = &w->ix->lev[l];
-	char label[64], path[4096];
+	char path[4096];
+
+	if (level_entry(&w->ix->lev[l], l, v, e) < 0)
+		return -1;
+	snprintf(path, sizeof path, "%s/%d", w->tmp, l);
+	if (mkdir(path, 0777) != 0)
+		return tl_failsys(e, "%s", path);
+	return 0;
+}
+
+/* Every level begun before any work, a bad vertex map failing at once
+ * (files only: a FIFO is read once, by its level's one piece). */
+static int
+levels_begin(work *w, tl_err *e)
+{
+	for (int l = 0; !w->fifo && l < w->a->nlevels; l++) {
+		vmap v;
+		int r = vmap_open(&v, w->a->levels[l], l, dem_georef(w->d), e);
+		if (r == 0)
+			r = level_begin(w, l, &v, e);
+		vmap_close(&v);
+		if (r < 0)
+			return -1;
+	}
+	return 0;
+}
+
+/* One piece of a level in the making: the DEM columns it scans, for the
+ * progress. */
+typedef struct {
+	work *w;
+	long width;
+} meter;
+
+static void
+on_rows(void *ctx, int rows)
+{
+	meter *m = ctx;
+
+	pthread_mutex_lock(&m->w->mu);
+	m->w->done += (long long)rows * m->width;
+	tl_progress_step(&m->w->pr, m->w->done);
+	pthread_mutex_unlock(&m->w->mu);
+}
+
+static void
+merge_stats(work *w, int l, const tiles_stats *st)
+{
+	tiles_stats *o = &w->out[l].st;
+
+	pthread_mutex_lock(&w->mu);
+	o->max_e = st->max_e > o->max_e ? st->max_e : o->max_e;
+	o->max_base = st->max_base > o->max_base ? st->max_base : o->max_base;
+	o->samples += st->samples;
+	pthread_mutex_unlock(&w->mu);
+}
+
+/* Piece p of level l on `threads` threads, or with a FIFO the whole
+ * level (p NULL): its own reader of the level's vertex map (pieces read
+ * it independently), its blocks written into the directory being built. */
+static int
+run_piece(work *w, int l, const tiles_piece *p, int threads, tl_err *e)
+{
+	const georef *g = dem_georef(w->d);
 	tiles_level L = { 0 };
+	tiles_stats st;
+	meter mt;
 	vmap v;
 	sink k;
 	int r = -1;
 
-	assert(l >= 0 && l < w->a->nlevels);
-	if (vmap_open(&v, w->a->levels[l], l, dem_georef(w->d), e) < 0 ||
-	    level_entry(pl, l, &v, e) < 0)
+	if (vmap_open(&v, w->a->levels[l], l, g, e) < 0 ||
+	    (p == NULL && level_begin(w, l, &v, e) < 0))
 		goto done;
-	snprintf(path, sizeof path, "%s/%d", w->tmp, l);
-	if (mkdir(path, 0777) != 0) {
-		tl_failsys(e, "%s", path);
-		goto done;
-	}
-	k.dir = w->tmp, k.attrs = v.h, k.L = pl;
+	k.dir = w->tmp, k.attrs = v.h, k.L = &w->ix->lev[l];
 	L.level = l;
 	L.size[0] = v.h->width, L.size[1] = v.h->height;
-	L.displaced = pl->displaced;
+	L.displaced = k.L->displaced;
 	L.m = w->m;
 	L.row = read_row, L.row_ctx = &v;
 	L.block = write_block, L.block_ctx = &k;
-	L.threads = w->threads;
-	if (w->a->prog != NULL) {
-		snprintf(label, sizeof label, "%s: level %d", w->a->prog, l);
-		L.label = label;
+	L.threads = threads;
+	mt.w = w, mt.width = g->width;
+	if (p != NULL) {
+		tiles_window win;
+		tiles_piece_window(&L, g->width, p, &win);
+		mt.width = win.d1 - win.d0;
 	}
-	r = tiles_run(&L, w->d, &w->out[l].st, e);
+	L.progress = on_rows, L.progress_ctx = &mt;
+	r = p != NULL ? tiles_run_piece(&L, p, w->d, &st, e) :
+	    tiles_run(&L, w->d, &st, e);
+	if (r == 0)
+		merge_stats(w, l, &st);
 done:
 	vmap_close(&v);
 	return r;
 }
+
+/* The pieces of every level, level 0 (the largest) first. */
+typedef struct {
+	int l;
+	int whole;         /* the whole level (a FIFO), not piece p */
+	tiles_piece p;
+} job;
+
+typedef struct {
+	work *w;
+	job *job;
+	int n, threads;    /* jobs; threads per job */
+	int next;          /* the next job to hand out */
+	int failed;        /* the lowest job that failed, or n */
+	tl_err err;        /* its error */
+} queue;
+
+/* Takes jobs in order until none is left or one has failed. Jobs are
+ * handed out in order and none is abandoned, so the failure reported,
+ * the lowest job's, is the same whatever the threads' timing. */
+static void *
+worker(void *arg)
+{
+	queue *q = arg;
+	work *w = q->w;
+
+	for (;;) {
+		tl_err e;
+		int k;
+		pthread_mutex_lock(&w->mu);
+		k = q->failed == q->n && q->next < q->n ? q->next++ : -1;
+		pthread_mutex_unlock(&w->mu);
+		if (k < 0)
+			return NULL;
+		if (run_piece(w, q->job[k].l, q->job[k].whole ? NULL :
+		    &q->job[k].p, q->threads, &e) < 0) {
+			pthread_mutex_lock(&w->mu);
+			if (k < q->failed)
+				q->failed = k, q->err = e;
+			pthread_mutex_unlock(&w->mu);
+		}
+	}
+}
+
+/* The jobs on `workers` threads (this one and workers - 1 more). */
+static int
+run_queue(queue *q, int workers, tl_err *e)
+{
+	pthread_t t[PACK_MAXJOBS];
+	int started = 0;
+
+	q->failed = q->n;
+	for (; started < workers - 1 && started < PACK_MAXJOBS; started++)
+		if (pthread_create(&t[started], NULL, worker, q) != 0)
+			break; /* fewer threads: the same blocks */
+	worker(q);
+	for (int k = 0; k < started; k++)
+		pthread_join(t[k], NULL);
+	if (q->failed < q->n) {
+		*e = q->err;
+		return -1;
+	}
+	return 0;
+}
+
+/* Piece width, in block columns: 16 (2304 level columns with the
+ * halos) holds a piece's rings in about 14 MB (1D) or 24 MB (3D), and
+ * its halos cost 16 % more local errors than the whole level's. */
+#define PIECE_BLOCKS 16
 
 /* Whether some level comes through a FIFO (or stdin): a pipeline
  * feeding several must have them all read at once. */
@@ -222,69 +359,57 @@ fifo_inputs(const pack_args *a)
 	return 0;
 }
 
-typedef struct {
-	work *w;
-	int l, r;
-	tl_err e;
-} level_job;
-
-static void *
-level_thread(void *arg)
-{
-	level_job *j = arg;
-
-	j->r = pack_level_run(j->w, j->l, &j->e);
-	return NULL;
-}
-
-/* Every level on its own thread at once (FIFO inputs); the failure
- * reported is the lowest level's, whatever the threads' timing. */
-static int
-run_levels_at_once(work *w, tl_err *e)
-{
-	int n = w->a->nlevels, started = 0, r = 0;
-	level_job *j = tl_alloc(n, sizeof *j, e);
-	pthread_t *t = tl_alloc(n, sizeof *t, e);
-
-	if (j == NULL || t == NULL) {
-		free(j), free(t);
-		return -1;
-	}
-	w->threads = 1;
-	for (; started < n; started++) {
-		j[started] = (level_job){ .w = w, .l = started };
-		if (pthread_create(&t[started], NULL, level_thread,
-		    &j[started]) != 0)
-			break;
-	}
-	if (started < n)
-		r = tl_fail(e, "%s: %d levels read at once: no thread for "
-		    "level %d", w->a->prog ? w->a->prog : "tilepack", n,
-		    started);
-	for (int l = 0; l < started; l++)
-		pthread_join(t[l], NULL);
-	for (int l = 0; r == 0 && l < started; l++)
-		if (j[l].r < 0) {
-			*e = j[l].e;
-			r = -1;
-		}
-	free(j), free(t);
-	return r;
-}
-
-/* The levels one after another, level 0 (the largest) first, each on
- * every thread: one level's rings in memory at a time, and the failure
- * reported is the lowest level's. */
+/* The jobs: files are read again by each piece, so every level is cut in
+ * pieces, all in one queue, jobs threads taking them (one piece in memory
+ * per thread); a level coming through a FIFO can be read only once, so
+ * then each level is one piece and all levels run at once, one thread
+ * each. */
 static int
 run_levels(work *w, tl_err *e)
 {
-	if (fifo_inputs(w->a))
-		return run_levels_at_once(w, e);
-	w->threads = w->a->jobs;
-	for (int l = 0; l < w->a->nlevels; l++)
-		if (pack_level_run(w, l, e) < 0)
-			return -1;
-	return 0;
+	const georef *g = dem_georef(w->d);
+	int nl = w->a->nlevels, n = 0, r;
+	long long total = 0;
+	queue q = { .w = w };
+
+	for (int l = 0; l < nl; l++) {
+		tiles_level L = { .level = l };
+		L.size[0] = w->ix->lev[l].size[0];
+		n += w->fifo ? 1 : tiles_pieces(&L, PIECE_BLOCKS, NULL, 0);
+	}
+	tiles_piece *p = tl_alloc(n, sizeof *p, e);
+	if (p == NULL || (q.job = tl_alloc(n, sizeof *q.job, e)) == NULL) {
+		free(p);
+		return -1;
+	}
+	for (int l = 0; l < nl; l++) {
+		tiles_level L = { .level = l };
+		int m = 1;
+		L.size[0] = w->ix->lev[l].size[0];
+		if (w->fifo) {
+			q.job[q.n] = (job){ .l = l, .whole = 1 };
+			total += (long long)g->height * g->width;
+		} else
+			m = tiles_pieces(&L, PIECE_BLOCKS, p, n - q.n);
+		for (int k = 0; !w->fifo && k < m; k++) {
+			tiles_window win;
+			q.job[q.n + k] = (job){ .l = l, .p = p[k] };
+			tiles_piece_window(&L, g->width, &p[k], &win);
+			total += (long long)g->height * (win.d1 - win.d0);
+		}
+		q.n += m;
+	}
+	free(p);
+	assert(q.n == n);
+	tl_progress_start(&w->pr, w->a->prog ? w->a->prog : "", total);
+	if (w->a->prog == NULL)
+		w->pr.on = 0;
+	q.threads = 1;
+	r = run_queue(&q, w->fifo ? n : w->a->jobs, e);
+	if (r == 0)
+		tl_progress_end(&w->pr);
+	free(q.job);
+	return r;
 }
 
 static void
@@ -319,13 +444,15 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 	ix.size0[0] = ix.geo.width, ix.size0[1] = ix.geo.height;
 	ix.nlevels = a->nlevels;
 	w.a = a, w.d = d, w.ix = &ix, w.m = &m, w.out = out;
+	w.mu = (pthread_mutex_t)PTHREAD_MUTEX_INITIALIZER;
 	if ((ix.lev = tl_alloc(a->nlevels, sizeof *ix.lev, e)) == NULL ||
 	    geo_metric_init(&m, &ix.geo, e) < 0 ||
 	    tl_outdir_begin(&dir, a->dir, e) < 0)
 		goto done;
 	w.tmp = dir.tmp;
+	w.fifo = fifo_inputs(a);
 	/* the count after the levels, whose own faults say more */
-	if (run_levels(&w, e) < 0 ||
+	if (levels_begin(&w, e) < 0 || run_levels(&w, e) < 0 ||
 	    pack_check_count(ix.nlevels, ix.size0[0], ix.size0[1], e) < 0 ||
 	    pyramid_index_write(dir.tmp, &ix, e) < 0)
 		goto done;

@@ -1,9 +1,10 @@
 /* pack.h - a DEM's VGIS pyramid from the vertex maps of its levels, the
  * work of tilepack(1): each map checked against the DEM (its level, the
- * DEM's size and georeferencing), every level's blocks computed (tiles.h)
- * in order, each level's columns shared among threads, the level count enforced, the
- * directory (vgis(5), pyramid.h) built under a temporary name and renamed
- * when complete. */
+ * DEM's size and georeferencing), every level cut into pieces of 16
+ * block columns (tiles.h) that threads take in order, level 0 first,
+ * each reading the vertex map again (FIFOs: each level whole, all at
+ * once), the level count enforced, the directory (vgis(5), pyramid.h)
+ * built under a temporary name and renamed when complete. */
 #ifndef TL_PACK_H
 #define TL_PACK_H
 
@@ -22,9 +23,9 @@ typedef struct {
 	char *const *levels;  /* vertex maps of levels 0 .. nlevels-1, paths
 	                       * or "-" */
 	int nlevels;
-	int jobs;             /* threads per level, 1 .. PACK_MAXJOBS */
+	int jobs;             /* threads, 1 .. PACK_MAXJOBS: a piece each */
 	int force;            /* replace dir even if it is not a pyramid */
-	const char *prog;     /* names the progress lines "prog: level l" */
+	const char *prog;     /* names the progress line, or NULL: none */
 } pack_args;
 
 /* What a level came to. */

@@ -39,26 +39,32 @@ load_row(state *s, int r, tl_err *e)
 	assert(r < RINGV || r - RINGV < s->next_bj * BT_CELLS);
 	assert(r < RINGE || r - RINGE < s->next_bj * BT_CELLS - REACH);
 	s->loaded++;
+	/* the window's real columns: c0 .. nr-1 (the piece's first block
+	 * column is a real one, so n - 1 >= c0) */
+	int nr = s->cend < n ? s->cend : n, c = s->c0;
 	o = slot(s, r);
+	assert(n - 1 >= c);
 	if (r < m) {
 		if (L->row(L->row_ctx, r, s->rz, L->displaced ? s->rx : NULL,
 		    L->displaced ? s->ry : NULL, e) < 0)
 			return -1;
-		memcpy(s->z + o, s->rz, (size_t)n * sizeof *s->z);
+		memcpy(s->z + o, s->rz + c, (size_t)(nr - c) * sizeof *s->z);
 		if (L->displaced) {
-			memcpy(s->ox + o, s->rx, (size_t)n * sizeof *s->ox);
-			memcpy(s->oy + o, s->ry, (size_t)n * sizeof *s->oy);
+			memcpy(s->ox + o, s->rx + c,
+			    (size_t)(nr - c) * sizeof *s->ox);
+			memcpy(s->oy + o, s->ry + c,
+			    (size_t)(nr - c) * sizeof *s->oy);
 		}
 	} else {
 		memcpy(s->z + o, s->z + slot(s, m - 1),
-		    (size_t)n * sizeof *s->z);
+		    (size_t)(nr - c) * sizeof *s->z);
 		if (L->displaced) {
-			memset(s->ox + o, 0, (size_t)n * sizeof *s->ox);
-			memset(s->oy + o, 0, (size_t)n * sizeof *s->oy);
+			memset(s->ox + o, 0, (size_t)(nr - c) * sizeof *s->ox);
+			memset(s->oy + o, 0, (size_t)(nr - c) * sizeof *s->oy);
 		}
 	}
-	for (int i = n; i < s->P; i++) {
-		s->z[o + i] = s->z[o + n - 1];
+	for (int i = nr - c; i < s->P; i++) { /* padding: level columns n.. */
+		s->z[o + i] = s->z[o + n - 1 - c];
 		if (L->displaced)
 			s->ox[o + i] = s->oy[o + i] = 0;
 	}
@@ -95,7 +101,7 @@ scales(const state *s, int gi, int gj, double *sx, double *sy)
 		*sx = x[0], *sy = y[0];
 		return;
 	}
-	k = s->nk[gi], u = s->nu[gi];
+	k = s->nk[gi - s->c0], u = s->nu[gi - s->c0];
 	*sx = x[k] + u * (x[k + 1] - x[k]);
 	*sy = y[k] + u * (y[k + 1] - y[k]);
 }
@@ -107,14 +113,15 @@ node_columns(state *s)
 {
 	const geo_metric *m = s->L->m;
 
-	for (int gi = 0; gi < s->P; gi++) {
+	for (int gi = s->c0; gi < s->cend; gi++) {
 		double t = gi * s->step * m->inv;
+		int k = gi - s->c0;
 		if (!(t > 0))
-			s->nk[gi] = 0, s->nu[gi] = 0;
+			s->nk[k] = 0, s->nu[k] = 0;
 		else if (t >= m->nx - 1)
-			s->nk[gi] = m->nx - 2, s->nu[gi] = 1;
+			s->nk[k] = m->nx - 2, s->nu[k] = 1;
 		else
-			s->nk[gi] = (int)t, s->nu[gi] = t - s->nk[gi];
+			s->nk[k] = (int)t, s->nu[k] = t - s->nk[k];
 	}
 }
 
@@ -122,8 +129,9 @@ node_columns(state *s)
 static inline void
 vertex(const state *s, int gi, int gj, double p[3])
 {
-	size_t o = slot(s, gj) + gi;
+	size_t o = slot(s, gj) + (size_t)(gi - s->c0);
 
+	assert(gi >= s->c0 && gi < s->cend);
 	p[0] = gi, p[1] = gj, p[2] = s->z[o];
 	if (s->L->displaced) {
 		double sx, sy;
@@ -142,11 +150,12 @@ vc_fill(strip *t, int hk, int k)
 	int h = 1 << hk, r = k & (VC_ROWS - 1), n = t->vc[hk].n;
 	double *x = t->vc[hk].x + (size_t)r * n, *y = t->vc[hk].y +
 	    (size_t)r * n;
-	int m0 = t->lo / h - 1, m1 = (t->hi - 1) / h + 2;
+	/* window columns: the scale's column m at m - c0 / h */
+	int m0 = (t->lo - s->c0) / h - 1, m1 = (t->hi - 1 - s->c0) / h + 2;
 
 	for (int m = m0 > 0 ? m0 : 0; m < n && m < m1; m++) {
 		double p[3];
-		vertex(s, m * h, k * h, p);
+		vertex(s, s->c0 + m * h, k * h, p);
 		x[m] = p[0], y[m] = p[1];
 	}
 	t->vc[hk].tag[r] = k;
@@ -163,17 +172,18 @@ vertex_at(strip *t, int hk, int gi, int gj, double p[3])
 	int k, r;
 	size_t o;
 
+	assert(gi >= s->c0 && gi < s->cend);
 	if (!s->L->displaced) {
-		p[0] = gi, p[1] = gj, p[2] = s->z[slot(s, gj) + gi];
+		p[0] = gi, p[1] = gj, p[2] = s->z[slot(s, gj) + (gi - s->c0)];
 		return;
 	}
 	assert(gi % (1 << hk) == 0 && gj % (1 << hk) == 0);
 	k = gj >> hk, r = k & (VC_ROWS - 1);
 	if (t->vc[hk].tag[r] != k)
 		vc_fill(t, hk, k);
-	o = (size_t)r * t->vc[hk].n + (gi >> hk);
+	o = (size_t)r * t->vc[hk].n + ((gi - s->c0) >> hk);
 	p[0] = t->vc[hk].x[o], p[1] = t->vc[hk].y[o];
-	p[2] = s->z[slot(s, gj) + gi];
+	p[2] = s->z[slot(s, gj) + (gi - s->c0)];
 }
 
 /* (long)ceil(x) and (long)floor(x), inline, for |x| < 2^62. */
@@ -194,7 +204,7 @@ ifloor(double x)
 static int
 on_grid(const state *s, const int v[2])
 {
-	return v[0] >= 0 && v[1] >= 0 && v[0] < s->P && v[1] < s->Q;
+	return v[0] >= s->c0 && v[1] >= 0 && v[0] < s->cend && v[1] < s->Q;
 }
 
 /* The largest |plane - DEM| over the valid samples of the current DEM row
@@ -254,12 +264,12 @@ tri_row(strip *sh, const int t[3][2], double y, int hk)
 	z0 = p[0][2] - (n[1] * (y - p[0][1]) - n[0] * p[0][0]) / n[2];
 	i0 = iceil((xl - EPS) * s->step);
 	i1 = ifloor((xr + EPS) * s->step);
-	if (i0 < 0)
-		i0 = 0;
-	if (i1 > s->W0 - 1)
-		i1 = s->W0 - 1;
+	if (i0 < s->d0) /* the DEM's first column, or the window's */
+		i0 = s->d0;
+	if (i1 > s->dend - 1)
+		i1 = s->dend - 1;
 	/* i / step is i x (1 / step) exactly: step is a power of 2 */
-	return sweep(sh->dd, i0, i1, z0, dz, 1 / s->step);
+	return sweep(sh->dd, s->d0, i0, i1, z0, dz, 1 / s->step);
 }
 
 /* Raises the local errors of every diamond of scale h and one kind that
@@ -281,10 +291,10 @@ row_diamonds(strip *t, double y, int h, int hk, int edge)
 		x0 = edge && (c & 1) ? 0 : h;
 		if (t->lo > x0) /* the first centre in the share */
 			x0 += (t->lo - x0 + 2 * h - 1) / (2 * h) * (2 * h);
-		for (long cx = x0; cx < s->P && cx < t->hi; cx += 2 * h) {
+		for (long cx = x0; cx < s->cend && cx < t->hi; cx += 2 * h) {
 			int tri[2][3][2];
 			int nt = bt_diamond((int)cx, (int)cy, tri);
-			float *acc = &s->acc[eslot(s, (int)cy) + cx];
+			float *acc = &s->acc[eslot(s, (int)cy) + (cx - s->c0)];
 			for (int k = 0; k < nt; k++) {
 				double err = tri_row(t, tri[k], y, hk);
 				if (err > *acc)
@@ -304,14 +314,15 @@ row_leaves(strip *sh, double y)
 	double mg = s->L->displaced ? 1 : EPS;
 	long r0 = (long)floor(y - mg), r1 = (long)floor(y + mg);
 
+	int lo = leaf_lo(sh), hi = leaf_hi(sh);
+
 	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++)
-		for (int ci = sh->lo; ci < s->P - 1 && ci < sh->hi; ci++) {
+		for (int ci = lo; ci < hi; ci++) {
 			int a[2] = { ci, (int)cj }, b[2] = { ci + 1, (int)cj };
 			int c[2] = { ci + 1, (int)cj + 1 };
 			int d[2] = { ci, (int)cj + 1 };
 			int t[2][3][2];
-			double *base = &sh->base[(size_t)(cj / BT_CELLS) *
-			    s->bx + ci / BT_CELLS];
+			double *base = base_at(sh, (int)cj, ci);
 			if ((ci + cj) % 2 == 0) {
 				memcpy(t[0][0], a, 8), memcpy(t[0][1], b, 8);
 				memcpy(t[0][2], c, 8), memcpy(t[1][0], a, 8);
@@ -413,16 +424,16 @@ fill_block(const state *s, pyramid_block *b, int bi, int bj)
 	b->level = s->L->level, b->bi = bi, b->bj = bj;
 	b->base = 0; /* the shares' base errors, merged */
 	for (int k = 0; k < s->nstrip; k++)
-		b->base = dmax(b->base,
-		    s->strips[k].base[(size_t)bj * s->bx + bi]);
+		b->base = dmax(b->base, *base_at(&s->strips[k],
+		    bj * BT_CELLS, bi * BT_CELLS));
 	b->zmin = INFINITY, b->zmax = -INFINITY;
 	for (int r = 0; r < BT_SIZE; r++) {
 		int gj = bj * BT_CELLS + r;
-		size_t o = slot(s, gj) + (size_t)bi * BT_CELLS;
+		size_t o = slot(s, gj) + (size_t)(bi * BT_CELLS - s->c0);
 		/* the block's rows lie in the band's middle */
 		assert(gj - g0 >= REACH && gj - g0 < BAND - REACH);
 		const float *band = s->band + (size_t)(gj - g0) * s->P +
-		    (size_t)bi * BT_CELLS;
+		    (size_t)(bi * BT_CELLS - s->c0);
 		for (int c = 0; c < BT_SIZE; c++) {
 			int k = r * BT_SIZE + c;
 			int corner = r % BT_CELLS == 0 && c % BT_CELLS == 0;
@@ -488,8 +499,9 @@ static int
 strip_init(state *s, strip *t, int lo, int hi, tl_err *e)
 {
 	t->s = s, t->lo = lo, t->hi = hi;
-	if ((t->base = tl_alloc((size_t)s->bx * s->by, sizeof *t->base,
-	    e)) == NULL || pyramid_block_alloc(&t->blk, s->L->displaced,
+	if ((t->base = tl_alloc((size_t)(s->b1 - s->b0) * s->by,
+	    sizeof *t->base, e)) == NULL ||
+	    pyramid_block_alloc(&t->blk, s->L->displaced,
 	    e) < 0)
 		return -1;
 	for (int hk = 0; (1 << hk) <= BT_MAXH; hk++) {
@@ -508,13 +520,18 @@ strip_init(state *s, strip *t, int lo, int hi, tl_err *e)
 	return 0;
 }
 
-/* The columns in n shares of nearly equal width (a level narrower than
- * n columns takes fewer). */
+/* The centres whose local errors the piece's saturation reads (its
+ * block columns and REACH either side), in n shares of nearly equal
+ * width (fewer when they are fewer than n columns); its blocks likewise. */
 static int
 strips_init(state *s, int n, tl_err *e)
 {
-	if (n > s->P - 1)
-		n = s->P - 1;
+	int lo = s->b0 * BT_CELLS - REACH, hi = s->b1 * BT_CELLS + REACH + 1;
+	int nb = s->b1 - s->b0;
+
+	lo = lo > 0 ? lo : 0, hi = hi < s->Pl ? hi : s->Pl;
+	if (n > hi - lo - 1)
+		n = hi - lo - 1;
 	if (n < 1)
 		n = 1;
 	if ((s->strips = tl_alloc(n, sizeof *s->strips, e)) == NULL)
@@ -522,18 +539,20 @@ strips_init(state *s, int n, tl_err *e)
 	s->nstrip = n;
 	for (int k = 0; k < n; k++) {
 		strip *t = &s->strips[k];
-		if (strip_init(s, t, (int)((long)s->P * k / n),
-		    (int)((long)s->P * (k + 1) / n), e) < 0)
+		if (strip_init(s, t, lo + (int)((long)(hi - lo) * k / n),
+		    lo + (int)((long)(hi - lo) * (k + 1) / n), e) < 0)
 			return -1;
-		t->blo = s->bx * k / n, t->bhi = s->bx * (k + 1) / n;
+		t->blo = s->b0 + nb * k / n, t->bhi = s->b0 + nb * (k + 1) / n;
 	}
 	return 0;
 }
 
 static int
-state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
+state_init(state *s, const tiles_level *L, const tiles_piece *pc, dem *d,
+    tl_err *e)
 {
 	const georef *g = dem_georef(d);
+	tiles_window win;
 	size_t ring;
 
 	memset(s, 0, sizeof *s);
@@ -541,8 +560,12 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	s->W0 = g->width;
 	s->bx = pyramid_nblocks(L->size[0]);
 	s->by = pyramid_nblocks(L->size[1]);
-	s->P = s->bx * BT_CELLS + 1, s->Q = s->by * BT_CELLS + 1;
+	s->Pl = s->bx * BT_CELLS + 1, s->Q = s->by * BT_CELLS + 1;
 	s->step = (double)(1L << L->level);
+	tiles_piece_window(L, s->W0, pc, &win);
+	s->b0 = pc->b0, s->b1 = pc->b1;
+	s->c0 = win.c0, s->cend = win.c1, s->P = win.c1 - win.c0;
+	s->d0 = win.d0, s->dend = win.d1;
 	/* QEM-3D offsets stay within half a cell (fqmsolve(1)) */
 	s->margin = L->displaced ? 0.5 + 1e-6 : EPS;
 	s->scan = !L->displaced && s->step <= SCAN_MAXSTEP;
@@ -558,8 +581,8 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	s->sy = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sy, e);
 	s->band = tl_alloc((size_t)BAND * s->P, sizeof *s->band, e);
 	s->rz = tl_alloc(L->size[0], sizeof *s->rz, e);
-	s->dz = tl_alloc(g->width, sizeof *s->dz, e);
-	s->dv = tl_alloc(g->width, 1, e);
+	s->dz = tl_alloc(s->dend - s->d0, sizeof *s->dz, e);
+	s->dv = tl_alloc(s->dend - s->d0, 1, e);
 	if (L->displaced) {
 		s->ox = tl_alloc(ring, sizeof *s->ox, e);
 		s->oy = tl_alloc(ring, sizeof *s->oy, e);
@@ -570,8 +593,8 @@ state_init(state *s, const tiles_level *L, dem *d, tl_err *e)
 	    (L->displaced && s->nn > 1 && (!s->nk || !s->nu)) ||
 	    !s->rz || !s->dz || !s->dv || (L->displaced && (!s->ox ||
 	    !s->oy || !s->rx || !s->ry)) ||
-	    (s->dd = tl_alloc((size_t)BATCH * (s->W0 + 1), sizeof *s->dd,
-	    e)) == NULL ||
+	    (s->dd = tl_alloc((size_t)BATCH * (s->dend - s->d0 + 1),
+	    sizeof *s->dd, e)) == NULL ||
 	    strips_init(s, L->threads, e) < 0) {
 		state_free(s);
 		return -1;
@@ -616,7 +639,7 @@ scan_batch(strip *t, int J0, int J1)
 	const state *s = t->s;
 
 	for (int J = J0; J < J1; J++) {
-		t->dd = s->dd + (size_t)(J - J0) * (s->W0 + 1);
+		t->dd = s->dd + (size_t)(J - J0) * (s->dend - s->d0 + 1);
 		scan_row(t, J);
 	}
 }
@@ -691,20 +714,27 @@ emit_row(state *s, crew *c, int bj, tl_err *e)
 	return 0;
 }
 
-/* DEM rows J0 .. J1-1 as doubles, NaN where not valid. */
+/* The window's columns of DEM rows J0 .. J1-1 as doubles, NaN where not
+ * valid; the valid samples of the piece's own columns counted (the
+ * pieces' own columns partition the DEM's). */
 static int
 read_batch(state *s, int J0, int J1, tl_err *e)
 {
+	long n = s->dend - s->d0, S = (long)s->step;
+	long own0 = s->b0 * BT_CELLS * S - s->d0;
+	long own1 = s->b1 == s->bx ? n : s->b1 * BT_CELLS * S - s->d0;
+
 	for (int J = J0; J < J1; J++) {
-		double *dd = s->dd + (size_t)(J - J0) * (s->W0 + 1);
-		if (dem_read_row(s->d, J, s->dz, s->dv, e) < 0)
+		double *dd = s->dd + (size_t)(J - J0) * (n + 1);
+		long long k = 0;
+		if (dem_read_span(s->d, J, (int)s->d0, (int)n, s->dz, s->dv,
+		    e) < 0)
 			return -1;
-		long long n = 0;
-		for (int i = 0; i < s->W0; i++) {
+		for (long i = 0; i < n; i++)
 			dd[i] = s->dv[i] ? (double)s->dz[i] : NAN;
-			n += s->dv[i];
-		}
-		s->st->samples += n;
+		for (long i = own0; i < own1; i++)
+			k += s->dv[i];
+		s->st->samples += k;
 	}
 	return 0;
 }
@@ -729,6 +759,8 @@ run_rows(state *s, crew *c, tl_progress *pr, tl_err *e)
 			if (emit_row(s, c, s->next_bj++, e) < 0)
 				return -1;
 		tl_progress_step(pr, J1);
+		if (s->L->progress != NULL)
+			s->L->progress(s->L->progress_ctx, J1 - J0);
 	}
 	if (ensure(s, s->Q - 1, e) < 0)
 		return -1;
@@ -738,8 +770,62 @@ run_rows(state *s, crew *c, tl_progress *pr, tl_err *e)
 	return 0;
 }
 
+/* How far past its blocks a piece's window reaches. Saturating a block
+ * reads the local errors of its vertices' descendants: the farthest, 126
+ * columns past the block's edge, is an edge(1) diamond down the chain
+ * square(64) at the block's centre, edge(64) on its edge, square(32),
+ * edge(32), ..., edge(1), and the vertices of that chain's diamonds
+ * reach 127 columns past the edge (their triangles too; displaced, half
+ * a column more). So 128 columns of heights and 128 x step of DEM
+ * samples suffice, and 128 keeps the window's first column a multiple
+ * of 128, so that saturation's parities are the level's. t_tiles checks
+ * pieces against the whole level. */
+#define HALO REACH
+
+void
+tiles_piece_window(const tiles_level *L, int w0, const tiles_piece *p,
+    tiles_window *w)
+{
+	int Pl = pyramid_nblocks(L->size[0]) * BT_CELLS + 1;
+	long S = 1L << L->level, c1;
+
+	assert(p->b0 >= 0 && p->b0 < p->b1 &&
+	    p->b1 <= pyramid_nblocks(L->size[0]));
+	w->b0 = p->b0, w->b1 = p->b1;
+	w->c0 = p->b0 * BT_CELLS - HALO;
+	w->c0 = w->c0 > 0 ? w->c0 : 0;
+	assert(w->c0 % (2 * BT_MAXH) == 0);
+	c1 = (long)p->b1 * BT_CELLS + HALO + 1;
+	w->c1 = c1 < Pl ? (int)c1 : Pl;
+	w->d0 = (long)w->c0 * S;
+	w->d1 = ((long)w->c1 - 1) * S + 1;
+	w->d1 = w->d1 < w0 ? w->d1 : w0;
+}
+
+int
+tiles_pieces(const tiles_level *L, int cols, tiles_piece *p, int max)
+{
+	int bx = pyramid_nblocks(L->size[0]), n = (bx + cols - 1) / cols;
+
+	assert(cols >= 1);
+	for (int k = 0; k < n && k < max; k++) {
+		p[k].b0 = (int)((long)bx * k / n);
+		p[k].b1 = (int)((long)bx * (k + 1) / n);
+	}
+	return n;
+}
+
 int
 tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e)
+{
+	tiles_piece all = { 0, pyramid_nblocks(L->size[0]) };
+
+	return tiles_run_piece(L, &all, d, st, e);
+}
+
+int
+tiles_run_piece(const tiles_level *L, const tiles_piece *pc, dem *d,
+    tiles_stats *st, tl_err *e)
 {
 	member m[TILES_MAXTHREADS];
 	pthread_t th[TILES_MAXTHREADS];
@@ -751,7 +837,7 @@ tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e)
 
 	assert(L->threads <= TILES_MAXTHREADS);
 	memset(st, 0, sizeof *st);
-	if (state_init(&s, L, d, e) < 0)
+	if (state_init(&s, L, pc, d, e) < 0)
 		return -1;
 	s.st = st;
 	for (int k = 1; k < s.nstrip; k++) {

@@ -18,15 +18,21 @@
  * centre's within 190), and the blocks are handed out. Every local error
  * is an exact maximum, so E is exact on every level, not a bound.
  *
+ * A level is made whole or in pieces: block columns with a window of
+ * columns 128 wider either side, where every value is computed with the
+ * level's own coordinates, so that pieces give the whole level's bits.
+ *
  * The DEM rows are scanned in batches of 32; within a batch each thread
- * takes a share of the level's columns (the diamonds centred there, the
+ * takes a share of the piece's columns (the diamonds centred there, the
  * leaves starting there), so no two write the same local error, and
  * keeps its own base errors, merged by max: the blocks are the same bits
  * whatever the thread count.
  *
- * Memory: rings of 512 level rows of Z and offsets and of 640 rows of
- * local errors, the saturation band (385 rows), 32 DEM rows as doubles
- * and, displaced, 8 rows of positions per scale and thread. */
+ * Memory, per piece, all its window's width: rings of 512 level rows of
+ * Z and offsets and of 640 rows of local errors, the saturation band
+ * (385 rows), 32 DEM rows as doubles and, displaced, 8 rows of positions
+ * per scale and thread; plus one whole row of the level from the row
+ * callback. */
 #ifndef TL_TILES_H
 #define TL_TILES_H
 
@@ -54,6 +60,10 @@ typedef struct {
 	tiles_block_fn block;
 	void *block_ctx;
 	const char *label; /* progress on a terminal, or NULL */
+	/* or, if not NULL, told the DEM rows scanned, batch by batch (from
+	 * the thread running the piece) */
+	void (*progress)(void *ctx, int rows);
+	void *progress_ctx;
 	int threads;       /* 1 .. TILES_MAXTHREADS: the columns in shares */
 } tiles_level;
 
@@ -65,6 +75,36 @@ typedef struct {
 	long long samples; /* valid DEM samples measured */
 } tiles_stats;
 
+/* The whole level. */
 int tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e);
+
+/* A piece of a level: the blocks of block columns [b0, b1), all block
+ * rows. Pieces are independent: run in any order, on threads or in
+ * separate processes, they write the blocks the whole level would, bit
+ * for bit; each holds its window of columns, not the level's width. */
+typedef struct {
+	int b0, b1;
+} tiles_piece;
+
+/* What a piece reads and writes: level columns [c0, c1) of every row of
+ * the vertex map (the row callback still gives whole rows), DEM columns
+ * [d0, d1) of every DEM row, blocks of block columns [b0, b1). The
+ * window reaches 128 level columns past the blocks: what saturating
+ * them reads (tiles.c, HALO). */
+typedef struct {
+	int b0, b1;
+	int c0, c1;
+	long d0, d1;
+} tiles_window;
+
+void tiles_piece_window(const tiles_level *L, int w0, const tiles_piece *p,
+    tiles_window *w);
+/* The level's block columns in n = ceil(blocks / cols) pieces of nearly
+ * equal width, at most max of them written to p; returns n. */
+int tiles_pieces(const tiles_level *L, int cols, tiles_piece *p, int max);
+/* Piece p of the level: its blocks to L->block, its stats to st (the
+ * samples counted are those of its own DEM columns). */
+int tiles_run_piece(const tiles_level *L, const tiles_piece *p, dem *d,
+    tiles_stats *st, tl_err *e);
 
 #endif

@@ -39,7 +39,7 @@ typedef struct {
 	state *s;
 	const double *dd;   /* the DEM row being scanned, NaN where not valid */
 	int lo, hi;
-	double *base;       /* by x bx base errors */
+	double *base;       /* base errors: by x the piece's block columns */
 	int blo, bhi;       /* the block columns it hands out */
 	pyramid_block blk;
 	double max_e, max_base; /* of its blocks */
@@ -62,12 +62,22 @@ typedef struct {
  * first, the rows loaded reach 130 past the DEM row: 452 + 32 < RINGV). */
 #define BATCH 32
 
+/* A piece's window: what it holds of each row. Coordinates (columns,
+ * positions, planes) are the level's and the DEM's, whatever the window,
+ * so that every value is computed as the whole level would compute it;
+ * only the memory is the window's: level column gi is at gi - c0 in the
+ * rings, DEM column i at i - d0 in dd. */
 struct state {
 	const tiles_level *L;
 	dem *d;
-	int P, Q;           /* padded level size: blocks x 128 + 1 */
+	int Pl, Q;          /* padded level size: blocks x 128 + 1 */
 	int W0;             /* DEM width */
 	int bx, by;
+	int b0, b1;         /* the piece: its block columns */
+	int c0, P, cend;    /* its window of level columns: c0 .. cend-1, P of
+	                     * them, c0 a multiple of 128 (saturation's
+	                     * parities) */
+	long d0, dend;      /* its DEM columns: d0 .. dend-1, d0 = c0 x step */
 	double step;        /* 2^level: level-0 samples per level cell */
 	double margin;      /* how far a displaced vertex may stray */
 	float *z, *ox, *oy; /* RINGV x P: heights, offsets in metres */
@@ -84,11 +94,39 @@ struct state {
 	float *dz;
 	unsigned char *dv;  /* a DEM row */
 	tiles_stats *st;
-	double *dd;         /* BATCH DEM rows as doubles (W0 + 1 apart) */
+	double *dd;         /* BATCH DEM rows as doubles: the window's
+	                     * columns, dend - d0 + 1 apart */
 	int scan;           /* undisplaced and step <= SCAN_MAXSTEP */
 	int nstrip;
 	strip *strips;
 };
+
+/* The leaves a share measures: the cells starting in its columns and in
+ * the piece's blocks (base errors are the piece's blocks' only). */
+static inline int
+leaf_lo(const strip *t)
+{
+	int b = t->s->b0 * BT_CELLS;
+	return t->lo > b ? t->lo : b;
+}
+
+static inline int
+leaf_hi(const strip *t)
+{
+	int b = t->s->b1 * BT_CELLS;
+	return t->hi < b ? t->hi : b;
+}
+
+/* The base error of the block of cell (ci, cj), one of the piece's. */
+static inline double *
+base_at(const strip *t, int cj, int ci)
+{
+	const state *s = t->s;
+	int bi = ci / BT_CELLS;
+
+	assert(bi >= s->b0 && bi < s->b1);
+	return &t->base[(size_t)(cj / BT_CELLS) * (s->b1 - s->b0) + bi - s->b0];
+}
 
 /* Level row gj in the ring of heights and offsets: loaded, and not yet
  * overwritten by a row RINGV further on. */
@@ -132,12 +170,14 @@ v4max(v4d d, v4d w)
 	return (v4d)(((v4l)d & m) | ((v4l)w & ~m));
 }
 
-/* max |z0 + dz * (i / step) - DEM[i]| over the valid i in [a, b]; -1
- * when none is. Eight samples a step into two maxima, so that no chain
- * of dependent maxima sets the pace (a maximum's order does not
- * matter); i / step is i x inv, i exact as a double. */
+/* max |z0 + dz * (i / step) - DEM[i]| over the valid DEM columns i in
+ * [a, b], DEM[i] being dd[i - d0]; -1 when none is. Eight samples a step
+ * into two maxima, so that no chain of dependent maxima sets the pace (a
+ * maximum's order does not matter); i / step is i x inv, i exact as a
+ * double. */
 static inline __attribute__((always_inline)) double
-sweep(const double *dd, long a, long b, double z0, double dz, double inv)
+sweep(const double *dd, long d0, long a, long b, double z0, double dz,
+    double inv)
 {
 	double w = -1;
 	long i = a;
@@ -147,8 +187,8 @@ sweep(const double *dd, long a, long b, double z0, double dz, double inv)
 		v4d w0 = { -1, -1, -1, -1 }, w1 = w0;
 		for (; i + 7 <= b; i += 8, x0 += 8, x1 += 8) {
 			v4d v0, v1;
-			memcpy(&v0, dd + i, sizeof v0);
-			memcpy(&v1, dd + i + 4, sizeof v1);
+			memcpy(&v0, dd + (i - d0), sizeof v0);
+			memcpy(&v1, dd + (i - d0) + 4, sizeof v1);
 			w0 = v4max(v4abs(z0 + dz * (x0 * inv) - v0), w0);
 			w1 = v4max(v4abs(z0 + dz * (x1 * inv) - v1), w1);
 		}
@@ -157,7 +197,7 @@ sweep(const double *dd, long a, long b, double z0, double dz, double inv)
 			w = w0[k] > w ? w0[k] : w;
 	}
 	for (; i <= b; i++) {
-		double d = fabs(z0 + dz * (i * inv) - dd[i]);
+		double d = fabs(z0 + dz * (i * inv) - dd[i - d0]);
 		if (d > w)
 			w = d;
 	}

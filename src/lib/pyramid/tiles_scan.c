@@ -28,6 +28,9 @@
 typedef struct {
 	int ok;             /* the row crosses it and its rows are on the grid */
 	int ox[3], oy[3];   /* its vertices less the centre, in order */
+	int wx[3];          /* ox less the window's c0: where, in the
+	                     * window's rows, centre cx's vertices are */
+	long wlo;           /* lo less the window's d0: where, in dd */
 	int xmin, xmax;     /* of ox */
 	long lo, hi;        /* the row's columns less cx x step */
 	const float *zr[3]; /* the vertices' rows of heights */
@@ -89,6 +92,7 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 	t->ok = 1;
 	for (int k = 0; k < 3; k++) {
 		t->ox[k] = tri[k][0] - cx, t->oy[k] = tri[k][1] - cy;
+		t->wx[k] = t->ox[k] - s->c0;
 		if (tri[k][1] < 0 || tri[k][1] >= s->Q)
 			t->ok = 0;
 	}
@@ -102,6 +106,7 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 	chord(t, S, (long)J - (long)cy * S);
 	if (!t->ok)
 		return;
+	t->wlo = t->lo - s->d0;
 	for (int k = 0; k < 3; k++)
 		t->zr[k] = s->z + slot(s, cy + t->oy[k]);
 	t->d1x = (double)tri[1][0] - tri[0][0];
@@ -130,15 +135,15 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 	long S = (long)s->step, a, b;
 
 	a = (long)cx * S + t->lo, b = (long)cx * S + t->hi;
-	if (a < 0)
-		a = 0;
-	if (b > s->W0 - 1)
-		b = s->W0 - 1;
+	if (a < s->d0)
+		a = s->d0;
+	if (b > s->dend - 1)
+		b = s->dend - 1;
 	if (a > b)
 		return -1;
-	z0 = t->zr[0][cx + t->ox[0]];
-	z1 = t->zr[1][cx + t->ox[1]];
-	z2 = t->zr[2][cx + t->ox[2]];
+	z0 = t->zr[0][cx + t->wx[0]];
+	z1 = t->zr[1][cx + t->wx[1]];
+	z2 = t->zr[2][cx + t->wx[2]];
 	e1 = z1 - z0, e2 = z2 - z0;
 	n0 = t->d1y * e2 - e1 * t->d2y;
 	n1 = e1 * t->d2x - t->d1x * e2;
@@ -150,7 +155,7 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 		dz = -n0 / t->n2;
 		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
 	}
-	return sweep(dd, a, b, z, dz, 1 / s->step);
+	return sweep(dd, s->d0, a, b, z, dz, 1 / s->step);
 }
 
 /* Four centres at once: short chords (every one of level 0's, most of
@@ -170,15 +175,16 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
     double err[LANES])
 {
 	v4d z0, z1, z2, p00, e1, e2, n0, n1, z, dz, x, w = { -1, -1, -1, -1 };
-	const double *d0, *d1, *d2, *d3;
+	const double *q0, *q1, *q2, *q3;
 	long S = (long)s->step, c[LANES];
 	double inv = 1 / s->step;
 
 	/* vectors built from scalars, not through memory (store forwarding) */
 	for (int k = 0; k < LANES; k++)
 		c[k] = cx + k * stride;
-#define LOAD(r) (v4d){ t->zr[r][c[0] + t->ox[r]], t->zr[r][c[1] + t->ox[r]], \
-	    t->zr[r][c[2] + t->ox[r]], t->zr[r][c[3] + t->ox[r]] }
+#define LOAD(r) (v4d){ t->zr[r][c[0] + t->wx[r]], \
+	    t->zr[r][c[1] + t->wx[r]], t->zr[r][c[2] + t->wx[r]], \
+	    t->zr[r][c[3] + t->wx[r]] }
 	z0 = LOAD(0), z1 = LOAD(1), z2 = LOAD(2);
 #undef LOAD
 	p00 = (v4d){ c[0] + t->ox[0], c[1] + t->ox[0], c[2] + t->ox[0],
@@ -193,13 +199,14 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
 		dz = -n0 / t->n2;
 		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
 	}
-	/* the columns as doubles: whole numbers, so adding 1 is exact */
-	d0 = dd + c[0] * S + t->lo, d1 = dd + c[1] * S + t->lo;
-	d2 = dd + c[2] * S + t->lo, d3 = dd + c[3] * S + t->lo;
+	/* the columns as doubles: whole numbers, so adding 1 is exact; DEM
+	 * column i at i - d0 in dd */
+	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
+	q2 = dd + (c[2] * S + t->wlo), q3 = dd + (c[3] * S + t->wlo);
 	x = (v4d){ c[0] * S + t->lo, c[1] * S + t->lo, c[2] * S + t->lo,
 	    c[3] * S + t->lo };
 	for (long o = 0; o <= t->hi - t->lo; o++, x += 1) {
-		v4d v = { d0[o], d1[o], d2[o], d3[o] };
+		v4d v = { q0[o], q1[o], q2[o], q3[o] };
 		w = v4max(v4abs(z + dz * (x * inv) - v), w);
 	}
 	for (int k = 0; k < LANES; k++)
@@ -210,18 +217,20 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
  * column) or, for leaves, its block's base error (a double per block
  * column). The order of a maximum does not matter. */
 typedef struct {
-	float *acc;
-	double *base;
+	float *acc;   /* a window row: level column cx at cx - c0 */
+	int c0;
+	double *base; /* a block row's: block column b at b - b0 */
+	int b0;
 } sink;
 
 static inline void
 raise_at(const sink *o, int cx, double err)
 {
 	if (o->acc != NULL) {
-		if (err > o->acc[cx])
-			o->acc[cx] = (float)err;
-	} else if (err > o->base[cx / BT_CELLS])
-		o->base[cx / BT_CELLS] = err;
+		if (err > o->acc[cx - o->c0])
+			o->acc[cx - o->c0] = (float)err;
+	} else if (err > o->base[cx / BT_CELLS - o->b0])
+		o->base[cx / BT_CELLS - o->b0] = err;
 }
 
 /* Template t at centres first, first + stride, ... below end, each
@@ -234,18 +243,20 @@ static void
 scan_template(const state *s, const double *dd, const tmpl *t,
     const sink *o, int first, int end, int stride)
 {
-	long S = (long)s->step, last = s->W0 - 1;
+	long S = (long)s->step, last = s->dend - 1;
 	int cx;
 
 	if (!t->ok || t->n2 == 0)
 		return;
-	if (end > s->P - t->xmax)
-		end = s->P - t->xmax;
-	if (first < -t->xmin)
-		first += (-t->xmin - first + stride - 1) / stride * stride;
+	/* the centres whose vertices are in the window */
+	if (end > s->cend - t->xmax)
+		end = s->cend - t->xmax;
+	if (first < s->c0 - t->xmin)
+		first += (s->c0 - t->xmin - first + stride - 1) / stride *
+		    stride;
 	cx = first;
 	if (t->hi - t->lo < SHORT) {
-		for (; cx < end && (long)cx * S + t->lo < 0; cx += stride)
+		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
 			raise_at(o, cx, tri_at(s, dd, t, cx));
 		for (; cx + (LANES - 1) * stride < end &&
 		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
@@ -278,7 +289,7 @@ scan_diamonds(strip *sh, int J, double y, int h, int edge)
 		if (!edge && (c & 1) == 0)
 			continue; /* square centres: odd multiples */
 		x0 = edge && (c & 1) ? 0 : h;
-		if (x0 >= s->P)
+		if (x0 >= s->cend)
 			continue;
 		for (int ph = 0; ph < 2; ph++) {
 			int tri[2][3][2], cx = x0 + 2 * h * ph;
@@ -289,9 +300,9 @@ scan_diamonds(strip *sh, int J, double y, int h, int edge)
 		if (!(nt[0] && (T[0][0].ok || T[0][1].ok)) &&
 		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
 			continue;
-		o.acc = &s->acc[eslot(s, cy)];
+		o.acc = &s->acc[eslot(s, cy)], o.c0 = s->c0;
 		/* each shape's centres in the share: every other one */
-		int end = sh->hi < s->P ? sh->hi : s->P;
+		int end = sh->hi < s->cend ? sh->hi : s->cend;
 		for (int ph = 0; ph < 2; ph++) {
 			int first = x0 + 2 * h * ph;
 			if (first < sh->lo)
@@ -310,7 +321,10 @@ static void
 scan_leaves(strip *sh, int J, double y)
 {
 	state *s = sh->s;
-	int end = sh->hi < s->P - 1 ? sh->hi : s->P - 1;
+	int lo = leaf_lo(sh), end = leaf_hi(sh);
+
+	if (lo >= end) /* a share of the halo only */
+		return;
 
 	long r0 = (long)floor(y - EPS), r1 = (long)floor(y + EPS);
 
@@ -333,12 +347,12 @@ scan_leaves(strip *sh, int J, double y)
 			for (int k = 0; k < 2; k++)
 				make_tmpl(s, &T[ph][k], t[k], ci, j, J, y);
 		}
-		sink o = { NULL, &sh->base[(size_t)(cj / BT_CELLS) * s->bx] };
+		sink o = { NULL, 0, base_at(sh, (int)cj, lo), lo / BT_CELLS };
 		/* the cells of each parity, every other one */
 		for (int ph = 0; ph < 2; ph++)
 			for (int k = 0; k < 2; k++)
 				scan_template(s, sh->dd, &T[ph][k], &o,
-				    sh->lo + ((sh->lo & 1) != ph), end, 2);
+				    lo + ((lo & 1) != ph), end, 2);
 	}
 }
 
