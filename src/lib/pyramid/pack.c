@@ -340,10 +340,11 @@ run_queue(queue *q, int workers, tl_err *e)
 	return 0;
 }
 
-/* Piece width, in block columns: 16 (2304 level columns with the
- * halos) holds a piece's rings in about 14 MB (1D) or 24 MB (3D), and
- * its halos cost 16 % more local errors than the whole level's. */
-#define PIECE_BLOCKS 16
+/* Piece width, in block columns: 16 (2305 level columns with the halos)
+ * holds a piece's rings in about 14 MB in 1D, 12 (1793 columns) in
+ * about 18 MB in 3D, whose offsets add two rings; the halos cost 12 to
+ * 16 % more local errors than the whole level's. */
+#define PIECE_BLOCKS(displaced) ((displaced) ? 12 : 16)
 
 /* Whether some level comes through a FIFO (or stdin): a pipeline
  * feeding several must have them all read at once. */
@@ -375,7 +376,8 @@ run_levels(work *w, tl_err *e)
 	for (int l = 0; l < nl; l++) {
 		tiles_level L = { .level = l };
 		L.size[0] = w->ix->lev[l].size[0];
-		n += w->fifo ? 1 : tiles_pieces(&L, PIECE_BLOCKS, NULL, 0);
+		n += w->fifo ? 1 : tiles_pieces(&L,
+		    PIECE_BLOCKS(w->ix->lev[l].displaced), NULL, 0);
 	}
 	tiles_piece *p = tl_alloc(n, sizeof *p, e);
 	if (p == NULL || (q.job = tl_alloc(n, sizeof *q.job, e)) == NULL) {
@@ -390,7 +392,8 @@ run_levels(work *w, tl_err *e)
 			q.job[q.n] = (job){ .l = l, .whole = 1 };
 			total += (long long)g->height * g->width;
 		} else
-			m = tiles_pieces(&L, PIECE_BLOCKS, p, n - q.n);
+			m = tiles_pieces(&L,
+			    PIECE_BLOCKS(w->ix->lev[l].displaced), p, n - q.n);
 		for (int k = 0; !w->fifo && k < m; k++) {
 			tiles_window win;
 			q.job[q.n + k] = (job){ .l = l, .p = p[k] };
