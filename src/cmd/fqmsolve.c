@@ -2,14 +2,18 @@
  * quadric is least (QEM-1D: z on the grid position; QEM-3D: x, y, z), or
  * the vertex-filtered or sub-sampled heights the FQM carries. */
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "core/cli.h"
 #include "core/fqm_input.h"
+#include "core/pool.h"
 #include "core/rowpipe.h"
 #include "core/solve.h"
 
 static const char usage[] =
-    "[-v] [-m mode] [-r cut] [-z compression] [in [out]]\n"
+    "[-v] [-j jobs] [-m mode] [-r cut] [-z compression] [in [out]]\n"
+    "  -j jobs         qem3d: threads placing a row's vertices (default: "
+    "the CPUs)\n"
     "  -m mode         qem1d (default), qem3d, filtered, subsample\n"
     "  -r cut          qem3d: eigenvalues below cut x largest are free "
     "(default 1e-3)\n"
@@ -22,6 +26,7 @@ typedef struct {
 	enum solve_mode mode;
 	double rel;
 	int verbose;
+	int jobs;
 	const char *in, *out;
 } options;
 
@@ -55,6 +60,7 @@ static int
 solve(const cli *c, const options *o, tl_err *e)
 {
 	job j = { .oh = NULL };
+	tl_pool *pool = NULL;
 	rs_header oh;
 	long long n;
 	int r = -1;
@@ -67,6 +73,10 @@ solve(const cli *c, const options *o, tl_err *e)
 	    solve_header(&oh, j.in.h, o->mode, e) < 0)
 		goto done;
 	j.s.rel = o->rel;
+	if (o->mode == SOLVE_QEM3D && o->jobs > 1 &&
+	    ((pool = tl_pool_new(o->jobs, e)) == NULL ||
+	    solve_pool(&j.s, pool, e) < 0))
+		goto done;
 	if ((j.sv = tl_alloc(j.in.h->width, sizeof *j.sv, e)) != NULL)
 		r = rowpipe_run(c->prog, o->out, &oh, c->comp, vertex_row, &j, e);
 	n = (long long)j.in.h->width * j.in.h->height;
@@ -78,6 +88,7 @@ done:
 	fqm_input_close(&j.in);
 	rs_header_free(&oh);
 	solve_free(&j.s);
+	tl_pool_free(pool);
 	free(j.sv);
 	return r;
 }
@@ -89,21 +100,29 @@ main(int argc, char **argv)
 		{ "mode", required_argument, NULL, 'm' },
 		{ NULL, 0, NULL, 0 },
 	};
-	options o = { SOLVE_QEM1D, 1e-3, 0, "-", "-" };
+	long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+	options o = { SOLVE_QEM1D, 1e-3, 0, 1, "-", "-" };
 	cli c;
 	tl_err e;
 	int ch;
 
+	o.jobs = ncpu < 1 ? 1 : ncpu > TL_POOL_MAXTHREADS ?
+	    TL_POOL_MAXTHREADS : (int)ncpu;
 	cli_init(&c, argv, usage, CLI_COMPRESSION);
-	while ((ch = cli_next(&c, argc, argv, "m:r:v", longopts)) != -1) {
-		if (ch == 'm' && solve_mode_parse(optarg, &o.mode) < 0)
+	while ((ch = cli_next(&c, argc, argv, "j:m:r:v", longopts)) != -1) {
+		if (ch == 'j' && (tl_parse_int(optarg, &o.jobs) < 0 ||
+		    o.jobs < 1))
+			return cli_bad(&c, "-j %s: not a positive number", optarg);
+		else if (ch == 'j' && o.jobs > TL_POOL_MAXTHREADS)
+			o.jobs = TL_POOL_MAXTHREADS;
+		else if (ch == 'm' && solve_mode_parse(optarg, &o.mode) < 0)
 			return cli_bad(&c, "-m %s: unknown mode", optarg);
 		else if (ch == 'r' && (tl_parse_double(optarg, &o.rel) < 0 ||
 		    o.rel < 0 || o.rel >= 1))
 			return cli_bad(&c, "-r %s: not a number in [0, 1)", optarg);
 		else if (ch == 'v')
 			o.verbose = 1;
-		else if (ch != 'm' && ch != 'r')
+		else if (ch != 'j' && ch != 'm' && ch != 'r')
 			return cli_usage_error(&c);
 	}
 	if ((ch = cli_filter_args(&c, argc, argv, &o.in, &o.out)) >= 0)

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/pool.h"
 #include "core/solve.h"
 #include "tap.h"
 #include "urand.h"
@@ -288,6 +289,70 @@ test_direct(void)
 	    n - bad);
 }
 
+/* QEM-3D rows solved on a pool of n threads (placements and fold checks
+ * cut in ranges), for the test below: targets up to `reach` cells away
+ * force folds to fix. */
+static void
+solve_on(int n, int level, int W, int H, double reach, solve_vertex *lev,
+    long long counts[2])
+{
+	geo_metric m;
+	fqm_vertex *in = calloc(W, sizeof *in);
+	tl_pool *p = n > 1 ? tl_pool_new(n, NULL) : NULL;
+	solve_state s;
+	unsigned seed = 7;
+	double sx = DX * (1 << level), sy = DY * (1 << level);
+
+	geo_metric_const(&m, (W > H ? W : H) << (level + 1), DX, DY, NULL);
+	solve_init(&s, SOLVE_QEM3D, level, W, H, &m, NULL);
+	solve_pool(&s, p, NULL);
+	for (int j = 0; j < H; j++) {
+		for (int i = 0; i < W; i++) {
+			double c[3] = { reach * sx * urand(&seed),
+				reach * sy * urand(&seed), 3 * urand(&seed) };
+			double ns[3][3] = { { 0.3, 0, 1 },
+				{ -0.2 + 0.1 * urand(&seed), 0.4, 1 }, { 0, -0.5, 1 } };
+			quadric_zero(&in[i].q);
+			for (int k = 0; k < 3; k++) {
+				double *nn = ns[k], l = sqrt(nn[0] * nn[0] +
+				    nn[1] * nn[1] + 1);
+				double u[3] = { nn[0] / l, nn[1] / l, 1 / l };
+				quadric_add_plane(&in[i].q, u, -(u[0] * c[0] +
+				    u[1] * c[1] + u[2] * c[2]), 1);
+			}
+			in[i].z = 100, in[i].v = 1;
+		}
+		solve_row(&s, in, lev + (size_t)j * W);
+	}
+	counts[0] = s.reduced, counts[1] = s.zeroed;
+	solve_free(&s);
+	tl_pool_free(p);
+	geo_metric_free(&m);
+	free(in);
+}
+
+/* The same level on 1, 2 and 5 threads: the same vertices bit for bit,
+ * the same fold fix counts (each vertex placed alone; a mark is a set). */
+static void
+test_pool(void)
+{
+	int W = 203, H = 37;
+	size_t n = (size_t)W * H;
+	solve_vertex *a = calloc(n, sizeof *a), *b = calloc(n, sizeof *b);
+	long long ca[2], cb[2];
+
+	solve_on(1, 1, W, H, 2.0, a, ca);
+	for (int t = 2; t <= 5; t += 3) {
+		solve_on(t, 1, W, H, 2.0, b, cb);
+		ok(memcmp(a, b, n * sizeof *a) == 0 && ca[0] == cb[0] &&
+		    ca[1] == cb[1] && ca[0] > 0,
+		    "QEM-3D %dx%d on %d threads: every vertex and the fold "
+		    "fix's counts (%lld reduced, %lld zeroed) those of one "
+		    "thread, bit for bit", W, H, t, ca[0], ca[1]);
+	}
+	free(a), free(b);
+}
+
 int
 main(void)
 {
@@ -299,5 +364,6 @@ main(void)
 	test_folds(0, 60, 40, 0.3);
 	test_folds(2, 60, 40, 1.0);
 	test_folds(3, 129, 129, 3.0);
+	test_pool();
 	return tap_done();
 }

@@ -1,6 +1,7 @@
 /* solve.c - per-level vertex placement, and the streaming fold fix of the
  * 3D mode (see solve.h). */
 #include "core/solve.h"
+#include "core/pool.h"
 
 #include <assert.h>
 #include <float.h>
@@ -49,24 +50,37 @@ solve_init(solve_state *s, enum solve_mode mode, int level, int w, int h,
 	s->hist[0] = tl_alloc(w, sizeof *s->hist[0], e);
 	s->hist[1] = tl_alloc(w, sizeof *s->hist[1], e);
 	s->mark = tl_alloc(w, 1, e);
-	s->msx[0] = tl_alloc((size_t)10 * w, sizeof *s->msx[0], e);
-	for (int r = 0; s->msx[0] != NULL && r < 5; r++) {
-		s->msx[r] = s->msx[0] + (size_t)r * w;
-		s->my[r] = s->msx[0] + (size_t)(5 + r) * w;
+	s->mbuf = tl_alloc((size_t)10 * w, sizeof *s->mbuf, e);
+	for (int r = 0; s->mbuf != NULL && r < 5; r++) {
+		s->msx[r] = s->mbuf + (size_t)r * w;
+		s->my[r] = s->mbuf + (size_t)(5 + r) * w;
 	}
 	if (s->hist[0] == NULL || s->hist[1] == NULL || s->mark == NULL ||
-	    s->msx[0] == NULL) {
+	    s->mbuf == NULL) {
 		solve_free(s);
 		return -1;
 	}
 	return 0;
 }
 
+int
+solve_pool(solve_state *s, struct tl_pool *p, tl_err *e)
+{
+	free(s->markt);
+	s->markt = NULL, s->pool = p;
+	if (p == NULL || s->mode != SOLVE_QEM3D)
+		return 0;
+	s->markt = tl_alloc((size_t)tl_pool_threads(p), (size_t)s->w, e);
+	return s->markt != NULL ? 0 : -1;
+}
+
 void
 solve_free(solve_state *s)
 {
-	free(s->hist[0]), free(s->hist[1]), free(s->mark), free(s->msx[0]);
-	s->hist[0] = s->hist[1] = NULL, s->mark = NULL, s->msx[0] = NULL;
+	free(s->hist[0]), free(s->hist[1]), free(s->mark), free(s->mbuf);
+	free(s->markt);
+	s->hist[0] = s->hist[1] = NULL, s->mark = NULL, s->mbuf = NULL;
+	s->markt = NULL;
 }
 
 static double
@@ -99,11 +113,21 @@ row0(const solve_state *s, int j)
 }
 
 /* The metric at the vertices of rows j-2 .. j+2, once per row: the fold
- * fix asks for it a hundred times per vertex. */
+ * fix asks for it a hundred times per vertex. Rows come in order, so
+ * four of the five are the previous row's, moved up. */
 static void
 cache_metric(solve_state *s, int j)
 {
-	for (int r = 0; r < 5; r++) {
+	int r0 = 0;
+
+	if (j > 0) {
+		double *x = s->msx[0], *y = s->my[0];
+		for (int r = 0; r < 4; r++)
+			s->msx[r] = s->msx[r + 1], s->my[r] = s->my[r + 1];
+		s->msx[4] = x, s->my[4] = y;
+		r0 = 4;
+	}
+	for (int r = r0; r < 5; r++) {
 		double J = row0(s, j - 2 + r);
 		for (int i = 0; i < s->w; i++) {
 			s->msx[r][i] = geo_sx(s->m, row0(s, i), J);
@@ -169,8 +193,8 @@ tri_ok(const solve_state *s, int j, const solve_vertex *cur, const int v[3][2])
 /* Checks one triangle (anchor + offsets) touching row j; marks its row-j
  * vertices when it breaks the invariant. */
 static int
-check(solve_state *s, int j, const solve_vertex *cur, int ci, int cj,
-    const int (*t)[2])
+check(const solve_state *s, int j, const solve_vertex *cur, int ci, int cj,
+    const int (*t)[2], unsigned char *mark)
 {
 	int v[3][2], touches = 0;
 
@@ -185,34 +209,73 @@ check(solve_state *s, int j, const solve_vertex *cur, int ci, int cj,
 		return 0;
 	for (int k = 0; k < 3; k++)
 		if (v[k][1] == j)
-			s->mark[v[k][0]] = 1;
+			mark[v[k][0]] = 1;
 	return 1;
+}
+
+/* The triangles anchored in columns i0 .. i1-1 (a pool's range k),
+ * their row-j vertices that break the invariant marked in `mark`. */
+typedef struct {
+	const solve_state *s;
+	int j;
+	const solve_vertex *cur;
+	unsigned char *mark[TL_POOL_MAXTHREADS];
+	int bad[TL_POOL_MAXTHREADS];
+} marking;
+
+static void
+mark_range(void *arg, int k, int i0, int i1)
+{
+	marking *m = arg;
+	const solve_state *s = m->s;
+	int j = m->j, bad = 0;
+
+	for (int cj = j - 1; cj <= j; cj++)
+		for (int ci = i0; ci < i1 && ci + 1 < s->w; ci++)
+			for (int t = 0; t < 4; t++)
+				bad += check(s, j, m->cur, ci, cj, celltri[t],
+				    m->mark[k]);
+	for (int r = j - 1; r <= j + 1; r++)
+		for (int c = i0; c < i1; c++) {
+			int kind = (c & 1) && !(r & 1) ? 0 :
+			    !(c & 1) && (r & 1) ? 1 : -1;
+			if (kind < 0)
+				continue;
+			for (int t = 0; t < 2; t++)
+				bad += check(s, j, m->cur, c, r,
+				    edgetri[kind][t], m->mark[k]);
+		}
+	m->bad[k] = bad;
 }
 
 /* Marks the vertices of row j in triangles that break the invariant:
  * every checked triangle with a vertex in row j is positive with earlier
  * rows final and later rows on the grid. Then the next row can always be
  * fixed by moving only itself (on the grid, it meets this very test), so
- * rows are final as soon as they are fixed. Returns the failures. */
+ * rows are final as soon as they are fixed. Returns the failures. On a
+ * pool each range marks its own copy, then the copies are merged: a
+ * mark is a set, so the result is the same. */
 static int
 mark_bad(solve_state *s, int j, const solve_vertex *cur)
 {
-	int bad = 0;
+	marking m = { s, j, cur, { 0 }, { 0 } };
+	int n = s->pool != NULL ? tl_pool_threads(s->pool) : 1, bad = 0;
 
 	memset(s->mark, 0, s->w);
-	for (int cj = j - 1; cj <= j; cj++)
-		for (int ci = 0; ci + 1 < s->w; ci++)
-			for (int t = 0; t < 4; t++)
-				bad += check(s, j, cur, ci, cj, celltri[t]);
-	for (int r = j - 1; r <= j + 1; r++)
-		for (int c = 0; c < s->w; c++) {
-			int kind = (c & 1) && !(r & 1) ? 0 :
-			    !(c & 1) && (r & 1) ? 1 : -1;
-			if (kind < 0)
-				continue;
-			for (int t = 0; t < 2; t++)
-				bad += check(s, j, cur, c, r, edgetri[kind][t]);
-		}
+	if (n == 1) {
+		m.mark[0] = s->mark;
+		mark_range(&m, 0, 0, s->w);
+		return m.bad[0];
+	}
+	memset(s->markt, 0, (size_t)n * s->w);
+	for (int k = 0; k < n; k++)
+		m.mark[k] = s->markt + (size_t)k * s->w;
+	tl_pool_for(s->pool, s->w, mark_range, &m);
+	for (int k = 0; k < n; k++) {
+		bad += m.bad[k];
+		for (int i = 0; i < s->w; i++)
+			s->mark[i] |= m.mark[k][i];
+	}
 	return bad;
 }
 
@@ -257,6 +320,24 @@ fix_folds(solve_state *s, int j, solve_vertex *cur)
 	}
 }
 
+/* The free placements of vertices i0 .. i1-1 of the row (a pool's
+ * range: each vertex on its own, so any cut gives the same bits). */
+typedef struct {
+	const solve_state *s;
+	int j;
+	const fqm_vertex *in;
+	solve_vertex *out;
+} placing;
+
+static void
+place_range(void *arg, int k, int i0, int i1)
+{
+	const placing *p = arg;
+
+	for (int i = i0; i < i1; i++)
+		place3d(p->s, i, p->j, &p->in[i], &p->out[i]);
+}
+
 void
 solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 {
@@ -276,14 +357,18 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 			out[i].z = in[i].s;
 			continue;
 		case SOLVE_QEM3D:
-			place3d(s, i, j, &in[i], &out[i]);
-			break;
 		case SOLVE_QEM1D:
 			break;
 		}
 	}
-	if (s->mode == SOLVE_QEM3D)
+	if (s->mode == SOLVE_QEM3D) {
+		placing p = { s, j, in, out };
+		if (s->pool != NULL)
+			tl_pool_for(s->pool, s->w, place_range, &p);
+		else
+			place_range(&p, 0, 0, s->w);
 		fix_folds(s, j, out);
+	}
 	if (s->mode == SOLVE_QEM1D || s->mode == SOLVE_QEM3D)
 		for (int i = 0; i < s->w; i++) {
 			double z = 0;

@@ -24,7 +24,12 @@ typedef struct {
 	solve_vertex *hist[2]; /* 3D: the two previous rows (j-1, j-2), final */
 	double *msx[5], *my[5]; /* 3D: geo_sx and geo_y at the vertices of
 	                         * rows j-2 .. j+2 (the fold fix's reach) */
+	double *mbuf;           /* their memory */
 	unsigned char *mark;
+	struct tl_pool *pool; /* 3D: the placements and the fold checks on
+	                       * its threads, or NULL: this one; set with
+	                       * solve_pool */
+	unsigned char *markt; /* 3D on a pool: a row of marks per thread */
 	int row;         /* next row expected */
 	long long reduced; /* 3D: vertices whose offset the fold fix reduced */
 	long long zeroed;  /* ... of which set back onto the grid */
@@ -56,6 +61,8 @@ void solve_encode(const rs_header *oh, const solve_vertex *v, float *row);
  * (fqm_check_row). */
 void solve_row_direct(solve_state *s, const fqm_layout *L, const float *in,
     const rs_header *oh, float *row);
+/* 3D: the work on p's threads (NULL: this one); p outlives s's use. */
+int solve_pool(solve_state *s, struct tl_pool *p, tl_err *e);
 void solve_free(solve_state *s);
 
 /* 1 when the cell with corners p[0] (i,j), p[1] (i+1,j), p[2] (i+1,j+1),
