@@ -12,13 +12,13 @@
 #include <string.h>
 
 /* fmin/fmax are library calls here; these inline. */
-static inline double
+static inline __attribute__((always_inline)) double
 dmin(double a, double b)
 {
 	return a < b ? a : b;
 }
 
-static inline double
+static inline __attribute__((always_inline)) double
 dmax(double a, double b)
 {
 	return a > b ? a : b;
@@ -165,7 +165,7 @@ vc_fill(strip *t, int hk, int k)
  * from the scale's rows of positions, each found once while in use (a
  * DEM row reaches at most 6 consecutive rows of a scale's vertices and
  * rows come in order). */
-static inline void
+static inline __attribute__((always_inline)) void
 vertex_at(strip *t, int hk, int gi, int gj, double p[3])
 {
 	const state *s = t->s;
@@ -177,7 +177,7 @@ vertex_at(strip *t, int hk, int gi, int gj, double p[3])
 		p[0] = gi, p[1] = gj, p[2] = s->z[slot(s, gj) + (gi - s->c0)];
 		return;
 	}
-	assert(gi % (1 << hk) == 0 && gj % (1 << hk) == 0);
+	assert(((gi | gj) & ((1 << hk) - 1)) == 0); /* (both >= 0) */
 	k = gj >> hk, r = k & (VC_ROWS - 1);
 	if (t->vc[hk].tag[r] != k)
 		vc_fill(t, hk, k);
@@ -187,21 +187,21 @@ vertex_at(strip *t, int hk, int gi, int gj, double p[3])
 }
 
 /* (long)ceil(x) and (long)floor(x), inline, for |x| < 2^62. */
-static inline long
+static inline __attribute__((always_inline)) long
 iceil(double x)
 {
 	long t = (long)x;
 	return (double)t < x ? t + 1 : t;
 }
 
-static inline long
+static inline __attribute__((always_inline)) long
 ifloor(double x)
 {
 	long t = (long)x;
 	return (double)t > x ? t - 1 : t;
 }
 
-static int
+static inline __attribute__((always_inline)) int
 on_grid(const state *s, const int v[2])
 {
 	return v[0] >= s->c0 && v[1] >= 0 && v[0] < s->cend && v[1] < s->Q;
@@ -209,7 +209,7 @@ on_grid(const state *s, const int v[2])
 
 /* The largest |plane - DEM| over the valid samples of the current DEM row
  * (level row y) inside triangle t, closed; -1 when none is. */
-static double
+static inline __attribute__((always_inline)) double
 tri_row(strip *sh, const int t[3][2], double y, int hk)
 {
 	const state *s = sh->s;
@@ -276,6 +276,7 @@ tri_row(strip *sh, const int t[3][2], double y, int hk)
  * the DEM row (level row y) crosses. Square diamonds are centred on odd
  * multiples of h in both axes; edge diamonds on points with exactly one
  * odd multiple: |x - cx| + |y - cy| <= h. */
+__attribute__((target_clones("avx2", "default")))
 static void
 row_diamonds(strip *t, double y, int h, int hk, int edge)
 {
@@ -307,6 +308,7 @@ row_diamonds(strip *t, double y, int h, int hk, int edge)
 /* Raises the base errors of the blocks whose finest triangles (a cell's
  * two, diagonal by the parity of ci + cj as in the bintree) the DEM row
  * crosses. */
+__attribute__((target_clones("avx2", "default")))
 static void
 row_leaves(strip *sh, double y)
 {

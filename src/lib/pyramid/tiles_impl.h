@@ -196,6 +196,15 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 		for (int k = 0; k < 4; k++)
 			w = w0[k] > w ? w0[k] : w;
 	}
+	if (i + 3 <= b) { /* four more at once */
+		v4d x0 = { i, i + 1, i + 2, i + 3 }, v0;
+		memcpy(&v0, dd + (i - d0), sizeof v0);
+		v0 = v4max(v4abs(z0 + dz * (x0 * inv) - v0),
+		    (v4d){ w, w, w, w });
+		for (int k = 0; k < 4; k++)
+			w = v0[k] > w ? v0[k] : w;
+		i += 4;
+	}
 	for (; i <= b; i++) {
 		double d = fabs(z0 + dz * (i * inv) - dd[i - d0]);
 		if (d > w)
