@@ -383,6 +383,27 @@ test_scan(void)
 		    "rough level %d with holes: the integer scan's E and base "
 		    "errors are the general test's, bit for bit (max E %g)",
 		    level, u.st.max_e);
+		/* the plain copies of the hot loops, not the AVX2 ones */
+		{
+			run up, dp;
+			setenv("TL_NO_AVX2", "1", 1);
+			run_level(&up, path, level, w, h, v, 0, -1, -1, 1);
+			run_level_as(&dp, path, level, w, h, v, 1, -1, -1, 1, 0,
+			    1);
+			unsetenv("TL_NO_AVX2");
+			run dj;
+			run_level_as(&dj, path, level, w, h, v, 1, -1, -1, 1, 0,
+			    1);
+			ok(up.r == 0 && dp.r == 0 && dj.r == 0 &&
+			    memcmp(u.s.e, up.s.e, ng * sizeof *u.s.e) == 0 &&
+			    memcmp(u.s.base, up.s.base, nb * sizeof *u.s.base) == 0 &&
+			    memcmp(dj.s.e, dp.s.e, ng * sizeof *dj.s.e) == 0 &&
+			    memcmp(dj.s.base, dp.s.base, nb * sizeof *dj.s.base) == 0,
+			    "rough level %d: without the AVX2 copies (TL_NO_AVX2) "
+			    "the same bits, integer scan and displaced with "
+			    "offsets", level);
+			run_free(&up), run_free(&dp), run_free(&dj);
+		}
 		/* the columns in shares on threads: the same bits */
 		for (int t = 2; t <= 7; t += 5) {
 			run ut, dt;

@@ -276,9 +276,8 @@ tri_row(strip *sh, const int t[3][2], double y, int hk)
  * the DEM row (level row y) crosses. Square diamonds are centred on odd
  * multiples of h in both axes; edge diamonds on points with exactly one
  * odd multiple: |x - cx| + |y - cy| <= h. */
-__attribute__((target_clones("avx2", "default")))
-static void
-row_diamonds(strip *t, double y, int h, int hk, int edge)
+static inline __attribute__((always_inline)) void
+row_diamonds_body(strip *t, double y, int h, int hk, int edge)
 {
 	state *s = t->s;
 	double reach = h + s->margin;
@@ -308,9 +307,8 @@ row_diamonds(strip *t, double y, int h, int hk, int edge)
 /* Raises the base errors of the blocks whose finest triangles (a cell's
  * two, diagonal by the parity of ci + cj as in the bintree) the DEM row
  * crosses. */
-__attribute__((target_clones("avx2", "default")))
-static void
-row_leaves(strip *sh, double y)
+static inline __attribute__((always_inline)) void
+row_leaves_body(strip *sh, double y)
 {
 	const state *s = sh->s;
 	double mg = s->L->displaced ? 1 : EPS;
@@ -342,21 +340,39 @@ row_leaves(strip *sh, double y)
 		}
 }
 
+/* Both, in the AVX2 copy or the plain one (tiles_impl.h, TL_AVX2). */
+TL_AVX2 static void
+row_displaced_avx2(strip *t, double y)
+{
+	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
+		row_diamonds_body(t, y, h, hk, 0);
+		row_diamonds_body(t, y, h, hk, 1);
+	}
+	row_leaves_body(t, y);
+}
+
+static void
+row_displaced(strip *t, double y)
+{
+	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
+		row_diamonds_body(t, y, h, hk, 0);
+		row_diamonds_body(t, y, h, hk, 1);
+	}
+	row_leaves_body(t, y);
+}
+
 /* The errors DEM row J (t->dd) raises in t's columns. */
 static void
 scan_row(strip *t, int J)
 {
 	double y = J / t->s->step;
 
-	if (t->s->scan) {
+	if (t->s->scan)
 		tiles_scan_row(t, J);
-		return;
-	}
-	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
-		row_diamonds(t, y, h, hk, 0);
-		row_diamonds(t, y, h, hk, 1);
-	}
-	row_leaves(t, y);
+	else if (t->s->avx2)
+		row_displaced_avx2(t, y);
+	else
+		row_displaced(t, y);
 }
 
 /* --- saturation ------------------------------------------------------- */
@@ -571,6 +587,10 @@ state_init(state *s, const tiles_level *L, const tiles_piece *pc, dem *d,
 	/* QEM-3D offsets stay within half a cell (fqmsolve(1)) */
 	s->margin = L->displaced ? 0.5 + 1e-6 : EPS;
 	s->scan = !L->displaced && s->step <= SCAN_MAXSTEP;
+#if defined(__x86_64__) || defined(__i386__)
+	/* TL_NO_AVX2 set: the plain copies (t_tiles compares the two) */
+	s->avx2 = __builtin_cpu_supports("avx2") && getenv("TL_NO_AVX2") == NULL;
+#endif
 	ring = (size_t)RINGV * s->P;
 	s->z = tl_alloc(ring, sizeof *s->z, e);
 	s->acc = tl_alloc((size_t)RINGE * s->P, sizeof *s->acc, e);

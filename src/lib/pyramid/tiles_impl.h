@@ -97,6 +97,7 @@ struct state {
 	double *dd;         /* BATCH DEM rows as doubles: the window's
 	                     * columns, dend - d0 + 1 apart */
 	int scan;           /* undisplaced and step <= SCAN_MAXSTEP */
+	int avx2;           /* the CPU has AVX2: the hot loops' AVX2 copies */
 	int nstrip;
 	strip *strips;
 };
@@ -148,7 +149,13 @@ eslot(const state *s, int gj)
 /* Four doubles as one value (GCC's vector extension): the operations are
  * lane by lane the scalar ones, in the same order, on AVX2 where a
  * function is compiled for it and as pairs of SSE2 ones elsewhere. No
- * FMA: -std=c11 contracts nothing. */
+ * FMA: -std=c11 contracts nothing, and "avx2" does not enable it.
+ *
+ * The hot loops exist twice, the body inlined into a copy compiled for
+ * AVX2 and a plain one, chosen at run time by state.avx2: not GCC's
+ * target_clones, whose ifunc resolvers run before the sanitizers'
+ * runtimes and crash them. */
+#define TL_AVX2 __attribute__((target("avx2")))
 /* (the functions taking and returning them are inlined: no ABI to keep) */
 #pragma GCC diagnostic ignored "-Wpsabi"
 typedef double v4d __attribute__((vector_size(32)));

@@ -238,9 +238,8 @@ raise_at(const sink *o, int cx, double err)
  * chords inside the DEM row LANES centres at a time. Raising by each
  * triangle in turn is raising by their maximum: a float's rounding keeps
  * the order. */
-__attribute__((target_clones("avx2", "default")))
-static void
-scan_template(const state *s, const double *dd, const tmpl *t,
+static inline __attribute__((always_inline)) void
+scan_template_body(const state *s, const double *dd, const tmpl *t,
     const sink *o, int first, int end, int stride)
 {
 	long S = (long)s->step, last = s->dend - 1;
@@ -269,6 +268,23 @@ scan_template(const state *s, const double *dd, const tmpl *t,
 	}
 	for (; cx < end; cx += stride)
 		raise_at(o, cx, tri_at(s, dd, t, cx));
+}
+
+TL_AVX2 static void
+scan_template_avx2(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
+{
+	scan_template_body(s, dd, t, o, first, end, stride);
+}
+
+static void
+scan_template(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
+{
+	if (s->avx2)
+		scan_template_avx2(s, dd, t, o, first, end, stride);
+	else
+		scan_template_body(s, dd, t, o, first, end, stride);
 }
 
 /* row_diamonds (tiles.c) by templates: the diamonds along a centre row
