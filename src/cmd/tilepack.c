@@ -10,10 +10,15 @@
 #include "pyramid/pack.h"
 
 static const char usage[] =
-    "[-fq] [-D datum] [-e encoding] [-H datum] [-j jobs] [-N nodata]\n"
-    "                [-n name] [-s dx[,dy]] dem dir level0 [level1 ...]\n"
+    "[-flq] [-D datum] [-e encoding] [-g work | -p piece] [-H datum]\n"
+    "                [-j jobs] [-N nodata] [-n name] [-s dx[,dy]]\n"
+    "                dem dir level0 [level1 ...]\n"
     "  -f              replace dir even if it is not a pyramid\n"
-    "  -j jobs         threads per level (default: the CPUs)\n"
+    "  -g work         gather: the pieces made in work become dir\n"
+    "  -j jobs         threads (default: the CPUs)\n"
+    "  -l              list the pieces, level:b0:b1 a line (dir unused)\n"
+    "  -p piece        make one piece, level:b0:b1 (its block columns\n"
+    "                  b0..b1-1), in dir taken as a work directory\n"
     "  -q              no report on stderr\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
     "  dem             the original DEM (errors are measured against it)\n"
@@ -39,16 +44,44 @@ operands(const cli *c, pack_args *a, int argc, char **argv)
 	return 0;
 }
 
+/* What to make: the whole pyramid, one piece, or the pyramid from the
+ * pieces in a work directory. */
+typedef struct {
+	int piece, level, b0, b1, list;
+	const char *gather;
+	int quiet;
+} mode;
+
 static int
-pack(const cli *c, const pack_args *a, int quiet, tl_err *e)
+pack(const cli *c, const pack_args *a, const mode *md, tl_err *e)
 {
-	pack_level *lev = tl_alloc(a->nlevels, sizeof *lev, e);
+	pack_level *lev;
 	int r = -1;
 
-	if (lev != NULL && (r = pack_run(a, lev, e)) == 0 && !quiet)
+	if (md->piece)
+		return pack_piece(a, md->level, md->b0, md->b1, e);
+	if (md->list)
+		return pack_list(a, stdout, e);
+	if ((lev = tl_alloc(a->nlevels, sizeof *lev, e)) == NULL)
+		return -1;
+	r = md->gather != NULL ? pack_gather(a, md->gather, lev, e) :
+	    pack_run(a, lev, e);
+	if (r == 0 && !md->quiet)
 		pack_report(stderr, c->prog, lev, a->nlevels);
 	free(lev);
 	return r;
+}
+
+static int
+parse_piece(const char *s, mode *md)
+{
+	char end;
+
+	if (sscanf(s, "%d:%d:%d%c", &md->level, &md->b0, &md->b1, &end) != 3 ||
+	    md->level < 0 || md->b0 < 0 || md->b1 <= md->b0)
+		return -1;
+	md->piece = 1;
+	return 0;
 }
 
 int
@@ -56,16 +89,25 @@ main(int argc, char **argv)
 {
 	long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
 	pack_args a = { 0 };
-	int ch, quiet = 0;
+	mode md = { 0 };
+	int ch;
 	cli c;
 	tl_err e;
 
 	cli_init(&c, argv, usage, CLI_DEM);
 	a.jobs = ncpu < 1 ? 1 : ncpu > PACK_MAXJOBS ? PACK_MAXJOBS : (int)ncpu;
-	while ((ch = cli_next(&c, argc, argv, "fj:q", NULL)) != -1) {
+	while ((ch = cli_next(&c, argc, argv, "fg:j:lp:q", NULL)) != -1) {
 		switch (ch) {
 		case 'f':
 			a.force = 1;
+			break;
+		case 'g':
+			md.gather = optarg;
+			break;
+		case 'p':
+			if (parse_piece(optarg, &md) < 0)
+				return cli_bad(&c, "-p %s: expected level:b0:b1, "
+				    "0 <= b0 < b1", optarg);
 			break;
 		case 'j':
 			if (tl_parse_int(optarg, &a.jobs) < 0 || a.jobs < 1)
@@ -74,8 +116,11 @@ main(int argc, char **argv)
 			if (a.jobs > PACK_MAXJOBS)
 				a.jobs = PACK_MAXJOBS;
 			break;
+		case 'l':
+			md.list = 1;
+			break;
 		case 'q':
-			quiet = 1;
+			md.quiet = 1;
 			break;
 		default:
 			return cli_usage_error(&c);
@@ -83,9 +128,11 @@ main(int argc, char **argv)
 	}
 	if (c.status >= 0)
 		return c.status;
+	if (md.piece + md.list + (md.gather != NULL) > 1)
+		return cli_bad(&c, "-g, -l and -p: one at most");
 	if ((ch = operands(&c, &a, argc - optind, argv + optind)) != 0)
 		return ch;
 	a.dem = c.dem;
 	a.prog = c.prog;
-	return cli_exit(&c, pack(&c, &a, quiet, &e), &e);
+	return cli_exit(&c, pack(&c, &a, &md, &e), &e);
 }

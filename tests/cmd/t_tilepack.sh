@@ -115,7 +115,7 @@ fails "stdin for two inputs: exit 2" 2 "^tilepack: stdin can feed only one input
     tilepack "$T/hills.tif" "$T/o/p" - -
 nothing_left "$T/o"; ok $? "refused runs leave nothing in the output directory"
 run "--help exits 0" tilepack --help
-grep -q '^usage: tilepack \[-fq\]' "$T/out"; ok $? "--help prints the usage on stdout"
+grep -q '^usage: tilepack \[-flq\]' "$T/out"; ok $? "--help prints the usage on stdout"
 run "-V exits 0" tilepack -V
 grep -q '^tilepack [0-9]' "$T/out"; ok $? "-V prints the version"
 # named after argv[0]'s last component, getopt's messages and its own alike
@@ -200,4 +200,67 @@ for bad in "-r 2" "-k lanczos" "-j x"; do
 	    timeout 20 dem2vgis $bad "$T/hills.tif" "$T/o/bad"
 	[ ! -e "$T/o/bad" ]; ok $? "dem2vgis $bad: no output"
 done
+# --- a pyramid in separate processes: pieces (-p), then gather (-g) ------
+# vmaps DEM DIR MODE: the vertex maps of every level into DIR/v0 ... as
+# files (the chain by hand, each level's FQM kept as a file)
+vmaps() {
+	mkdir -p "$2" && dem2fqm "$1" "$2/q0" || return 1
+	vm_n=$(dem2fqm -I "$1" | awk '$1 == "levels" { print $2 }') vm_l=0
+	while [ $vm_l -lt "$vm_n" ]; do
+		fqmsolve -m "$3" "$2/q$vm_l" - >"$2/v$vm_l" || return 1
+		[ $((vm_l + 1)) -lt "$vm_n" ] &&
+		    { fqmfilter "$2/q$vm_l" "$2/q$((vm_l + 1))" || return 1; }
+		vm_l=$((vm_l + 1))
+	done
+}
+# levels DIR: the vertex maps' paths in order
+levels() { ls "$1"/v* | sort -t v -k 2 -n | tr '\n' ' '; }
+gdal_translate -q -srcwin 1800 3000 1700 500 "$DATA/N48W125.hgt" "$T/wide.tif"
+for m in qem1d qem3d; do
+	d=$DATA/N48W125.hgt
+	[ $m = qem3d ] && d=$T/wide.tif
+	vmaps "$d" "$T/pv-$m" $m
+	vl=$(levels "$T/pv-$m")
+	# shellcheck disable=SC2086
+	tilepack -q "$d" "$T/pref-$m" $vl
+	# shellcheck disable=SC2086
+	pieces=$(tilepack -l "$d" - $vl)
+	np=$(echo "$pieces" | wc -l)
+	n0=$(echo "$pieces" | grep -c '^0:')
+	[ "$n0" -ge 2 ]; ok $? "$m: level 0 of $(basename "$d") is cut in $n0 pieces ($np in all)"
+	# every piece its own process, two at a time, the last ones first;
+	# the first one killed (SIGKILL) in the middle, then run again
+	first=$(echo "$pieces" | head -n 1)
+	# shellcheck disable=SC2086
+	tilepack -j 1 -p "$first" "$d" "$T/pw-$m" $vl & kp=$!
+	sleep 0.3; kill -9 $kp 2>/dev/null; wait $kp 2>/dev/null
+	[ ! -e "$T/pw-$m/.pieces/$(echo "$first" | tr : -)" ]
+	ok $? "$m: a piece killed in the middle leaves no record"
+	# shellcheck disable=SC2086
+	echo "$pieces" | sort -r | xargs -P 2 -I P tilepack -j 1 -p P "$d" "$T/pw-$m" $vl
+	ok $? "$m: every piece, two processes at a time"
+	half=$(find "$T/pw-$m" -name '.*.??????' | wc -l)
+	[ "$half" -eq 0 ]; ok $? "$m: no temporary left in the work directory ($half)"
+	# shellcheck disable=SC2086
+	tilepack -q -g "$T/pw-$m" "$d" "$T/pout-$m" $vl &&
+	    diff -r "$T/pref-$m" "$T/pout-$m" >/dev/null
+	ok $? "$m: the gathered pyramid is tilepack's, byte for byte (index included)"
+	[ ! -e "$T/pw-$m" ]; ok $? "$m: the work directory became the pyramid"
+done
+# A missing piece, a piece not of the cut, both -g and -p: refused.
+d=$DATA/N48W125.hgt vl=$(levels "$T/pv-qem1d")
+# shellcheck disable=SC2086
+for p in $(tilepack -l "$d" - $vl | sed 1d); do
+	tilepack -j 1 -p "$p" "$d" "$T/pw-miss" $vl || echo "piece $p failed"
+done
+# shellcheck disable=SC2086
+fails "-g with a piece missing" 1 "^tilepack: .*pw-miss: level 0, block columns 0\.\.13: piece not made" \
+    tilepack -q -g "$T/pw-miss" "$d" "$T/pout-miss" $vl
+[ ! -e "$T/pout-miss" ]; ok $? "-g with a piece missing: no output"
+# shellcheck disable=SC2086
+fails "-p 0:0:3, not one of level 0's pieces" 1 "^tilepack: piece 0:0:3: not one of level 0's 2 pieces" \
+    tilepack -p 0:0:3 "$d" "$T/pw-bad" $vl
+# shellcheck disable=SC2086
+fails "-g and -p together" 2 "^tilepack: -g, -l and -p: one at most" \
+    tilepack -g "$T/pw-miss" -p 0:0:14 "$d" "$T/x" $vl
 done_testing

@@ -246,20 +246,25 @@ tmp_name(const char *path, tl_err *e)
                   * of an older version, or one killed between mkdtemp and
                   * its lock) is taken as abandoned after this long */
 
-/* 1 when name is ".BASE.XXXXXX", mkstemp's six letters and digits. */
+/* 1 when x ends in ".XXXXXX", mkstemp's six letters and digits. */
 static int
-is_tmp_of(const char *name, const char *base, size_t blen)
+has_tmp_tail(const char *x, size_t n)
 {
-	const char *x = name + blen + 2;
-
-	if (name[0] != '.' || strncmp(name + 1, base, blen) != 0 ||
-	    name[blen + 1] != '.' || strlen(x) != 6)
+	if (n < 7 || x[n - 7] != '.')
 		return 0;
-	for (int i = 0; i < 6; i++)
+	for (size_t i = n - 6; i < n; i++)
 		if (!((x[i] >= 'a' && x[i] <= 'z') || (x[i] >= 'A' &&
 		    x[i] <= 'Z') || (x[i] >= '0' && x[i] <= '9')))
 			return 0;
 	return 1;
+}
+
+/* 1 when name is ".BASE.XXXXXX". */
+static int
+is_tmp_of(const char *name, const char *base, size_t blen)
+{
+	return name[0] == '.' && strncmp(name + 1, base, blen) == 0 &&
+	    strlen(name) == blen + 8 && has_tmp_tail(name, blen + 8);
 }
 
 /* A temporary file whose lock can be taken: its owner is dead. */
@@ -401,6 +406,26 @@ tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 	return out_begin(o, path, 0, e);
 }
 
+void
+tl_out_sweep_dir(const char *dir)
+{
+	struct dirent *de;
+	DIR *D;
+	int pfd;
+
+	if ((pfd = open(dir, DIRFLAGS)) < 0)
+		return;
+	if ((D = fdopendir(pfd)) == NULL) {
+		close(pfd);
+		return;
+	}
+	while ((de = readdir(D)) != NULL)
+		if (de->d_name[0] == '.' &&
+		    has_tmp_tail(de->d_name, strlen(de->d_name)))
+			sweep_file(pfd, de->d_name);
+	closedir(D);
+}
+
 int
 tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
 {
@@ -522,10 +547,36 @@ outdir_end(tl_outfile *o)
 }
 
 int
+tl_dir_install(const char *tmp, const char *path, tl_err *e)
+{
+	struct stat st;
+
+	/* Replace an earlier directory by swapping the two atomically
+	 * (renameat2 RENAME_EXCHANGE), then remove the old one: readers
+	 * see the old tree or the new one, never a mix or nothing. */
+	if (lstat(path, &st) == 0) {
+		if (!S_ISDIR(st.st_mode))
+			return tl_fail(e, "%s: exists and is not a directory",
+			    path);
+		if (syscall(SYS_renameat2, AT_FDCWD, tmp, AT_FDCWD, path,
+		    2 /* RENAME_EXCHANGE */) != 0)
+			return tl_failsys(e, "%s: replace", path);
+		rmtree_at(AT_FDCWD, tmp); /* now the old tree */
+		return 0;
+	}
+	return rename(tmp, path) != 0 ? tl_failsys(e, "%s: rename", path) : 0;
+}
+
+void
+tl_rmtree(const char *path)
+{
+	rmtree_at(AT_FDCWD, path);
+}
+
+int
 tl_outdir_commit(tl_outfile *o, tl_err *e)
 {
 	char lock[PATH_MAX];
-	struct stat st;
 	int r = 0;
 
 	/* The lock file leaves the tree before it is committed (the
@@ -534,21 +585,8 @@ tl_outdir_commit(tl_outfile *o, tl_err *e)
 	if ((size_t)snprintf(lock, sizeof lock, "%s/%s", o->tmp, LOCKNAME) <
 	    sizeof lock && unlink(lock) != 0 && errno != ENOENT)
 		r = tl_failsys(e, "%s: remove", lock);
-	/* Replace an earlier directory by swapping the two atomically
-	 * (renameat2 RENAME_EXCHANGE), then remove the old one: readers
-	 * see the old tree or the new one, never a mix or nothing. */
-	if (r != 0)
-		;
-	else if (lstat(o->path, &st) == 0) {
-		if (!S_ISDIR(st.st_mode))
-			r = tl_fail(e, "%s: exists and is not a directory", o->path);
-		else if (syscall(SYS_renameat2, AT_FDCWD, o->tmp, AT_FDCWD,
-		    o->path, 2 /* RENAME_EXCHANGE */) != 0)
-			r = tl_failsys(e, "%s: replace", o->path);
-		else
-			rmtree_at(AT_FDCWD, o->tmp); /* now the old tree */
-	} else if (rename(o->tmp, o->path) != 0)
-		r = tl_failsys(e, "%s: rename", o->path);
+	if (r == 0)
+		r = tl_dir_install(o->tmp, o->path, e);
 	if (r != 0)
 		rmtree_at(AT_FDCWD, o->tmp);
 	outdir_end(o);

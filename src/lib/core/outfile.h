@@ -40,6 +40,15 @@ void tl_out_abort(tl_outfile *o);            /* close + unlink, never fails */
  * the sibling trees ".NAME.XXXXXX" of dead builders: those whose lock can
  * be taken, and those without a lock file older than a minute. */
 int tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e);
+/* Removes the temporaries ".NAME.XXXXXX" of dead writers (those whose
+ * lock can be taken) from dir: once, before writing into a directory
+ * that other processes build too (a plan's pieces). Best effort. */
+void tl_out_sweep_dir(const char *dir);
+/* The finished tree tmp becomes path, replacing an earlier directory
+ * there atomically (tl_outdir_commit's last step). */
+int tl_dir_install(const char *tmp, const char *path, tl_err *e);
+/* Removes a tree, as an abort does (symbolic links not followed). */
+void tl_rmtree(const char *path);
 int tl_outdir_commit(tl_outfile *o, tl_err *e);
 void tl_outdir_abort(tl_outfile *o);
 

@@ -42,6 +42,22 @@ typedef struct {
  * whose fault says less than theirs. */
 int pack_run(const pack_args *a, pack_level *out, tl_err *e);
 
+/* A pyramid in separate processes (a plan): each piece of each level
+ * (level l's block columns [b0, b1), as pack_run cuts them) by
+ * pack_piece, into a->dir taken as a work directory (made if missing,
+ * shared by the pieces): its blocks, then a record of them. Then
+ * pack_gather reads every piece's record from the work directory dir,
+ * writes the index and makes dir the pyramid a->dir, atomically; out as
+ * pack_run's. The result is pack_run's, byte for byte. A killed piece
+ * leaves no half-written file (its temporaries are swept by the next
+ * run of a piece there) and no record: it is simply run again. */
+int pack_piece(const pack_args *a, int l, int b0, int b1, tl_err *e);
+int pack_gather(const pack_args *a, const char *dir, pack_level *out,
+    tl_err *e);
+/* The pieces, "level:b0:b1" a line, level 0 first (from the DEM's header
+ * and the vertex maps' headers: nothing is computed). */
+int pack_list(const pack_args *a, FILE *f, tl_err *e);
+
 /* One line per level: "prog: level l: WxH vertices, BXxBY blocks, 1D,
  * max E x m, max base error y m". */
 void pack_report(FILE *f, const char *prog, const pack_level *L, int n);
