@@ -21,7 +21,8 @@ static const char usage[] =
     "  -n name         the file name of a DEM on stdin (N42E001.hgt)\n"
     "  -s dx[,dy]      cell size in metres (overrides the CRS's metric)\n"
     "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
-    "  dem             any raster GDAL reads, or EXR; - (stdin, default)\n"
+    "  dem             any raster GDAL reads, EXR, or a list of DEM files (a\n"
+    "                  mosaic); - (stdin, default)\n"
     "  out             level-0 FQM: EXR file or - (stream, default)\n";
 
 typedef struct {

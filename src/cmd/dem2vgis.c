@@ -14,7 +14,7 @@
 static const char usage[] =
     "[-3fq] [-j jobs] [-k kernel] [-r cut] [-D datum] [-e encoding]\n"
     "                [-H datum] [-N nodata] [-n name] [-s dx[,dy]] "
-    "dem dir\n"
+    "dem ... dir\n"
     "  -3              QEM-3D levels (fqmsolve -m qem3d)\n"
     "  -f              replace dir if it exists\n"
     "  -j jobs         tilepack's threads (default: the CPUs)\n"
@@ -22,7 +22,7 @@ static const char usage[] =
     "  -q              no summary from tilepack\n"
     "  -r cut          fqmsolve -r (QEM-3D)\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
-    "  dem             the DEM, or - (stdin)\n"
+    "  dem ...         the DEM, or - (stdin); several are one mosaic\n"
     "  dir             the pyramid directory to build\n";
 
 /* The directory of this program: the stages installed beside it, or the
@@ -95,10 +95,14 @@ main(int argc, char **argv)
 	cli_init(&c, argv, usage, 0);
 	if ((st = parse(&c, argc, argv, &o)) >= 0)
 		return st;
-	if (argc - optind != 2)
+	if (argc - optind < 2)
 		return cli_usage_error(&c);
 	o.prog = c.prog, o.bindir = bindir(self, sizeof self);
-	o.dem = argv[optind], o.out = argv[optind + 1];
+	o.dem = argv[optind], o.out = argv[argc - 1];
+	o.dems = argv + optind, o.ndem = argc - optind - 1;
+	for (int k = 0; o.ndem > 1 && k < o.ndem; k++)
+		if (strcmp(o.dems[k], "-") == 0)
+			return cli_bad(&c, "-: stdin can only be the one DEM");
 	if (pipeline_run(&o, &st, &e) == 0)
 		return 0;
 	fprintf(stderr, "%s\n", e.msg); /* the failing stage's own words */

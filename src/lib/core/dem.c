@@ -1,7 +1,8 @@
 /* dem.c - DEM input: the dem object, stdin, the conversion of source
  * samples to metres (the options are dem_opts.c's). The formats are the
  * adapters' business: GDAL reads every raster it knows (dem_gdal.c),
- * OpenImageIO the EXRs GDAL 3.6 cannot read (dem_oiio.c).
+ * OpenImageIO the EXRs GDAL 3.6 cannot read (dem_oiio.c); a list of DEM
+ * files is a mosaic of them (dem_list.c, dem_mosaic.c).
  *
  * The source is converted once to float32 rows in an anonymous scratch
  * file, voids as NaN. Voids are then filled for geometry (dem_fill.c) and
@@ -293,11 +294,13 @@ check_file(const char *path, enum magic *kind, tl_err *e)
 	return 0;
 }
 
-/* EXR goes to OpenImageIO; everything else to GDAL, then OpenImageIO
- * for the few formats only it reads. */
+/* EXR goes to OpenImageIO; everything else to GDAL, then, for what GDAL
+ * does not know, a list of DEM files (its relative entries relative to
+ * base, NULL: to its own directory), then OpenImageIO for the few
+ * formats only it reads. */
 static int
-read_any(dem_load *L, georef *g, const char *path, const dem_opts *o,
-    tl_err *e)
+read_any(dem_load *L, georef *g, const char *path, const char *base,
+    const dem_opts *o, tl_err *e)
 {
 	enum magic kind;
 	int r;
@@ -309,9 +312,13 @@ read_any(dem_load *L, georef *g, const char *path, const dem_opts *o,
 	if (kind == MAGIC_KNOWN)
 		return tl_fail(e, "%s: truncated or corrupt (GDAL cannot open "
 		    "it)", L->what);
+	if (kind == MAGIC_NONE && (r = dem_read_list(L, g, path, base, o,
+	    e)) <= 0)
+		return r;
 	if ((r = dem_read_oiio(L, g, path, kind == MAGIC_EXR, o, e)) > 0)
 		return tl_fail(e, "%s: not a raster (any format GDAL reads, "
-		    "or EXR)%s", L->what, strcmp(L->what, "stdin") == 0 ?
+		    "or EXR) nor a list of DEM files%s", L->what,
+		    strcmp(L->what, "stdin") == 0 ?
 		    "; a format GDAL knows by its file name (an .hgt) needs "
 		    "that name on stdin: -n NAME" : "");
 	return r;
@@ -337,12 +344,13 @@ open_dem(const char *path, const dem_opts *o, int info, tl_err *e)
 	L.what = d->what;
 	if (strcmp(path, "-") == 0) {
 		r = spool_stdin(&sp, o->hgt_name, e);
+		/* a list on stdin: relative to the current directory */
 		if (r == 0)
-			r = read_any(&L, &d->g, sp.path, o, e);
+			r = read_any(&L, &d->g, sp.path, ".", o, e);
 		if (sp.dir.tmp != NULL)
 			tl_outdir_abort(&sp.dir);
 	} else {
-		r = read_any(&L, &d->g, path, o, e);
+		r = read_any(&L, &d->g, path, NULL, o, e);
 	}
 	free(L.seg);
 	vdatum_close(L.vd);

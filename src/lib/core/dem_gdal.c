@@ -1,7 +1,9 @@
 /* dem_gdal.c - the DEM adapter for every raster GDAL reads: its
  * georeferencing (geotransform, CRS, AREA_OR_POINT), nodata, mask band,
  * scale/offset and vertical unit, and its samples, read window by window
- * with GDAL's block cache bounded, so memory does not grow with the DEM. */
+ * with GDAL's block cache bounded, so memory does not grow with the DEM.
+ * A dataset already open (a mosaic's VRT, dem_mosaic.c) reads the same
+ * way. */
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -25,6 +27,7 @@ static pthread_once_t once = PTHREAD_ONCE_INIT;
 static void
 init(void)
 {
+	/* once per process: GDAL's configuration is global */
 	GDALAllRegister();
 	if (CPLGetConfigOption("GDAL_CACHEMAX", NULL) == NULL)
 		GDALSetCacheMax64((GIntBig)CACHE_MB << 20);
@@ -33,28 +36,47 @@ init(void)
 		CPLSetConfigOption("GDAL_PAM_ENABLED", "NO");
 }
 
-/* GDAL's messages, caught for ours (GDAL would print them). */
-typedef struct {
-	char msg[512];
-} caught;
+void
+dem_gdal_init(void)
+{
+	pthread_once(&once, init);
+}
 
+/* GDAL's messages, caught for ours (GDAL would print them). */
 static void CPL_STDCALL
 catch_error(CPLErr cls, CPLErrorNum no, const char *msg)
 {
-	caught *c = CPLGetErrorHandlerUserData();
+	dem_gdal_msg *c = CPLGetErrorHandlerUserData();
 
 	(void)no;
 	if (cls >= CE_Failure && c != NULL && c->msg[0] == '\0')
 		snprintf(c->msg, sizeof c->msg, "%s", msg);
+	else if (cls == CE_Warning && c != NULL && c->warning[0] == '\0')
+		snprintf(c->warning, sizeof c->warning, "%s", msg);
+}
+
+void
+dem_gdal_catch(dem_gdal_msg *m)
+{
+	m->msg[0] = m->warning[0] = '\0';
+	CPLPushErrorHandlerEx(catch_error, m);
+}
+
+void
+dem_gdal_release(void)
+{
+	CPLPopErrorHandler();
 }
 
 typedef struct {
 	GDALDatasetH ds;
 	GDALRasterBandH band;
-	const char *driver;
+	const char *driver;    /* the format, or the tiles' of a VRT */
+	const dem_tiles *t;    /* what a VRT's tiles agree on, or NULL */
 	int w, h, nbands;
 	int i8;        /* GDAL 3.6's signed bytes: Byte with PIXELTYPE */
-	caught c;
+	int vrt;       /* a VRT: its sources are read row band by row band */
+	dem_gdal_msg c;
 } src;
 
 /* --- georeferencing ------------------------------------------------------ */
@@ -241,12 +263,25 @@ describe(const src *s, georef *g, dem_load *L, const dem_opts *o,
     tl_err *e)
 {
 	const char *aop = GDALGetMetadataItem(s->ds, "AREA_OR_POINT", NULL);
+	const char *p;
+	char unit[64];
 	double zunit = 1, u;
-	int ok, r;
+	int ok, r, point;
+
+	/* what a VRT lost of its tiles; GDAL's strings are used at once,
+	 * since its next call (a GeoTIFF's first band query loads more
+	 * metadata) may free them */
+	if (aop == NULL && s->t != NULL && s->t->aop[0] != '\0')
+		aop = s->t->aop;
+	point = aop != NULL && strcasecmp(aop, "Point") == 0;
+	p = GDALGetRasterUnitType(s->band);
+	if ((p == NULL || p[0] == '\0') && s->t != NULL)
+		p = s->t->unit;
+	snprintf(unit, sizeof unit, "%s", p != NULL ? p : "");
 
 	memset(g, 0, sizeof *g);
 	g->unit = 1;
-	g->point = aop != NULL && strcasecmp(aop, "Point") == 0;
+	g->point = point;
 	g->nodata = GDALGetRasterNoDataValue(s->band, &ok);
 	g->has_nodata = ok != 0;
 	L->scale = GDALGetRasterScale(s->band, &ok);
@@ -267,12 +302,29 @@ describe(const src *s, georef *g, dem_load *L, const dem_opts *o,
 	/* SRTM heights are EGM96 by definition; the format does not say */
 	if (g->vdatum[0] == '\0' && strcmp(s->driver, "SRTMHGT") == 0)
 		snprintf(g->vdatum, sizeof g->vdatum, "EPSG:5773");
-	u = unit_type(GDALGetRasterUnitType(s->band));
+	u = unit_type(unit);
 	L->zunit = u > 0 ? u : zunit > 0 ? zunit : 1;
 	return 0;
 }
 
 /* --- samples --------------------------------------------------------- */
+
+/* A VRT's windows: whole rows, as many as its tiles' tallest block (so
+ * that each block is decoded once while GDAL's cache holds one band of
+ * them) within 1 to 2 million samples. Its own 128 x 128 blocks would
+ * decode every strip of a tile once per block column. */
+static void
+vrt_window(const src *s, int *ww, int *wh)
+{
+	double lo = fmax(1, floor((1 << 20) / (double)s->w));
+	double hi = fmax(1, floor((1 << 21) / (double)s->w));
+	int rows = s->t != NULL ? s->t->rows : 0;
+
+	*ww = s->w;
+	*wh = (int)fmin(fmax(rows, lo), hi);
+	if (*wh > s->h)
+		*wh = s->h;
+}
 
 /* Windows of whole GDAL blocks, about a million samples each, so every
  * block is decoded once and the buffers stay small. */
@@ -281,6 +333,10 @@ window_size(const src *s, int *ww, int *wh)
 {
 	int bx, by;
 
+	if (s->vrt) {
+		vrt_window(s, ww, wh);
+		return;
+	}
 	GDALGetBlockSize(s->band, &bx, &by);
 	bx = bx < 1 || bx > s->w ? s->w : bx;
 	by = by < 1 || by > s->h ? s->h : by;
@@ -370,32 +426,33 @@ is_hgt_name(const char *path)
 
 /* What GDAL could not open: not ours (1), or a reason worth saying. */
 static int
-not_opened(const src *s, const char *path, dem_load *L, tl_err *e)
+not_opened(const dem_gdal_msg *c, const char *path, dem_load *L,
+    tl_err *e)
 {
 	if (is_hgt_name(path))
 		return tl_fail(e, "%s: not an SRTM .hgt GDAL can read: an .hgt "
 		    "is known by its tile name (N44W072.hgt) and a size of "
 		    "2 n^2 bytes; name it so, or give the name with -n", L->what);
-	if (s->c.msg[0] != '\0' && strstr(s->c.msg, "not recognized") == NULL &&
-	    strstr(s->c.msg, "not recognised") == NULL)
+	if (c->msg[0] != '\0' && strstr(c->msg, "not recognized") == NULL &&
+	    strstr(c->msg, "not recognised") == NULL)
 		return tl_fail(e, "%s: truncated or corrupt: %s", L->what,
-		    s->c.msg);
+		    c->msg);
 	return 1;
 }
 
+/* The open dataset's size, first band and driver, or why it is no DEM. */
 static int
-open_src(src *s, const char *path, dem_load *L, tl_err *e)
+open_src(src *s, dem_load *L, tl_err *e)
 {
 	const char *p;
 
-	s->ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL,
-	    NULL, NULL);
-	if (s->ds == NULL)
-		return not_opened(s, path, L, e);
 	s->w = GDALGetRasterXSize(s->ds);
 	s->h = GDALGetRasterYSize(s->ds);
 	s->nbands = GDALGetRasterCount(s->ds);
 	s->driver = GDALGetDriverShortName(GDALGetDatasetDriver(s->ds));
+	s->vrt = strcmp(s->driver, "VRT") == 0;
+	if (s->vrt && s->t != NULL && s->t->driver[0] != '\0')
+		s->driver = s->t->driver;
 	if (s->nbands < 1) {
 		char **sub = GDALGetMetadata(s->ds, "SUBDATASETS");
 		const char *one = CSLFetchNameValue(sub, "SUBDATASET_1_NAME");
@@ -405,8 +462,9 @@ open_src(src *s, const char *path, dem_load *L, tl_err *e)
 	}
 	s->band = GDALGetRasterBand(s->ds, 1);
 	s->i8 = GDALGetRasterDataType(s->band) == GDT_Byte &&
-	    (p = GDALGetMetadataItem(s->band, "PIXELTYPE",
-	    "IMAGE_STRUCTURE")) != NULL && strcmp(p, "SIGNEDBYTE") == 0;
+	    (((p = GDALGetMetadataItem(s->band, "PIXELTYPE",
+	    "IMAGE_STRUCTURE")) != NULL && strcmp(p, "SIGNEDBYTE") == 0) ||
+	    (p == NULL && s->t != NULL && s->t->signed_byte));
 	if (GDALDataTypeIsComplex(GDALGetRasterDataType(s->band)))
 		return tl_fail(e, "%s: complex samples are not heights",
 		    L->what);
@@ -414,28 +472,53 @@ open_src(src *s, const char *path, dem_load *L, tl_err *e)
 }
 
 int
-dem_read_gdal(dem_load *L, georef *g, const char *path, const dem_opts *o,
-    tl_err *e)
+dem_read_dataset(dem_load *L, georef *g, GDALDatasetH ds,
+    const dem_tiles *t, const dem_opts *o, tl_err *e)
 {
-	src s = { 0 };
-	GDALDataType t;
+	src s = { .ds = ds, .t = t };
+	dem_tiles vt;
+	GDALDataType type;
 	int r;
 
-	pthread_once(&once, init);
-	CPLPushErrorHandlerEx(catch_error, &s.c);
-	if ((r = open_src(&s, path, L, e)) != 0)
+	dem_gdal_init();
+	/* a VRT from gdalbuildvrt lost what its tiles say */
+	if (t == NULL && strcmp(GDALGetDriverShortName(GDALGetDatasetDriver(
+	    ds)), "VRT") == 0) {
+		dem_vrt_tiles(ds, &vt);
+		s.t = &vt;
+	}
+	dem_gdal_catch(&s.c);
+	if ((r = open_src(&s, L, e)) != 0)
 		goto out;
-	t = GDALGetRasterDataType(s.band);
+	type = GDALGetRasterDataType(s.band);
 	r = -1;
-	if (dem_load_encoding(L, o, t == GDT_Byte && !s.i8 ? TL_PX_U8 :
-	    TL_PX_F64, t == GDT_Byte ? s.nbands : 1, e) < 0 ||
+	if (dem_load_encoding(L, o, type == GDT_Byte && !s.i8 ? TL_PX_U8 :
+	    TL_PX_F64, type == GDT_Byte ? s.nbands : 1, e) < 0 ||
 	    describe(&s, g, L, o, e) < 0 ||
-	    dem_load_begin(L, g, o, s.w, s.h, t == GDT_Float32, e) < 0)
+	    dem_load_begin(L, g, o, s.w, s.h, type == GDT_Float32, e) < 0)
 		goto out;
 	r = L->info ? 0 : samples(&s, L, e);
 out:
-	if (s.ds != NULL)
-		GDALClose(s.ds);
-	CPLPopErrorHandler();
+	dem_gdal_release();
+	return r;
+}
+
+int
+dem_read_gdal(dem_load *L, georef *g, const char *path, const dem_opts *o,
+    tl_err *e)
+{
+	GDALDatasetH ds;
+	dem_gdal_msg c;
+	int r;
+
+	dem_gdal_init();
+	dem_gdal_catch(&c);
+	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
+	    NULL);
+	r = ds == NULL ? not_opened(&c, path, L, e) :
+	    dem_read_dataset(L, g, ds, NULL, o, e);
+	if (ds != NULL)
+		GDALClose(ds);
+	dem_gdal_release();
 	return r;
 }

@@ -1,9 +1,12 @@
 /* dem_impl.h - inside the DEM reader (dem.h): the conversion of source
  * samples into the scratch file, which its format adapters share (GDAL in
- * dem_gdal.c, OpenImageIO for EXR in dem_oiio.c), and the void filling.
+ * dem_gdal.c, OpenImageIO for EXR in dem_oiio.c), the mosaics of several
+ * files (dem_mosaic.c, lists of them in dem_list.c), and the void filling.
  * Not for users of dem.h. */
 #ifndef TL_DEM_IMPL_H
 #define TL_DEM_IMPL_H
+
+#include <gdal.h>
 
 #include "core/dem.h"
 #include "core/oiio_plugin.h"
@@ -59,6 +62,60 @@ int dem_load_put(dem_load *L, const void *p, int t, int stride, int x0,
  * is the file's name for messages and format detection. */
 int dem_read_gdal(dem_load *L, georef *g, const char *path,
     const dem_opts *o, tl_err *e);
+
+/* --- GDAL, shared by the adapter and the mosaics (dem_gdal.c) --------- */
+
+/* GDAL set up once per process: drivers, a small block cache, no .aux.xml
+ * sidecars. */
+void dem_gdal_init(void);
+
+/* GDAL's messages caught for ours instead of printed: between
+ * dem_gdal_catch and dem_gdal_release (a stack, per thread), the first
+ * failure lands in m->msg, the first warning in m->warning. */
+typedef struct {
+	char msg[512];
+	char warning[512];
+} dem_gdal_msg;
+void dem_gdal_catch(dem_gdal_msg *m);
+void dem_gdal_release(void);
+
+/* What a VRT mosaic does not carry of its tiles but the reader needs:
+ * GDALBuildVRT drops the dataset's metadata (AREA_OR_POINT, which moves
+ * the georeferencing by half a pixel) and the band's unit, and the VRT's
+ * driver hides the tiles' (an .hgt's heights are EGM96). Each field is
+ * filled only when every tile agrees, "" (0) otherwise; the dataset's
+ * own value, when it has one, wins. */
+typedef struct {
+	char driver[32];   /* the tiles' GDAL driver */
+	char aop[16];      /* their AREA_OR_POINT */
+	char unit[64];     /* their band's unit type */
+	int signed_byte;   /* Byte with PIXELTYPE=SIGNEDBYTE (GDAL 3.6) */
+	int rows;          /* the tallest block of a tile, rows per read */
+} dem_tiles;
+
+/* Reads the DEM from the open dataset ds, which stays open. t, if not
+ * NULL, is what its tiles agree on; a VRT without it has its sources
+ * asked (dem_vrt_tiles). */
+int dem_read_dataset(dem_load *L, georef *g, GDALDatasetH ds,
+    const dem_tiles *t, const dem_opts *o, tl_err *e);
+
+/* --- mosaics (dem_mosaic.c, dem_list.c) ------------------------------- */
+
+/* The n DEM files paths, checked to lie on one grid and to agree where
+ * they overlap (not with L->info, which reads no sample), read as one DEM
+ * through an in-memory VRT. A refusal names the file at fault. */
+int dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
+    const dem_opts *o, tl_err *e);
+
+/* What the sources of the VRT ds agree on, each opened in turn (its
+ * header only); t is zeroed first. */
+void dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t);
+
+/* The file path as a list of DEM files (dem2fqm(1) says what is one):
+ * returns 1 when it is not one, else reads its mosaic. Relative entries
+ * are relative to base, NULL for the list's own directory. */
+int dem_read_list(dem_load *L, georef *g, const char *path,
+    const char *base, const dem_opts *o, tl_err *e);
 int dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
     const dem_opts *o, tl_err *e);
 

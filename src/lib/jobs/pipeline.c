@@ -143,6 +143,55 @@ spool_stdin(const pipeline_opts *o, const scratch *s, char *path, size_t n,
 	return close(fd) < 0 ? tl_failsys(e, "%s", path) : 0;
 }
 
+/* A name the list could not give back as it is: entries lose the blanks
+ * around them, and a line ends at a newline. */
+static int
+listable(const char *dem)
+{
+	size_t n = strlen(dem);
+
+	return n > 0 && strchr(dem, '\n') == NULL &&
+	    strchr(" \t\r\f\v", dem[n - 1]) == NULL;
+}
+
+/* Several DEMs: the list file the stages read as one mosaic, in scratch,
+ * one absolute path a line (a relative entry would be relative to the
+ * list's directory). Each is checked here first, so that a missing one
+ * is named as the user gave it. */
+static int
+write_list(const pipeline_opts *o, const scratch *s, char *path, size_t n,
+    tl_err *e)
+{
+	char cwd[PATHMAX];
+	FILE *f;
+	int r = 0;
+
+	if (getcwd(cwd, sizeof cwd) == NULL)
+		return tl_failsys(e, "current directory");
+	for (int k = 0; k < o->ndem; k++) {
+		if (access(o->dems[k], F_OK) < 0)
+			return tl_failsys(e, "%s", o->dems[k]);
+		if (!listable(o->dems[k]))
+			return tl_fail(e, "%s: a name holding a newline or "
+			    "ending in a blank cannot go in a list of DEMs",
+			    o->dems[k]);
+	}
+	if (snprintf(path, n, "%s/dems.txt", s->path) >= (int)n)
+		return tl_fail(e, "%s/dems.txt: name too long", s->path);
+	if ((f = fopen(path, "wx")) == NULL)
+		return tl_failsys(e, "%s", path);
+	for (int k = 0; k < o->ndem; k++) {
+		const char *d = o->dems[k];
+		fprintf(f, "%s%s%s\n", d[0] == '/' ? "" : cwd,
+		    d[0] == '/' ? "" : "/", d);
+	}
+	if (ferror(f))
+		r = tl_failsys(e, "%s", path);
+	if (fclose(f) != 0 && r == 0)
+		r = tl_failsys(e, "%s", path);
+	return r;
+}
+
 /* Our own failure (not a stage's, which names itself): "prog: what". */
 static int
 ours(const pipeline_opts *o, tl_err *e)
@@ -285,7 +334,11 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 	int levels, r;
 
 	*status = 1;
-	if (strcmp(dem, "-") == 0) {
+	if (o->ndem > 1) {
+		if (write_list(o, s, spool, sizeof spool, e) < 0)
+			return ours(o, e);
+		dem = spool;
+	} else if (strcmp(dem, "-") == 0) {
 		if (spool_stdin(o, s, spool, sizeof spool, e) < 0)
 			return ours(o, e);
 		dem = spool;

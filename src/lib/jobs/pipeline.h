@@ -8,7 +8,8 @@
  * The quadric maps travel through pipes only; each level's vertex map is
  * a stream file in a scratch directory (scratch.h); tilepack builds OUT
  * atomically. Levels go up to the first that fits one block, as
- * "dem2fqm -I" reports. */
+ * "dem2fqm -I" reports. Several DEMs are one mosaic: the stages get a
+ * list of them (dem2fqm(1)) written in the scratch directory. */
 #ifndef TL_PIPELINE_H
 #define TL_PIPELINE_H
 
@@ -20,6 +21,9 @@ typedef struct {
 	const char *prog;      /* for messages and the scratch name */
 	const char *bindir;    /* where the stages are, or NULL: PATH */
 	const char *dem, *out; /* DEM path or "-" (stdin), output directory */
+	char *const *dems;     /* ndem > 1: the DEMs of a mosaic (dem is
+	                        * the first), never "-" */
+	int ndem;
 	const char *name;      /* -n: the DEM's file name, or NULL */
 	const char *demopt[PIPELINE_MAXOPTS]; /* DEM options for dem2fqm and
 	                                       * tilepack, as argv words */

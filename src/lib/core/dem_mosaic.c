@@ -1,0 +1,701 @@
+/* dem_mosaic.c - several DEM files read as one (dem2fqm(1), MOSAICS).
+ * Each tile is checked against the first: CRS, pixel size, one grid,
+ * bands, sample type, nodata, scale and offset, unit, AREA_OR_POINT;
+ * tiles that overlap (SRTM tiles share their edge row and column) are
+ * compared where they do. GDALBuildVRT then makes them one in-memory
+ * VRT, which the GDAL adapter reads like any dataset (dem_gdal.c).
+ *
+ * Only headers are held, one per tile: samples stream through GDAL's
+ * block cache; at most two tiles are open at once besides the VRT's own
+ * pool of open sources, which GDAL bounds. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <cpl_string.h>
+#include <gdal.h>
+#include <gdal_utils.h>
+#include <ogr_srs_api.h>
+
+#include "core/dem_impl.h"
+
+#define GRID_TOL 1e-6          /* of a pixel: "on one grid" */
+#define CMP_SAMPLES (1 << 18)  /* per overlap window and tile */
+
+/* A tile's place in the mosaic's grid: columns col .. col+w-1, rows
+ * row .. row+h-1. */
+typedef struct {
+	const char *path;
+	int col, row, w, h;
+} tile;
+
+/* A tile's header: what every tile must share with the first. */
+typedef struct {
+	const char *path;
+	OGRSpatialReferenceH srs;  /* a clone (the file closes), NULL: none */
+	double gt[6];
+	int w, h, bh;              /* size, block height */
+	int nbands, i8, point, has_nodata;
+	GDALDataType type;
+	double nodata, scale, offset;
+	char driver[32], aop[16], unit[64];
+} head;
+
+/* --- headers ------------------------------------------------------------- */
+
+static GDALDatasetH
+tile_open(const char *path, tl_err *e)
+{
+	GDALDatasetH ds;
+	dem_gdal_msg c;
+
+	dem_gdal_catch(&c);
+	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
+	    NULL);
+	dem_gdal_release();
+	if (ds == NULL && (c.msg[0] == '\0' || strstr(c.msg,
+	    "not recognized") != NULL))
+		tl_fail(e, "%s: not a raster GDAL reads (a mosaic's tiles are "
+		    "read by GDAL)", path);
+	else if (ds == NULL)
+		tl_fail(e, "%s: truncated or corrupt: %s", path, c.msg);
+	else if (GDALGetRasterCount(ds) < 1) {
+		GDALClose(ds);
+		ds = NULL;
+		tl_fail(e, "%s: no raster band", path);
+	}
+	return ds;
+}
+
+/* The tile's place on Earth: a north-up geotransform, since the VRT
+ * places tiles by it and cannot turn them. */
+static int
+head_place(GDALDatasetH ds, head *h, tl_err *e)
+{
+	double *gt = h->gt;
+
+	if (GDALGetGeoTransform(ds, gt) != CE_None)
+		return tl_fail(e, "%s: no geotransform: a mosaic places its "
+		    "tiles by theirs", h->path);
+	if (gt[2] != 0 || gt[4] != 0)
+		return tl_fail(e, "%s: rotated or sheared georeferencing is not "
+		    "supported: warp it north-up first (gdalwarp)", h->path);
+	if (!isfinite(gt[0]) || !isfinite(gt[3]) || !(gt[1] > 0) ||
+	    !(gt[5] < 0) || !isfinite(gt[1]) || !isfinite(gt[5]))
+		return tl_fail(e, "%s: pixel size %g x %g: a mosaic's tiles "
+		    "must run east and south (gdalwarp them north-up first)",
+		    h->path, gt[1], gt[5]);
+	return 0;
+}
+
+static int
+head_read(GDALDatasetH ds, const char *path, head *h, tl_err *e)
+{
+	GDALRasterBandH b = GDALGetRasterBand(ds, 1);
+	OGRSpatialReferenceH srs = GDALGetSpatialRef(ds);
+	const char *p;
+	int bx, ok;
+
+	memset(h, 0, sizeof *h);
+	h->path = path;
+	if (head_place(ds, h, e) < 0)
+		return -1;
+	if (srs != NULL && (h->srs = OSRClone(srs)) == NULL)
+		return tl_fail(e, "%s: out of memory", path);
+	h->w = GDALGetRasterXSize(ds);
+	h->h = GDALGetRasterYSize(ds);
+	GDALGetBlockSize(b, &bx, &h->bh);
+	h->nbands = GDALGetRasterCount(ds);
+	h->type = GDALGetRasterDataType(b);
+	p = GDALGetMetadataItem(b, "PIXELTYPE", "IMAGE_STRUCTURE");
+	h->i8 = h->type == GDT_Byte && p != NULL && strcmp(p, "SIGNEDBYTE") == 0;
+	h->nodata = GDALGetRasterNoDataValue(b, &h->has_nodata);
+	h->scale = GDALGetRasterScale(b, &ok);
+	h->offset = GDALGetRasterOffset(b, &ok);
+	snprintf(h->driver, sizeof h->driver, "%s",
+	    GDALGetDriverShortName(GDALGetDatasetDriver(ds)));
+	p = GDALGetMetadataItem(ds, "AREA_OR_POINT", NULL);
+	snprintf(h->aop, sizeof h->aop, "%s", p != NULL ? p : "");
+	h->point = strcasecmp(h->aop, "Point") == 0;
+	p = GDALGetRasterUnitType(b);
+	snprintf(h->unit, sizeof h->unit, "%s", p != NULL ? p : "");
+	return 0;
+}
+
+/* --- agreement with the first tile ---------------------------------------- */
+
+static const char *
+crs_label(OGRSpatialReferenceH s)
+{
+	const char *n = s != NULL ? OSRGetName(s) : NULL;
+
+	return s == NULL ? "none" : n != NULL ? n : "unnamed";
+}
+
+static void
+nodata_label(const head *h, char *buf, size_t n)
+{
+	if (!h->has_nodata)
+		snprintf(buf, n, "none");
+	else
+		snprintf(buf, n, "%.17g", h->nodata);
+}
+
+static const char *
+type_label(const head *h)
+{
+	return h->i8 ? "Int8 (signed Byte)" : GDALGetDataTypeName(h->type);
+}
+
+/* The tile's place on the first's grid (t->col, t->row): the same pixel
+ * size and an origin a whole number of pixels away. A pixel size may
+ * differ only so little that the tile's far edge stays on the grid. */
+static int
+agree_grid(const head *r, const head *h, tile *t, tl_err *e)
+{
+	double fx = (h->gt[0] - r->gt[0]) / r->gt[1];
+	double fy = (h->gt[3] - r->gt[3]) / r->gt[5];
+
+	if (fabs(h->gt[1] / r->gt[1] - 1) * h->w > GRID_TOL ||
+	    fabs(h->gt[5] / r->gt[5] - 1) * h->h > GRID_TOL)
+		return tl_fail(e, "%s: pixel size %.10g x %.10g, the first "
+		    "file's (%s) %.10g x %.10g: tiles are never resampled "
+		    "(gdalwarp -tr them to one grid first)", h->path, h->gt[1],
+		    -h->gt[5], r->path, r->gt[1], -r->gt[5]);
+	if (fabs(fx) > DEM_MAXDIM || fabs(fy) > DEM_MAXDIM)
+		return tl_fail(e, "%s: more than %d pixels from the first file "
+		    "(%s): too far for one DEM", h->path, DEM_MAXDIM, r->path);
+	if (fabs(fx - round(fx)) > GRID_TOL || fabs(fy - round(fy)) > GRID_TOL)
+		return tl_fail(e, "%s: origin off the first file's (%s) grid by "
+		    "%.3g pixel in x and %.3g in y: tiles must share one grid "
+		    "(gdalwarp them onto it first)", h->path, r->path,
+		    fx - round(fx), fy - round(fy));
+	t->col = (int)round(fx);
+	t->row = (int)round(fy);
+	t->w = h->w;
+	t->h = h->h;
+	return 0;
+}
+
+/* Nodata equal, NaN to NaN; -N overrides them all, so then it does not
+ * matter. */
+static int
+agree_nodata(const head *r, const head *h, const dem_opts *o, tl_err *e)
+{
+	char a[64], b[64];
+
+	if (o->has_nodata || (!r->has_nodata && !h->has_nodata) ||
+	    (r->has_nodata && h->has_nodata && (r->nodata == h->nodata ||
+	    (isnan(r->nodata) && isnan(h->nodata)))))
+		return 0;
+	nodata_label(h, a, sizeof a);
+	nodata_label(r, b, sizeof b);
+	return tl_fail(e, "%s: nodata %s, the first file's (%s) %s", h->path,
+	    a, r->path, b);
+}
+
+/* What the samples mean: bands, type, nodata, scale, unit, point. */
+static int
+agree_samples(const head *r, const head *h, const dem_opts *o, tl_err *e)
+{
+	if (h->nbands != r->nbands)
+		return tl_fail(e, "%s: %d bands, the first file's (%s) %d",
+		    h->path, h->nbands, r->path, r->nbands);
+	if (h->type != r->type || h->i8 != r->i8)
+		return tl_fail(e, "%s: %s samples, the first file's (%s) %s",
+		    h->path, type_label(h), r->path, type_label(r));
+	if (agree_nodata(r, h, o, e) < 0)
+		return -1;
+	if (h->scale != r->scale || h->offset != r->offset)
+		return tl_fail(e, "%s: scale %g and offset %g, the first file's "
+		    "(%s) %g and %g", h->path, h->scale, h->offset, r->path,
+		    r->scale, r->offset);
+	if (strcasecmp(h->unit, r->unit) != 0)
+		return tl_fail(e, "%s: heights in '%s', the first file's (%s) "
+		    "in '%s'", h->path, h->unit, r->path, r->unit);
+	if (h->point != r->point)
+		return tl_fail(e, "%s: pixel-is-%s, the first file's (%s) "
+		    "pixel-is-%s: their georeferencing differs by half a pixel",
+		    h->path, h->point ? "point" : "area", r->path,
+		    r->point ? "point" : "area");
+	return 0;
+}
+
+static int
+agree(const head *r, const head *h, tile *t, const dem_opts *o, tl_err *e)
+{
+	if ((r->srs == NULL) != (h->srs == NULL) ||
+	    (r->srs != NULL && !OSRIsSame(r->srs, h->srs)))
+		return tl_fail(e, "%s: CRS %s, the first file's (%s) %s",
+		    h->path, crs_label(h->srs), r->path, crs_label(r->srs));
+	if (agree_grid(r, h, t, e) < 0)
+		return -1;
+	return agree_samples(r, h, o, e);
+}
+
+/* What the tiles agree on for the reader (dem_tiles): an empty field
+ * once two differ. */
+static void
+tiles_note(dem_tiles *t, const head *h, int first)
+{
+	if (first) {
+		snprintf(t->driver, sizeof t->driver, "%s", h->driver);
+		snprintf(t->aop, sizeof t->aop, "%s", h->aop);
+		snprintf(t->unit, sizeof t->unit, "%s", h->unit);
+		t->signed_byte = h->i8;
+	}
+	if (strcmp(t->driver, h->driver) != 0)
+		t->driver[0] = '\0';
+	if (strcasecmp(t->aop, h->aop) != 0)
+		t->aop[0] = '\0';
+	if (strcasecmp(t->unit, h->unit) != 0)
+		t->unit[0] = '\0';
+	t->signed_byte &= h->i8;
+	if (h->bh > t->rows)
+		t->rows = h->bh;
+}
+
+/* Every tile's header against the first's (kept in r), one file open at
+ * a time; places moved so that the grid starts at (0, 0). */
+static int
+check_all(char *const *paths, int n, tile *tl, head *r, dem_tiles *dt,
+    const dem_opts *o, tl_err *e)
+{
+	int mincol = 0, minrow = 0;
+
+	for (int k = 0; k < n; k++) {
+		GDALDatasetH ds = tile_open(paths[k], e);
+		head h;
+		int rc;
+
+		if (ds == NULL)
+			return -1;
+		rc = head_read(ds, paths[k], k == 0 ? r : &h, e);
+		GDALClose(ds);
+		if (rc < 0)
+			return -1;
+		tl[k].path = paths[k];
+		rc = agree(r, k == 0 ? r : &h, &tl[k], o, e);
+		tiles_note(dt, k == 0 ? r : &h, k == 0);
+		if (k > 0 && h.srs != NULL)
+			OSRDestroySpatialReference(h.srs);
+		if (rc < 0)
+			return -1;
+		mincol = tl[k].col < mincol ? tl[k].col : mincol;
+		minrow = tl[k].row < minrow ? tl[k].row : minrow;
+	}
+	for (int k = 0; k < n; k++)
+		tl[k].col -= mincol, tl[k].row -= minrow;
+	return 0;
+}
+
+/* --- gaps ---------------------------------------------------------------- */
+
+typedef struct {
+	int lo, hi;
+} span;
+
+static int
+cmp_int(const void *a, const void *b)
+{
+	int x = *(const int *)a, y = *(const int *)b;
+
+	return (x > y) - (x < y);
+}
+
+static int
+cmp_span(const void *a, const void *b)
+{
+	return cmp_int(&((const span *)a)->lo, &((const span *)b)->lo);
+}
+
+/* Whether the rows of the column slab x0 .. x1 are covered from 0 to h. */
+static int
+slab_covered(const tile *tl, int n, int x0, int x1, int h, span *v)
+{
+	int m = 0, reach = 0;
+
+	for (int k = 0; k < n; k++)
+		if (tl[k].col <= x0 && tl[k].col + tl[k].w >= x1)
+			v[m].lo = tl[k].row, v[m++].hi = tl[k].row + tl[k].h;
+	qsort(v, (size_t)m, sizeof *v, cmp_span);
+	for (int k = 0; k < m && reach < h; k++) {
+		if (v[k].lo > reach)
+			return 0;
+		reach = v[k].hi > reach ? v[k].hi : reach;
+	}
+	return reach >= h;
+}
+
+/* Whether the tiles leave a hole in the rectangle they span: a sweep over
+ * the slabs between tiles' column edges, headers only (n^2 log n). */
+static int
+has_gaps(const tile *tl, int n, tl_err *e)
+{
+	int *xs = tl_alloc((size_t)n * 2, sizeof *xs, e), h = 0, gap = 0;
+	span *v = tl_alloc((size_t)n, sizeof *v, e);
+
+	if (xs == NULL || v == NULL)
+		gap = -1;
+	for (int k = 0; k < n && gap == 0; k++) {
+		xs[2 * k] = tl[k].col, xs[2 * k + 1] = tl[k].col + tl[k].w;
+		h = tl[k].row + tl[k].h > h ? tl[k].row + tl[k].h : h;
+	}
+	if (gap == 0)
+		qsort(xs, (size_t)n * 2, sizeof *xs, cmp_int);
+	for (int k = 0; gap == 0 && k + 1 < 2 * n; k++)
+		if (xs[k] < xs[k + 1] && !slab_covered(tl, n, xs[k], xs[k + 1],
+		    h, v))
+			gap = 1;
+	free(xs);
+	free(v);
+	return gap;
+}
+
+/* --- overlaps ---------------------------------------------------------- */
+
+typedef struct {
+	int has_nodata, f32, masks;
+	double nodata;
+	double *pa, *pb;           /* a window of each tile */
+	unsigned char *ma, *mb;    /* their masks, when the tiles have some */
+} cmpbuf;
+
+/* Two overlapping tiles, open. */
+typedef struct {
+	const tile *a, *b;
+	GDALDatasetH da, db;
+} pair;
+
+static int
+void_at(const cmpbuf *c, const double *p, const unsigned char *m, size_t k)
+{
+	double v = p[k];
+
+	if (isnan(v) || (c->masks && m[k] == 0))
+		return 1;
+	return c->has_nodata &&
+	    (c->f32 ? (float)v == (float)c->nodata : v == c->nodata);
+}
+
+/* A real mask (alpha, per dataset, explicit), not one nodata makes. */
+static int
+has_mask(GDALDatasetH ds)
+{
+	return !(GDALGetMaskFlags(GDALGetRasterBand(ds, 1)) &
+	    (GMF_ALL_VALID | GMF_NODATA));
+}
+
+static int
+read_win(const cmpbuf *c, GDALDatasetH ds, const tile *t, int band,
+    const int win[4], double *p, unsigned char *m, tl_err *e)
+{
+	GDALRasterBandH b = GDALGetRasterBand(ds, band);
+	int x = win[0] - t->col, y = win[1] - t->row;
+	dem_gdal_msg g;
+	CPLErr err;
+
+	dem_gdal_catch(&g);
+	err = GDALRasterIO(b, GF_Read, x, y, win[2], win[3], p, win[2],
+	    win[3], GDT_Float64, 0, 0);
+	if (err == CE_None && c->masks)
+		err = GDALRasterIO(GDALGetMaskBand(b), GF_Read, x, y, win[2],
+		    win[3], m, win[2], win[3], GDT_Byte, 0, 0);
+	dem_gdal_release();
+	return err == CE_None ? 0 : tl_fail(e, "%s: truncated or corrupt: %s",
+	    t->path, g.msg[0] ? g.msg : "GDAL cannot read it");
+}
+
+static void
+value_label(const cmpbuf *c, const double *p, const unsigned char *m,
+    size_t k, char *buf, size_t n)
+{
+	if (void_at(c, p, m, k))
+		snprintf(buf, n, "void");
+	else
+		snprintf(buf, n, "%.17g", p[k]);
+}
+
+/* The first sample of window win (x, y, width, height) where the tiles
+ * differ, as read: a void equals a void, whatever says so (NaN, nodata,
+ * mask). */
+static int
+differ(const cmpbuf *c, const pair *p, int band, const int win[4],
+    tl_err *e)
+{
+	size_t n = (size_t)win[2] * win[3];
+	char va[40], vb[40];
+
+	for (size_t k = 0; k < n; k++) {
+		int i = win[0] + (int)(k % win[2]);
+		int j = win[1] + (int)(k / win[2]);
+		int da = void_at(c, c->pa, c->ma, k);
+		int db = void_at(c, c->pb, c->mb, k);
+		if (da == db && (da || c->pa[k] == c->pb[k]))
+			continue;
+		value_label(c, c->pa, c->ma, k, va, sizeof va);
+		value_label(c, c->pb, c->mb, k, vb, sizeof vb);
+		return tl_fail(e, "%s: sample %d,%d%s is %s where it overlaps "
+		    "%s, whose sample %d,%d is %s: overlapping tiles must agree",
+		    p->b->path, i - p->b->col, j - p->b->row, band > 1 ?
+		    " of a band past the first" : "", vb, p->a->path,
+		    i - p->a->col, j - p->a->row, va);
+	}
+	return 0;
+}
+
+static int
+compare_win(cmpbuf *c, const pair *p, int band, const int win[4],
+    tl_err *e)
+{
+	if (read_win(c, p->da, p->a, band, win, c->pa, c->ma, e) < 0 ||
+	    read_win(c, p->db, p->b, band, win, c->pb, c->mb, e) < 0)
+		return -1;
+	return differ(c, p, band, win, e);
+}
+
+/* The pair where it overlaps, band by band, window by window. */
+static int
+compare_pair(cmpbuf *c, const pair *p, int nbands, tl_err *e)
+{
+	const tile *a = p->a, *b = p->b;
+	int x0 = a->col > b->col ? a->col : b->col;
+	int y0 = a->row > b->row ? a->row : b->row;
+	int x1 = a->col + a->w < b->col + b->w ? a->col + a->w : b->col + b->w;
+	int y1 = a->row + a->h < b->row + b->h ? a->row + a->h : b->row + b->h;
+	int cw = x1 - x0 < CMP_SAMPLES ? x1 - x0 : CMP_SAMPLES;
+	int ch = CMP_SAMPLES / cw, win[4];
+
+	c->masks = has_mask(p->da) || has_mask(p->db);
+	for (int band = 1; band <= nbands; band++)
+		for (win[1] = y0; win[1] < y1; win[1] += ch)
+			for (win[0] = x0; win[0] < x1; win[0] += cw) {
+				win[2] = x1 - win[0] < cw ? x1 - win[0] : cw;
+				win[3] = y1 - win[1] < ch ? y1 - win[1] : ch;
+				if (compare_win(c, p, band, win, e) < 0)
+					return -1;
+			}
+	return 0;
+}
+
+static int
+overlap(const tile *a, const tile *b)
+{
+	return a->col < b->col + b->w && b->col < a->col + a->w &&
+	    a->row < b->row + b->h && b->row < a->row + a->h;
+}
+
+/* Tile i against its later neighbours, i opened once for them all. */
+static int
+overlaps_of(cmpbuf *c, const tile *tl, int n, int i, int nbands, tl_err *e)
+{
+	pair p = { &tl[i], NULL, NULL, NULL };
+	int rc = 0;
+
+	for (int j = i + 1; j < n && rc == 0; j++) {
+		if (!overlap(&tl[i], &tl[j]))
+			continue;
+		p.b = &tl[j];
+		if (p.da == NULL && (p.da = tile_open(tl[i].path, e)) == NULL)
+			return -1;
+		if ((p.db = tile_open(tl[j].path, e)) == NULL) {
+			rc = -1;
+			break;
+		}
+		rc = compare_pair(c, &p, nbands, e);
+		GDALClose(p.db);
+	}
+	if (p.da != NULL)
+		GDALClose(p.da);
+	return rc;
+}
+
+/* Every pair of tiles that overlap, compared there. */
+static int
+overlaps(const tile *tl, int n, const head *r, const dem_opts *o,
+    tl_err *e)
+{
+	cmpbuf c = { 0 };
+	int rc = 0;
+
+	c.has_nodata = o->has_nodata ? 1 : r->has_nodata;
+	c.nodata = o->has_nodata ? o->nodata : r->nodata;
+	c.f32 = r->type == GDT_Float32;
+	c.pa = tl_alloc(CMP_SAMPLES, sizeof *c.pa, e);
+	c.pb = tl_alloc(CMP_SAMPLES, sizeof *c.pb, e);
+	c.ma = tl_alloc(CMP_SAMPLES, 1, e);
+	c.mb = tl_alloc(CMP_SAMPLES, 1, e);
+	if (c.pa == NULL || c.pb == NULL || c.ma == NULL || c.mb == NULL)
+		rc = -1;
+	for (int i = 0; i < n && rc == 0; i++)
+		rc = overlaps_of(&c, tl, n, i, r->nbands, e);
+	free(c.pa), free(c.pb), free(c.ma), free(c.mb);
+	return rc;
+}
+
+/* --- the VRT --------------------------------------------------------- */
+
+/* The void of a type that has no nodata: its lowest value, NaN for
+ * floats (dem2fqm(1) says so). */
+static double
+lowest(const head *r)
+{
+	if (GDALDataTypeIsFloating(r->type))
+		return NAN;
+	if (r->i8)
+		return -128;
+	if (!GDALDataTypeIsSigned(r->type))
+		return 0;
+	return -ldexp(1, GDALGetDataTypeSizeBits(r->type) - 1);
+}
+
+/* GDALBuildVRT's options: the first tile's pixel size exactly (its
+ * default, the average, may round), our CRS check instead of its own,
+ * and what makes a gap a void: the nodata (-N's, the tiles', else the
+ * type's lowest) or, for an RGB-encoded DEM, an alpha band. */
+static GDALBuildVRTOptions *
+vrt_options(const head *r, int gaps, const dem_opts *o, char nd[64],
+    char tr[2][32])
+{
+	const char *argv[12];
+	int k = 0, rgb = r->type == GDT_Byte && r->nbands >= 3 &&
+	    o->encoding != DEM_ENC_GREY;
+
+	snprintf(tr[0], 32, "%.17g", r->gt[1]);
+	snprintf(tr[1], 32, "%.17g", -r->gt[5]);
+	argv[k++] = "-tr", argv[k++] = tr[0], argv[k++] = tr[1];
+	argv[k++] = "-allow_projection_difference";
+	nd[0] = '\0';
+	if (o->has_nodata)
+		snprintf(nd, 64, "%.17g", o->nodata);
+	else if (r->has_nodata)
+		snprintf(nd, 64, "%.17g", r->nodata);
+	else if (gaps && rgb)
+		argv[k++] = "-addalpha";
+	else if (gaps)
+		snprintf(nd, 64, "%.17g", lowest(r));
+	if (nd[0] != '\0') {
+		argv[k++] = "-srcnodata", argv[k++] = nd;
+		argv[k++] = "-vrtnodata", argv[k++] = nd;
+	}
+	argv[k] = NULL;
+	return GDALBuildVRTOptionsNew((char **)argv, NULL);
+}
+
+/* What GDALBuildVRT drops and the georeferencing or the heights depend
+ * on, copied from the tiles: AREA_OR_POINT (half a pixel), the unit,
+ * signed bytes; scale and offset it keeps, but it is said once more. */
+static void
+vrt_metadata(GDALDatasetH vrt, const head *r)
+{
+	GDALRasterBandH b = GDALGetRasterBand(vrt, 1);
+
+	if (r->aop[0] != '\0')
+		GDALSetMetadataItem(vrt, "AREA_OR_POINT", r->aop, NULL);
+	if (r->unit[0] != '\0')
+		GDALSetRasterUnitType(b, r->unit);
+	if (r->i8)
+		GDALSetMetadataItem(b, "PIXELTYPE", "SIGNEDBYTE",
+		    "IMAGE_STRUCTURE");
+	GDALSetRasterScale(b, r->scale);
+	GDALSetRasterOffset(b, r->offset);
+}
+
+static GDALDatasetH
+vrt_build(char *const *paths, int n, const head *r, int gaps,
+    const dem_opts *o, const char *what, tl_err *e)
+{
+	char nd[64], tr[2][32];
+	GDALBuildVRTOptions *bo = vrt_options(r, gaps, o, nd, tr);
+	GDALDatasetH vrt = NULL;
+	dem_gdal_msg c;
+	int usage = 0;
+
+	dem_gdal_catch(&c);
+	if (bo != NULL)
+		vrt = GDALBuildVRT("", n, NULL, (const char *const *)paths, bo,
+		    &usage);
+	GDALBuildVRTOptionsFree(bo);
+	dem_gdal_release();
+	if (vrt == NULL) {
+		tl_fail(e, "%s: GDALBuildVRT: %s", what, c.msg[0] ? c.msg :
+		    "failed");
+		return NULL;
+	}
+	/* it skips a tile it dislikes with a mere warning; ours are checked,
+	 * so a warning is a check missing here */
+	if (c.warning[0] != '\0') {
+		GDALClose(vrt);
+		tl_fail(e, "%s: GDALBuildVRT: %s", what, c.warning);
+		return NULL;
+	}
+	vrt_metadata(vrt, r);
+	return vrt;
+}
+
+int
+dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
+    const dem_opts *o, tl_err *e)
+{
+	tile *tl = tl_alloc((size_t)n, sizeof *tl, e);
+	GDALDatasetH vrt = NULL;
+	dem_tiles dt = { 0 };
+	head r = { 0 };
+	int gaps, rc = -1;
+
+	dem_gdal_init();
+	if (tl == NULL || n < 1 || check_all(paths, n, tl, &r, &dt, o, e) < 0 ||
+	    (gaps = has_gaps(tl, n, e)) < 0)
+		goto out;
+	/* -I reads no sample: the overlaps wait for the samples' reading */
+	if (!L->info && overlaps(tl, n, &r, o, e) < 0)
+		goto out;
+	if ((vrt = vrt_build(paths, n, &r, gaps, o, L->what, e)) != NULL)
+		rc = dem_read_dataset(L, g, vrt, &dt, o, e);
+out:
+	if (vrt != NULL)
+		GDALClose(vrt);
+	if (r.srs != NULL)
+		OSRDestroySpatialReference(r.srs);
+	free(tl);
+	return rc;
+}
+
+/* --- a VRT file's sources ------------------------------------------------ */
+
+void
+dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t)
+{
+	char **files = GDALGetFileList(ds);
+	const char *self = GDALGetDescription(ds);
+	dem_gdal_msg c;
+	int seen = 0;
+
+	memset(t, 0, sizeof *t);
+	/* quiet: a source that does not open only makes them not agree */
+	dem_gdal_catch(&c);
+	for (int k = 0; files != NULL && files[k] != NULL; k++) {
+		GDALDatasetH s;
+		head h;
+		tl_err e;
+		if (strcmp(files[k], self) == 0)
+			continue;
+		s = GDALOpenEx(files[k], GDAL_OF_RASTER | GDAL_OF_READONLY, NULL,
+		    NULL, NULL);
+		if (s == NULL || GDALGetRasterCount(s) < 1 ||
+		    head_read(s, files[k], &h, &e) < 0) {
+			if (s != NULL)
+				GDALClose(s);
+			memset(t, 0, sizeof *t);
+			break;
+		}
+		tiles_note(t, &h, seen++ == 0);
+		if (h.srs != NULL)
+			OSRDestroySpatialReference(h.srs);
+		GDALClose(s);
+	}
+	dem_gdal_release();
+	CSLDestroy(files);
+}
