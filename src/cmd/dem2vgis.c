@@ -12,15 +12,18 @@
 #include "jobs/pipeline.h"
 
 static const char usage[] =
-    "[-3fq] [-j jobs] [-k kernel] [-r cut] [-D datum] [-e encoding]\n"
-    "                [-H datum] [-N nodata] [-n name] [-s dx[,dy]] "
-    "dem ... dir\n"
+    "[-3fMq] [-j jobs] [-k kernel] [-P plandir] [-r cut] [-D datum]\n"
+    "                [-e encoding] [-H datum] [-N nodata] [-n name]\n"
+    "                [-s dx[,dy]] dem ... dir\n"
     "  -3              QEM-3D levels (fqmsolve -m qem3d)\n"
-    "  -f              replace dir if it exists\n"
+    "  -f              replace dir (with -P: plandir) if it exists\n"
     "  -j jobs         tilepack's threads (default: the CPUs)\n"
     "  -k kernel       fqmfilter's kernel (default binomial)\n"
+    "  -P, --plan plandir  write the build as jobs for make, GNU parallel\n"
+    "                  or Slurm into plandir, instead of running it\n"
     "  -q              no summary from tilepack\n"
     "  -r cut          fqmsolve -r (QEM-3D)\n"
+    "  -M              only the vertex maps of every level, into dir\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
     "  dem ...         the DEM, or - (stdin); several are one mosaic\n"
     "  dir             the pyramid directory to build\n";
@@ -52,14 +55,20 @@ static const char *const flags[] = { "-D", "-e", "-H", "-N", "-s" };
 static int
 parse(cli *c, int argc, char **argv, pipeline_opts *o)
 {
+	static const struct option longopts[] = {
+		{ "plan", required_argument, NULL, 'P' },
+		{ NULL, 0, NULL, 0 },
+	};
 	int ch, j;
 
-	while ((ch = cli_next(c, argc, argv, "3fqj:k:r:" DEM_OPTS, NULL)) !=
-	    -1) {
+	while ((ch = cli_next(c, argc, argv, "3fMqj:k:P:r:" DEM_OPTS,
+	    longopts)) != -1) {
 		switch (ch) {
 		case '3': o->mode = "qem3d"; break;
 		case 'f': o->force = 1; break;
 		case 'q': o->quiet = 1; break;
+		case 'M': o->vmaps = 1; break;
+		case 'P': o->plan = optarg; break;
 		case 'j':
 			if (tl_parse_int(optarg, &j) < 0 || j < 1)
 				return cli_bad(c, "-j %s: not a job count",
@@ -103,6 +112,10 @@ main(int argc, char **argv)
 	for (int k = 0; o.ndem > 1 && k < o.ndem; k++)
 		if (strcmp(o.dems[k], "-") == 0)
 			return cli_bad(&c, "-: stdin can only be the one DEM");
+	if (o.plan != NULL && o.vmaps)
+		return cli_bad(&c, "-M and -P: one or the other");
+	if (o.plan != NULL && strcmp(o.dem, "-") == 0)
+		return cli_bad(&c, "-P: the DEM must be a file, not stdin");
 	if (pipeline_run(&o, &st, &e) == 0)
 		return 0;
 	fprintf(stderr, "%s\n", e.msg); /* the failing stage's own words */

@@ -8,7 +8,7 @@ for p in $(sed -n 's/^\(PROGS\|SCRIPTS\) *:= *//p' "$TOP/Makefile"); do
 	[ -f "$m" ]; ok $? "$p: man/$p.1 exists"
 	# option letters: "[-k kernel]" in usage, ".Fl k" in the SYNOPSIS
 	# "[-fq]" and ".Op Fl fq" list two options each
-	help=$($p --help | sed -n '1,/^  /p' | grep -o '\[-[a-zA-Z]*' | tr -d '[-' | fold -w1 | sort | tr -d '\n')
+	help=$($p --help | sed -n '1,/^  -/p' | grep -o '\[-[a-zA-Z]*' | tr -d '[-' | fold -w1 | sort | tr -d '\n')
 	man=$(sed -n '/^\.Sh SYNOPSIS/,/^\.Sh DESCRIPTION/p' "$m" | grep -o '^\.Op Fl [a-zA-Z]*' | sed 's/.* //' | fold -w1 | sort | tr -d '\n')
 	[ -n "$help" ] && [ "$help" = "$man" ]
 	ok $? "$p: --help options ($help) = man SYNOPSIS options ($man)"

@@ -9,9 +9,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/outfile.h"
 #include "core/progress.h"
 #include "jobs/graph.h"
 #include "jobs/pipeline.h"
+#include "jobs/plan.h"
 #include "jobs/scratch.h"
 
 #define MAXLEVELS 32 /* levels of a DEM of 2^31 x 2^31 samples: 25 */
@@ -154,12 +156,12 @@ listable(const char *dem)
 	    strchr(" \t\r\f\v", dem[n - 1]) == NULL;
 }
 
-/* Several DEMs: the list file the stages read as one mosaic, in scratch,
- * one absolute path a line (a relative entry would be relative to the
- * list's directory). Each is checked here first, so that a missing one
- * is named as the user gave it. */
+/* Several DEMs: the list file the stages read as one mosaic, in dir
+ * (scratch, or a plan), one absolute path a line (a relative entry would
+ * be relative to the list's directory). Each is checked here first, so
+ * that a missing one is named as the user gave it. */
 static int
-write_list(const pipeline_opts *o, const scratch *s, char *path, size_t n,
+write_list(const pipeline_opts *o, const char *dir, char *path, size_t n,
     tl_err *e)
 {
 	char cwd[PATHMAX];
@@ -176,8 +178,8 @@ write_list(const pipeline_opts *o, const scratch *s, char *path, size_t n,
 			    "ending in a blank cannot go in a list of DEMs",
 			    o->dems[k]);
 	}
-	if (snprintf(path, n, "%s/dems.txt", s->path) >= (int)n)
-		return tl_fail(e, "%s/dems.txt: name too long", s->path);
+	if (snprintf(path, n, "%s/dems.txt", dir) >= (int)n)
+		return tl_fail(e, "%s/dems.txt: name too long", dir);
 	if ((f = fopen(path, "wx")) == NULL)
 		return tl_failsys(e, "%s", path);
 	for (int k = 0; k < o->ndem; k++) {
@@ -324,6 +326,82 @@ pack(const pipeline_opts *o, const char *dem, int levels,
 	return r;
 }
 
+/* -M: the quadric chain only, its vertex maps into the directory o->out,
+ * made atomically (an earlier one replaced): a plan's first job. */
+static int
+vmaps_only(const pipeline_opts *o, const char *dem, int levels,
+    vpath_t *vpath, meter *m, int *status, tl_err *e)
+{
+	tl_outfile d;
+	int r;
+
+	if (tl_outdir_begin(&d, o->out, e) < 0)
+		return ours(o, e);
+	for (int l = 0; l < levels; l++)
+		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", d.tmp, l);
+	tl_progress_start(&m->bar, o->prog, 1000);
+	if ((r = quadrics(o, dem, levels, vpath, m, status, e)) == 0 &&
+	    (r = tl_outdir_commit(&d, e)) < 0)
+		return ours(o, e);
+	if (r < 0)
+		tl_outdir_abort(&d);
+	else
+		tl_progress_end(&m->bar);
+	return r;
+}
+
+/* An absolute path for p, from the current directory. */
+static int
+absolute(const char *p, char *buf, size_t n, tl_err *e)
+{
+	char cwd[PATHMAX];
+
+	if (p[0] == '/')
+		return snprintf(buf, n, "%s", p) < (int)n ? 0 :
+		    tl_fail(e, "%s: name too long", p);
+	if (getcwd(cwd, sizeof cwd) == NULL)
+		return tl_failsys(e, "current directory");
+	return snprintf(buf, n, "%s/%s", cwd, p) < (int)n ? 0 :
+	    tl_fail(e, "%s: name too long", p);
+}
+
+/* --plan: the job graph (plan.h), each job one of the stages with the
+ * options given here. */
+static int
+plan(const pipeline_opts *o, const char *dem, int levels, int *status,
+    tl_err *e)
+{
+	const char *chain[PIPELINE_MAXOPTS + 8], *dopt[PIPELINE_MAXOPTS + 2];
+	char adem[PATHMAX], aout[PATHMAX], abin[PATHMAX];
+	plan_opts p = { .prog = o->prog, .levels = levels, .force = o->force };
+	int nc = 0, nd = 0;
+
+	if (strcmp(o->mode, "qem3d") == 0)
+		chain[nc++] = "-3";
+	chain[nc++] = "-k", chain[nc++] = o->kernel;
+	if (o->cut != NULL)
+		chain[nc++] = "-r", chain[nc++] = o->cut;
+	for (int i = 0; i < o->ndemopt; i++)
+		chain[nc++] = dopt[nd++] = o->demopt[i];
+	if (o->name != NULL) {
+		chain[nc++] = dopt[nd++] = "-n";
+		chain[nc++] = dopt[nd++] = o->name;
+	}
+	p.chainopt = chain, p.nchainopt = nc;
+	p.demopt = dopt, p.ndemopt = nd;
+	if (absolute(o->out, aout, sizeof aout, e) < 0 ||
+	    absolute(o->bindir != NULL ? o->bindir : ".", abin, sizeof abin,
+	    e) < 0 || (o->ndem <= 1 && absolute(dem, adem, sizeof adem, e) < 0))
+		return ours(o, e);
+	p.dem = adem, p.out = aout, p.bindir = abin;
+	p.dems = o->ndem > 1 ? (const char *const *)o->dems : NULL;
+	p.ndem = o->ndem > 1 ? o->ndem : 0;
+	if (plan_write(&p, o->plan, e) < 0)
+		return ours(o, e);
+	*status = 0;
+	return 0;
+}
+
 static int
 stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
     int *status, tl_err *e)
@@ -335,7 +413,7 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 
 	*status = 1;
 	if (o->ndem > 1) {
-		if (write_list(o, s, spool, sizeof spool, e) < 0)
+		if (write_list(o, s->path, spool, sizeof spool, e) < 0)
 			return ours(o, e);
 		dem = spool;
 	} else if (strcmp(dem, "-") == 0) {
@@ -346,6 +424,10 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 		return tl_failsys(e, "%s: %s", o->prog, dem);
 	if (level_count(o, dem, &levels, status, e) < 0)
 		return -1;
+	if (o->plan != NULL)
+		return plan(o, dem, levels, status, e);
+	if (o->vmaps)
+		return vmaps_only(o, dem, levels, vpath, &m, status, e);
 	for (int l = 0; l < levels; l++)
 		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", s->path, l);
 	tl_progress_start(&m.bar, o->prog, 1000);

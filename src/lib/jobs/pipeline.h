@@ -33,6 +33,10 @@ typedef struct {
 	const char *cut;       /* fqmsolve -r, or NULL */
 	const char *jobs;      /* tilepack -j, or NULL */
 	int force, quiet;      /* tilepack -f, -q */
+	int vmaps;             /* -M: out gets the vertex maps v0.fqm ...
+	                        * (a plan's chain job), no pyramid */
+	const char *plan;      /* --plan: the job graph into this directory
+	                        * instead of a run (plan.h) */
 } pipeline_opts;
 
 /* Runs it. 0, or -1 with e holding the failing stage's own message and

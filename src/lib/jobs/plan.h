@@ -1,0 +1,36 @@
+/* plan.h - a DEM-to-pyramid build written as a job graph instead of run
+ * (dem2vgis --plan): the quadric chain as one job writing every level's
+ * vertex map, then tilepack's pieces (tilepack -l, -p), one job each, then
+ * the gather (tilepack -g) that makes the pyramid appear. The same graph
+ * three ways: a Makefile (make -C PLANDIR -j N: incremental, so a killed
+ * or failed run goes on where it stopped), a script for GNU parallel
+ * (stage by stage; PARALLEL may name --sshloginfile for machines that
+ * share the file system) and a script submitting Slurm jobs (an array for
+ * the pieces, chained by dependencies). Every job is a make target, so
+ * all three skip what is done. */
+#ifndef TL_PLAN_H
+#define TL_PLAN_H
+
+#include "core/util.h"
+
+typedef struct {
+	const char *prog;
+	const char *bindir;            /* absolute: the stages' directory */
+	const char *dem, *out;         /* absolute paths */
+	const char *const *dems;       /* ndem > 0: a mosaic of these, written
+	                                * as the plan's list dems.txt, dem
+	                                * unused */
+	int ndem;
+	const char *const *chainopt;   /* dem2vgis options of the chain job */
+	int nchainopt;
+	const char *const *demopt;     /* how to read the DEM (tilepack) */
+	int ndemopt;
+	int levels;
+	int force;                     /* tilepack -f at the gather */
+} plan_opts;
+
+/* Writes the plan into the directory dir, made atomically (an existing
+ * one is replaced only with force). */
+int plan_write(const plan_opts *o, const char *dir, tl_err *e);
+
+#endif
