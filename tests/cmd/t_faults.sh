@@ -38,6 +38,16 @@ if [ "$(id -u)" -eq 0 ] && mkdir "$T/full" "$T/ro" &&
 	fqmsolve "$T/big0.exr" "$T/bigv0.exr"
 	full "tilepack" tilepack -q -j 1 "$dem" "$T/full/p" "$T/bigv0.exr"
 	full "dem2vgis" dem2vgis -q "$dem" "$T/full/p"
+	# full to the last block before anything: the first write, an EXR
+	# header, fails (OpenEXRCore calls the error handler under a lock
+	# that the handler once took again: a hang, caught by timeout)
+	dd if=/dev/zero of="$T/full/fill" bs=4k 2>/dev/null
+	fails "disk full from the first byte: dem2fqm to EXR, no hang" 1 \
+	    "No space left on device" timeout 60 dem2fqm "$small" "$T/full/l0.exr"
+	fails "disk full from the first byte: tilepack, no hang" 1 \
+	    "No space left on device" timeout 60 tilepack -q "$small" "$T/full/p" $lv
+	rm -f "$T/full/fill"
+	empty "$T/full"; ok $? "disk full from the first byte: nothing left"
 	# TMPDIR full: the DEM's scratch copy (dem2fqm), the driver's scratch
 	fails "TMPDIR full: dem2fqm" 1 "No space left on device" \
 	    env TMPDIR="$T/full" dem2fqm "$dem" "$T/x.exr"

@@ -29,6 +29,17 @@ on_error(exr_const_context_t c, exr_result_t code, const char *msg)
 		snprintf(io->msg, sizeof io->msg, "%s", msg);
 }
 
+/* A writer's handler does nothing: OpenEXRCore 3.1 calls it while
+ * exr_write_header holds the context's lock, which exr_get_user_data
+ * takes again (a disk full while a header is written hung for good).
+ * io_write keeps its own message instead; other write errors are told
+ * by their code. */
+static void
+on_error_write(exr_const_context_t c, exr_result_t code, const char *msg)
+{
+	(void)c, (void)code, (void)msg;
+}
+
 int
 rs_exr_fail(tl_err *e, struct rs_exr_io *io, exr_result_t rv,
     const char *name, const char *fmt, ...)
@@ -90,6 +101,9 @@ io_write(exr_const_context_t c, void *u, const void *buf, uint64_t sz,
 		if (r < 0 && errno == EINTR)
 			continue;
 		if (r < 0) {
+			if (io->msg[0] == '\0')
+				snprintf(io->msg, sizeof io->msg, "write: %s",
+				    strerror(errno));
 			ecb(c, EXR_ERR_WRITE_IO, "write: %s", strerror(errno));
 			return -1;
 		}
@@ -112,7 +126,7 @@ rs_exr_init_read(exr_context_initializer_t *init, struct rs_exr_io *io)
 void
 rs_exr_init_write(exr_context_initializer_t *init, struct rs_exr_io *io)
 {
-	init->error_handler_fn = on_error;
+	init->error_handler_fn = on_error_write;
 	init->user_data = io;
 	init->write_fn = io_write;
 }
