@@ -147,11 +147,17 @@ full=$( { /usr/bin/time -f %e dem2vgis -q "$DATA/N44W072.hgt" "$T/o/timing"; } 2
 rm -rf "$T/o/timing"
 for f in 0.25 0.6; do
 	t=$(awk -v a="$full" -v f="$f" 'BEGIN { printf "%.2f", a * f }')
+	rm -f "$T/killed"
 	(TMPDIR=$T/scratch dem2vgis -q "$DATA/N44W072.hgt" "$T/o/k2" & p=$!
-	    sleep $t; kill -TERM $p; wait $p) 2>/dev/null
+	    sleep $t; kill -TERM $p && : >"$T/killed"; wait $p) 2>/dev/null
 	sleep 0.3
-	[ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ] && nothing_left "$T/scratch"
-	ok $? "dem2vgis killed by SIGTERM after $t s of $full s leaves no directory, no scratch"
+	if [ -e "$T/killed" ]; then
+		[ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ] && nothing_left "$T/scratch"
+		ok $? "dem2vgis killed by SIGTERM after $t s of $full s leaves no directory, no scratch"
+	else	# a loaded machine: the run was quicker than the one timed
+		ok 0 "# SKIP dem2vgis ended before the SIGTERM at $t s of $full s"
+		rm -rf "$T/o/k2"
+	fi
 done
 printf 'not a raster\n' >"$T/garbage.txt"
 fails "dem2vgis on a non-raster" 1 "not a" dem2vgis "$T/garbage.txt" "$T/o/g"
@@ -247,8 +253,10 @@ for m in qem1d qem3d; do
 		ok 0 "# SKIP $m: the piece ended before it could be killed"
 	fi
 	# shellcheck disable=SC2086
-	echo "$pieces" | sort -r | xargs -P 2 -I P tilepack -j 1 -p P "$d" "$T/pw-$m" $vl
-	ok $? "$m: every piece, two processes at a time"
+	echo "$pieces" | sort -r |
+	    xargs -P 2 -I P tilepack -j 1 -p P "$d" "$T/pw-$m" $vl 2>"$T/xargs.err"
+	st=$?; [ $st -eq 0 ] || sed 's/^/#   /' "$T/xargs.err"
+	ok $st "$m: every piece, two processes at a time"
 	half=$(find "$T/pw-$m" -name '.*.??????' | wc -l)
 	[ "$half" -eq 0 ]; ok $? "$m: no temporary left in the work directory ($half)"
 	# shellcheck disable=SC2086
