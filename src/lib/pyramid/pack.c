@@ -346,6 +346,28 @@ run_queue(queue *q, int workers, tl_err *e)
  * 16 % more local errors than the whole level's. */
 #define PIECE_BLOCKS(displaced) ((displaced) ? 12 : 16)
 
+/* Level pl's pieces, as every mode cuts them (threads, -l, -p, -g): how
+ * many, and (level_cut) the pieces themselves, allocated. */
+static int
+level_npieces(const pyramid_level *pl, tiles_piece *p, int max)
+{
+	tiles_level L = { .level = pl->level };
+
+	L.size[0] = pl->size[0];
+	return tiles_pieces(&L, PIECE_BLOCKS(pl->displaced), p, max);
+}
+
+static tiles_piece *
+level_cut(const pyramid_level *pl, int *n, tl_err *e)
+{
+	tiles_piece *p;
+
+	*n = level_npieces(pl, NULL, 0);
+	if ((p = tl_alloc(*n, sizeof *p, e)) != NULL)
+		level_npieces(pl, p, *n);
+	return p;
+}
+
 /* Whether some level comes through a FIFO (or stdin): a pipeline
  * feeding several must have them all read at once. */
 static int
@@ -373,36 +395,32 @@ run_levels(work *w, tl_err *e)
 	long long total = 0;
 	queue q = { .w = w };
 
-	for (int l = 0; l < nl; l++) {
-		tiles_level L = { .level = l };
-		L.size[0] = w->ix->lev[l].size[0];
-		n += w->fifo ? 1 : tiles_pieces(&L,
-		    PIECE_BLOCKS(w->ix->lev[l].displaced), NULL, 0);
-	}
-	tiles_piece *p = tl_alloc(n, sizeof *p, e);
-	if (p == NULL || (q.job = tl_alloc(n, sizeof *q.job, e)) == NULL) {
-		free(p);
+	for (int l = 0; l < nl; l++)
+		n += w->fifo ? 1 : level_npieces(&w->ix->lev[l], NULL, 0);
+	if ((q.job = tl_alloc(n, sizeof *q.job, e)) == NULL)
 		return -1;
-	}
 	for (int l = 0; l < nl; l++) {
 		tiles_level L = { .level = l };
-		int m = 1;
-		L.size[0] = w->ix->lev[l].size[0];
+		tiles_piece *p;
+		int m;
 		if (w->fifo) {
-			q.job[q.n] = (job){ .l = l, .whole = 1 };
+			q.job[q.n++] = (job){ .l = l, .whole = 1 };
 			total += (long long)g->height * g->width;
-		} else
-			m = tiles_pieces(&L,
-			    PIECE_BLOCKS(w->ix->lev[l].displaced), p, n - q.n);
-		for (int k = 0; !w->fifo && k < m; k++) {
+			continue;
+		}
+		if ((p = level_cut(&w->ix->lev[l], &m, e)) == NULL) {
+			free(q.job);
+			return -1;
+		}
+		L.size[0] = w->ix->lev[l].size[0];
+		for (int k = 0; k < m; k++) {
 			tiles_window win;
-			q.job[q.n + k] = (job){ .l = l, .p = p[k] };
+			q.job[q.n++] = (job){ .l = l, .p = p[k] };
 			tiles_piece_window(&L, g->width, &p[k], &win);
 			total += (long long)g->height * (win.d1 - win.d0);
 		}
-		q.n += m;
+		free(p);
 	}
-	free(p);
 	assert(q.n == n);
 	tl_progress_start(&w->pr, w->a->prog ? w->a->prog : "", total);
 	if (w->a->prog == NULL)
@@ -506,20 +524,19 @@ level_read(work *w, int l, tl_err *e)
 	return r;
 }
 
+/* 1 when (b0, b1) is one of level pl's pieces, -1 out of memory. */
 static int
-is_piece(const pyramid_level *pl, int b0, int b1, int *n)
+is_piece(const pyramid_level *pl, int b0, int b1, int *n, tl_err *e)
 {
-	tiles_level L = { .level = pl->level };
-	tiles_piece p[4096];
-	int m;
+	tiles_piece *p = level_cut(pl, n, e);
+	int r = 0;
 
-	L.size[0] = pl->size[0];
-	m = tiles_pieces(&L, PIECE_BLOCKS(pl->displaced), p, 4096);
-	*n = m;
-	for (int k = 0; k < m && k < 4096; k++)
-		if (p[k].b0 == b0 && p[k].b1 == b1)
-			return 1;
-	return 0;
+	if (p == NULL)
+		return -1;
+	for (int k = 0; k < *n; k++)
+		r |= p[k].b0 == b0 && p[k].b1 == b1;
+	free(p);
+	return r;
 }
 
 static void
@@ -647,7 +664,7 @@ pack_piece(const pack_args *a, int l, int b0, int b1, tl_err *e)
 	pyramid_index ix = { 0 };
 	geo_metric m = { 0 };
 	work w = { 0 };
-	int r = -1, n;
+	int r = -1, n, k;
 
 	if (out == NULL)
 		return -1;
@@ -658,9 +675,10 @@ pack_piece(const pack_args *a, int l, int b0, int b1, tl_err *e)
 	}
 	if (work_open(&w, &ix, &m, a, out, 0, e) < 0)
 		goto done;
-	if (!is_piece(&ix.lev[l], b0, b1, &n)) {
-		tl_fail(e, "piece %d:%d:%d: not one of level %d's %d pieces",
-		    l, b0, b1, l, n);
+	if ((k = is_piece(&ix.lev[l], b0, b1, &n, e)) <= 0) {
+		if (k == 0)
+			tl_fail(e, "piece %d:%d:%d: not one of level %d's %d "
+			    "pieces", l, b0, b1, l, n);
 		goto done;
 	}
 	w.tmp = a->dir;
@@ -694,14 +712,10 @@ pack_gather(const pack_args *a, const char *dir, pack_level *out, tl_err *e)
 	    work_open(&w, &ix, &m, a, out, 1, e) < 0)
 		goto done;
 	for (int l = 0; l < a->nlevels; l++) {
-		tiles_level L = { .level = l };
 		tiles_piece *p;
 		int n;
-		L.size[0] = ix.lev[l].size[0];
-		n = tiles_pieces(&L, PIECE_BLOCKS(ix.lev[l].displaced), NULL, 0);
-		if ((p = tl_alloc(n, sizeof *p, e)) == NULL)
+		if ((p = level_cut(&ix.lev[l], &n, e)) == NULL)
 			goto done;
-		tiles_pieces(&L, PIECE_BLOCKS(ix.lev[l].displaced), p, n);
 		for (int k = 0; k < n; k++)
 			if (record_read(&w, dir, l, p[k].b0, p[k].b1, e) < 0) {
 				free(p);
@@ -734,14 +748,10 @@ pack_list(const pack_args *a, FILE *f, tl_err *e)
 	if (out == NULL || work_open(&w, &ix, &m, a, out, 1, e) < 0)
 		goto done;
 	for (int l = 0; l < a->nlevels; l++) {
-		tiles_level L = { .level = l };
 		tiles_piece *p;
 		int n;
-		L.size[0] = ix.lev[l].size[0];
-		n = tiles_pieces(&L, PIECE_BLOCKS(ix.lev[l].displaced), NULL, 0);
-		if ((p = tl_alloc(n, sizeof *p, e)) == NULL)
+		if ((p = level_cut(&ix.lev[l], &n, e)) == NULL)
 			goto done;
-		tiles_pieces(&L, PIECE_BLOCKS(ix.lev[l].displaced), p, n);
 		for (int k = 0; k < n; k++)
 			fprintf(f, "%d:%d:%d\n", l, p[k].b0, p[k].b1);
 		free(p);

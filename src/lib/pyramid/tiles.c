@@ -2,11 +2,11 @@
  * tiles.h). */
 #include "pyramid/tiles.h"
 #include "pyramid/tiles_impl.h"
+#include "core/pool.h"
 #include "core/progress.h"
 
 #include <assert.h>
 #include <float.h>
-#include <pthread.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -340,9 +340,10 @@ row_leaves_body(strip *sh, double y)
 		}
 }
 
-/* Both, in the AVX2 copy or the plain one (tiles_impl.h, TL_AVX2). */
-TL_AVX2 static void
-row_displaced_avx2(strip *t, double y)
+/* Both, inlined into the AVX2 copy or the plain one (tiles_impl.h,
+ * TL_AVX2). */
+static inline __attribute__((always_inline)) void
+row_displaced_body(strip *t, double y)
 {
 	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
 		row_diamonds_body(t, y, h, hk, 0);
@@ -351,14 +352,16 @@ row_displaced_avx2(strip *t, double y)
 	row_leaves_body(t, y);
 }
 
+TL_AVX2 static void
+row_displaced_avx2(strip *t, double y)
+{
+	row_displaced_body(t, y);
+}
+
 static void
 row_displaced(strip *t, double y)
 {
-	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
-		row_diamonds_body(t, y, h, hk, 0);
-		row_diamonds_body(t, y, h, hk, 1);
-	}
-	row_leaves_body(t, y);
+	row_displaced_body(t, y);
 }
 
 /* The errors DEM row J (t->dd) raises in t's columns. */
@@ -636,24 +639,18 @@ ready(const state *s, int bj, double y)
 
 /* --- the shares on threads --------------------------------------------- */
 
-/* A task is handed to the threads by bumping gen; each does its share
- * and counts itself off. Shares without a thread (one could not be
- * started) are the calling thread's. */
+/* A task for every share, on the pool's threads (core/pool.h): the
+ * pool has a thread per share, so each range is one share (or, with
+ * fewer threads, a few in a row). */
 enum task { SCAN, EMIT };
+_Static_assert(TILES_MAXTHREADS <= TL_POOL_MAXTHREADS, "a pool per piece");
 
 typedef struct {
-	pthread_mutex_t mu;
-	pthread_cond_t go, done;
-	long gen;
+	tl_pool *pool;
+	state *s;
 	enum task task;
 	int J0, J1, bj;    /* SCAN: DEM rows J0 .. J1-1; EMIT: block row bj */
-	int quit, pending, nthreads;
 } crew;
-
-typedef struct {
-	crew *c;
-	strip *t;
-} member;
 
 static void
 scan_batch(strip *t, int J0, int J1)
@@ -667,53 +664,23 @@ scan_batch(strip *t, int J0, int J1)
 }
 
 static void
-do_share(strip *t, const crew *c)
+do_shares(void *arg, int k, int i0, int i1)
 {
-	if (c->task == SCAN)
-		scan_batch(t, c->J0, c->J1);
-	else
-		emit_share(t, c->bj);
+	const crew *c = arg;
+
+	(void)k;
+	for (int i = i0; i < i1; i++)
+		if (c->task == SCAN)
+			scan_batch(&c->s->strips[i], c->J0, c->J1);
+		else
+			emit_share(&c->s->strips[i], c->bj);
 }
 
-static void *
-member_run(void *arg)
-{
-	member *m = arg;
-	crew *c = m->c;
-	long seen = 0;
-
-	for (;;) {
-		pthread_mutex_lock(&c->mu);
-		while (c->gen == seen && !c->quit)
-			pthread_cond_wait(&c->go, &c->mu);
-		seen = c->gen;
-		pthread_mutex_unlock(&c->mu);
-		if (c->quit)
-			return NULL;
-		do_share(m->t, c);
-		pthread_mutex_lock(&c->mu);
-		if (--c->pending == 0)
-			pthread_cond_signal(&c->done);
-		pthread_mutex_unlock(&c->mu);
-	}
-}
-
-/* The crew's task (set by the caller) on every share: 1 .. nthreads on
- * the crew's threads, the rest here. */
+/* The crew's task (set by the caller) on every share. */
 static void
 run_shares(state *s, crew *c)
 {
-	pthread_mutex_lock(&c->mu);
-	c->pending = c->nthreads, c->gen++;
-	pthread_cond_broadcast(&c->go);
-	pthread_mutex_unlock(&c->mu);
-	do_share(&s->strips[0], c);
-	for (int k = 1 + c->nthreads; k < s->nstrip; k++)
-		do_share(&s->strips[k], c);
-	pthread_mutex_lock(&c->mu);
-	while (c->pending > 0)
-		pthread_cond_wait(&c->done, &c->mu);
-	pthread_mutex_unlock(&c->mu);
+	tl_pool_for(c->pool, s->nstrip, do_shares, c);
 }
 
 /* Block row bj: saturated, then its blocks handed out by the shares;
@@ -849,11 +816,8 @@ int
 tiles_run_piece(const tiles_level *L, const tiles_piece *pc, dem *d,
     tiles_stats *st, tl_err *e)
 {
-	member m[TILES_MAXTHREADS];
-	pthread_t th[TILES_MAXTHREADS];
 	tl_progress pr;
-	crew c = { .mu = PTHREAD_MUTEX_INITIALIZER,
-	    .go = PTHREAD_COND_INITIALIZER, .done = PTHREAD_COND_INITIALIZER };
+	crew c = { 0 };
 	state s;
 	int r;
 
@@ -862,11 +826,10 @@ tiles_run_piece(const tiles_level *L, const tiles_piece *pc, dem *d,
 	if (state_init(&s, L, pc, d, e) < 0)
 		return -1;
 	s.st = st;
-	for (int k = 1; k < s.nstrip; k++) {
-		m[k - 1] = (member){ &c, &s.strips[k] };
-		if (pthread_create(&th[k - 1], NULL, member_run, &m[k - 1]))
-			break; /* this thread takes the shares left */
-		c.nthreads++;
+	c.s = &s;
+	if ((c.pool = tl_pool_new(s.nstrip, e)) == NULL) {
+		state_free(&s);
+		return -1;
 	}
 	tl_progress_start(&pr, L->label ? L->label : "",
 	    dem_georef(d)->height);
@@ -875,12 +838,7 @@ tiles_run_piece(const tiles_level *L, const tiles_piece *pc, dem *d,
 	r = run_rows(&s, &c, &pr, e);
 	if (r == 0)
 		tl_progress_end(&pr);
-	pthread_mutex_lock(&c.mu);
-	c.quit = 1;
-	pthread_cond_broadcast(&c.go);
-	pthread_mutex_unlock(&c.mu);
-	for (int k = 0; k < c.nthreads; k++)
-		pthread_join(th[k], NULL);
+	tl_pool_free(c.pool);
 	state_free(&s);
 	return r;
 }
