@@ -222,48 +222,54 @@ vmaps() {
 # levels DIR: the vertex maps' paths in order
 levels() { ls "$1"/v* | sort -t v -k 2 -n | tr '\n' ' '; }
 gdal_translate -q -srcwin 1800 3000 1700 500 "$DATA/N48W125.hgt" "$T/wide.tif"
-for m in qem1d qem3d; do
-	d=$DATA/N48W125.hgt
-	[ $m = qem3d ] && d=$T/wide.tif
-	vmaps "$d" "$T/pv-$m" $m
-	vl=$(levels "$T/pv-$m")
+# a piece reads only its window of DEM columns, unfilled: voids (across a
+# piece's border too) on a DEM whose columns and rows run backwards
+gdal_translate -q -srcwin 1300 2900 2200 400 "$DATA/N48W125.hgt" "$T/crop.tif"
+/usr/bin/python3 "$TOP/tests/tools/mkgdal.py" flipped "$T/crop.tif" "$T/flip.tif"
+ok $? "a crop of N48W125 flipped both ways, with voids"
+for c in qem1d qem3d flip; do
+	d=$DATA/N48W125.hgt m=$c
+	[ $c = qem3d ] && d=$T/wide.tif
+	[ $c = flip ] && d=$T/flip.tif m=qem1d
+	vmaps "$d" "$T/pv-$c" $m
+	vl=$(levels "$T/pv-$c")
 	# shellcheck disable=SC2086
-	tilepack -q "$d" "$T/pref-$m" $vl
+	tilepack -q "$d" "$T/pref-$c" $vl
 	# shellcheck disable=SC2086
 	pieces=$(tilepack -l "$d" - $vl)
 	np=$(echo "$pieces" | wc -l)
 	n0=$(echo "$pieces" | grep -c '^0:')
-	[ "$n0" -ge 2 ]; ok $? "$m: level 0 of $(basename "$d") is cut in $n0 pieces ($np in all)"
+	[ "$n0" -ge 2 ]; ok $? "$c: level 0 of $(basename "$d") is cut in $n0 pieces ($np in all)"
 	# every piece its own process, two at a time, the last ones first;
 	# the first one killed (SIGKILL) in the middle, then run again
 	first=$(echo "$pieces" | head -n 1)
 	# shellcheck disable=SC2086
-	tilepack -j 1 -p "$first" "$d" "$T/pw-$m" $vl & kp=$!
+	tilepack -j 1 -p "$first" "$d" "$T/pw-$c" $vl & kp=$!
 	i=0	# killed once its first block is written
 	while [ $i -lt 600 ] && kill -0 $kp 2>/dev/null &&
-	    [ -z "$(ls "$T/pw-$m/0" 2>/dev/null)" ]; do
+	    [ -z "$(ls "$T/pw-$c/0" 2>/dev/null)" ]; do
 		sleep 0.02; i=$((i + 1))
 	done
 	if kill -9 $kp 2>/dev/null; then
 		wait $kp 2>/dev/null
-		[ ! -e "$T/pw-$m/.pieces/$(echo "$first" | tr : -)" ]
-		ok $? "$m: a piece killed in the middle leaves no record"
+		[ ! -e "$T/pw-$c/.pieces/$(echo "$first" | tr : -)" ]
+		ok $? "$c: a piece killed in the middle leaves no record"
 	else
 		wait $kp 2>/dev/null
-		ok 0 "# SKIP $m: the piece ended before it could be killed"
+		ok 0 "# SKIP $c: the piece ended before it could be killed"
 	fi
 	# shellcheck disable=SC2086
 	echo "$pieces" | sort -r |
-	    xargs -P 2 -I P tilepack -j 1 -p P "$d" "$T/pw-$m" $vl 2>"$T/xargs.err"
+	    xargs -P 2 -I P tilepack -j 1 -p P "$d" "$T/pw-$c" $vl 2>"$T/xargs.err"
 	st=$?; [ $st -eq 0 ] || sed 's/^/#   /' "$T/xargs.err"
-	ok $st "$m: every piece, two processes at a time"
-	half=$(find "$T/pw-$m" -name '.*.??????' | wc -l)
-	[ "$half" -eq 0 ]; ok $? "$m: no temporary left in the work directory ($half)"
+	ok $st "$c: every piece, two processes at a time"
+	half=$(find "$T/pw-$c" -name '.*.??????' | wc -l)
+	[ "$half" -eq 0 ]; ok $? "$c: no temporary left in the work directory ($half)"
 	# shellcheck disable=SC2086
-	tilepack -q -g "$T/pw-$m" "$d" "$T/pout-$m" $vl &&
-	    diff -r "$T/pref-$m" "$T/pout-$m" >/dev/null
-	ok $? "$m: the gathered pyramid is tilepack's, byte for byte (index included)"
-	[ ! -e "$T/pw-$m" ]; ok $? "$m: the work directory became the pyramid"
+	tilepack -q -g "$T/pw-$c" "$d" "$T/pout-$c" $vl &&
+	    diff -r "$T/pref-$c" "$T/pout-$c" >/dev/null
+	ok $? "$c: the gathered pyramid is tilepack's, byte for byte (index included)"
+	[ ! -e "$T/pw-$c" ]; ok $? "$c: the work directory became the pyramid"
 done
 # A missing piece, a piece not of the cut, both -g and -p: refused.
 d=$DATA/N48W125.hgt vl=$(levels "$T/pv-qem1d")

@@ -612,6 +612,72 @@ check_fill(void)
 	dem_close(d);
 }
 
+/* --- a window of columns (dem_open_cols) -------------------------------- */
+
+/* Columns x0 .. x1-1 of path, row by row against the whole DEM: the same
+ * validity, the same heights where valid, NaN where not; a span reaching
+ * out of the window refused. */
+static int
+same_cols(const char *path, int x0, int x1, tl_err *e)
+{
+	dem *a = dem_open(path, NULL, e), *b = NULL;
+	int w, h, n = x1 - x0, r = 0;
+	float *za = NULL, *zb = NULL;
+	unsigned char *va = NULL, *vb = NULL;
+
+	if (a == NULL || (b = dem_open_cols(path, NULL, x0, x1, e)) == NULL)
+		goto out;
+	w = dem_georef(a)->width, h = dem_georef(a)->height;
+	za = malloc((size_t)w * sizeof *za), zb = malloc((size_t)n * sizeof *zb);
+	va = malloc((size_t)w), vb = malloc((size_t)n);
+	r = dem_georef(b)->width == w && dem_georef(b)->height == h &&
+	    memcmp(dem_georef(a), dem_georef(b), sizeof(georef)) == 0;
+	for (int j = 0; j < h && r; j++) {
+		if (dem_read_row(a, j, za, va, e) < 0 ||
+		    dem_read_span(b, j, x0, n, zb, vb, e) < 0) {
+			r = 0;
+			break;
+		}
+		for (int i = 0; i < n && r; i++)
+			r = va[x0 + i] == vb[i] && (vb[i] ? za[x0 + i] == zb[i] :
+			    isnan(zb[i]));
+	}
+	if (r && x0 > 0)
+		r = dem_read_span(b, 0, x0 - 1, 2, zb, vb, e) < 0;
+	if (r && x1 < w)
+		r = dem_read_span(b, h - 1, x1 - 1, 2, zb, vb, e) < 0;
+	if (r)
+		e->msg[0] = '\0'; /* the refusals asked for */
+out:
+	dem_close(a);
+	dem_close(b);
+	free(za), free(zb), free(va), free(vb);
+	return r;
+}
+
+static void
+check_cols(void)
+{
+	static const struct { const char *file; int x0, x1; } c[] = {
+		{ "tiled_f32.tif", 0, 37 }, { "tiled_f32.tif", 120, 300 },
+		{ "cross.tif", 2, 5 }, { "u16_be.tif", 10, 41 },
+		{ "planar_i32.tif", 5, 33 },
+	};
+	tl_err e = { "" };
+	dem *d;
+
+	for (size_t k = 0; k < sizeof c / sizeof c[0]; k++)
+		ok(same_cols(fpath(c[k].file), c[k].x0, c[k].x1, &e), "%s: "
+		    "columns %d .. %d alone: the whole DEM's, voids NaN %s",
+		    c[k].file, c[k].x0, c[k].x1 - 1, e.msg);
+	ok(same_cols(dpath("N44W072.hgt"), 1000, 1201, &e), "N44W072.hgt: "
+	    "its last 201 columns alone %s", e.msg);
+	d = dem_open_cols(fpath("cross.tif"), NULL, 5, 500, &e);
+	ok(d == NULL && strstr(e.msg, "outside") != NULL, "columns past the "
+	    "DEM refused: %s", e.msg);
+	dem_close(d);
+}
+
 static void
 check_formats(void)
 {
@@ -945,6 +1011,7 @@ main(void)
 	if (make_fixtures() == 0) {
 		check_formats();
 		check_fill();
+		check_cols();
 		check_fixture_georef();
 		check_failures();
 		check_plugin_tiled();

@@ -12,6 +12,9 @@ read back from the fixture with GDAL and numpy, never with our code.
   nan SRC OUT        Float32 with NaN samples, nodata nan
   southup SRC OUT    rows flipped, geotransform with a positive y step
   rotated SRC OUT    a rotation term in the geotransform
+  flipped SRC OUT    Float32, rows and columns flipped (positive y step,
+                     negative x step), NaN voids: region's, a block
+                     across the middle column and one sample in 50
   sparse SRC OUT     the top-right 128x128 tile set to SRC's nodata
   stat FILE          "voids N min X max Y count C": voids = nodata, NaN
                      or masked samples; min/max of the others, scale and
@@ -99,6 +102,19 @@ def cmd_southup(src, out):
     write(out, ds, np.flipud(z).astype(np.int16), gdal.GDT_Int16,
           gt=(x0, dx, 0, y0 + h * dy, 0, -dy),
           nodata=ds.GetRasterBand(1).GetNoDataValue())
+
+
+def cmd_flipped(src, out):
+    ds, z = load(src)
+    x0, dx, _, y0, _, dy = ds.GetGeoTransform()
+    h, w = z.shape
+    z = z.astype(np.float32)
+    r = region(z)
+    r[h // 4:h // 2, w // 2 - 200:w // 2 + 200] = True
+    r |= np.random.default_rng(7).random(z.shape) < 0.02
+    z[r] = np.nan
+    write(out, ds, np.flipud(np.fliplr(z)), gdal.GDT_Float32,
+          gt=(x0 + w * dx, -dx, 0, y0 + h * dy, 0, -dy), nodata=float("nan"))
 
 
 def cmd_rotated(src, out):

@@ -26,7 +26,10 @@
 
 struct dem {
 	georef g;
-	int fd;                  /* filled rows, then masks of void rows */
+	int fd;                  /* filled rows, then masks of void rows;
+	                          * of a window (cols): its rows, unfilled */
+	int cx0, cw;             /* the columns in fd (all but dem_open_cols) */
+	int unfilled;            /* dem_open_cols: NaN marks a void */
 	long long voids;
 	double zunit;            /* metres per height unit of the file */
 	unsigned char *rowvoid;  /* one bit per row: the row has voids */
@@ -99,7 +102,7 @@ int
 dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
     int n, const unsigned char *mask, tl_err *e)
 {
-	int nv = 0;
+	int nv = 0, a, b;
 
 	if (x0 < 0 || y < 0 || n < 0 || x0 + n > L->w || y >= L->h)
 		return tl_fail(e, "%s: sample window outside the raster",
@@ -108,27 +111,33 @@ dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
 		y = L->h - 1 - y;
 	if (L->flip_x)
 		x0 = L->w - x0 - n;
-	for (int i = 0; i < n; i++) {
+	/* north-up columns a .. b-1: those of the n kept */
+	a = x0 > L->cx0 ? x0 : L->cx0;
+	b = x0 + n < L->cx1 ? x0 + n : L->cx1;
+	if (a >= b)
+		return 0;
+	for (int i = a - x0; i < b - x0; i++) {
 		int k = L->flip_x ? n - 1 - i : i;
 		double v = decode(L, p, t, (size_t)k, stride), z;
+		float *o = &L->seg[i - (a - x0)];
 		z = is_void(L, v) || (mask != NULL && mask[k] == 0) ? NAN :
 		    metres(L, v);
 		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
-			L->seg[i] = NAN;
+			*o = NAN;
 			nv++;
 		} else {
-			L->seg[i] = (float)z;
+			*o = (float)z;
 		}
 	}
-	if (L->vd != NULL && vdatum_apply(L->vd, y, x0, n, L->seg, e) < 0)
+	if (L->vd != NULL && vdatum_apply(L->vd, y, a, b - a, L->seg, e) < 0)
 		return -1;
 	if (nv > 0) {
 		L->voids += nv;
 		L->rowvoid[y >> 3] |= 1 << (y & 7);
 	}
-	return tl_pwrite(L->fd, L->seg, (size_t)n * sizeof(float),
-	    ((long long)y * L->w + x0) * (long long)sizeof(float),
-	    "scratch file", e);
+	return tl_pwrite(L->fd, L->seg, (size_t)(b - a) * sizeof(float),
+	    ((long long)y * (L->cx1 - L->cx0) + a - L->cx0) *
+	    (long long)sizeof(float), "scratch file", e);
 }
 
 /* The vertical datum conversion, once the georeferencing is known. */
@@ -168,6 +177,11 @@ dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
 		    (long long)DEM_MAXROW);
 	g->width = L->w = w;
 	g->height = L->h = h;
+	if (L->cx1 == 0)
+		L->cx0 = 0, L->cx1 = w;
+	if (L->cx0 < 0 || L->cx0 >= L->cx1 || L->cx1 > w)
+		return tl_fail(e, "%s: columns %d .. %d outside 0 .. %d",
+		    L->what, L->cx0, L->cx1 - 1, w - 1);
 	L->has_nodata = o->has_nodata ? 1 : g->has_nodata;
 	L->nodata = o->has_nodata ? o->nodata : g->nodata;
 	L->f32 = f32;
@@ -324,8 +338,10 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 	return r;
 }
 
+/* info: the header only; cols (2 ints, or NULL): only those columns */
 static dem *
-open_dem(const char *path, const dem_opts *o, int info, tl_err *e)
+open_dem(const char *path, const dem_opts *o, int info, const int *cols,
+    tl_err *e)
 {
 	static const dem_opts none;
 	spool sp = { { NULL, NULL, -1 }, "" };
@@ -339,6 +355,8 @@ open_dem(const char *path, const dem_opts *o, int info, tl_err *e)
 		return NULL;
 	d->fd = L.fd = -1;
 	L.info = info;
+	if (cols != NULL)
+		L.cx0 = cols[0], L.cx1 = cols[1], d->unfilled = 1;
 	snprintf(d->what, sizeof d->what, "%s", strcmp(path, "-") == 0 ?
 	    "stdin" : path);
 	L.what = d->what;
@@ -358,17 +376,14 @@ open_dem(const char *path, const dem_opts *o, int info, tl_err *e)
 	d->rowvoid = L.rowvoid;
 	d->voids = info ? -1 : L.voids;
 	d->zunit = L.zunit;
-	if (info) {
-		if (r < 0) {
-			dem_close(d);
-			return NULL;
-		}
-		return d;
-	}
-	if (r == 0 && L.voids == (long long)L.w * L.h)
+	d->cx0 = L.cx0, d->cw = L.cx1 - L.cx0;
+	/* a window may be all voids, and is not filled: filling reaches
+	 * across the whole DEM */
+	if (r == 0 && !info && cols == NULL &&
+	    L.voids == (long long)L.w * L.h)
 		r = tl_fail(e, "%s: no valid samples (every sample is a void)",
 		    d->what);
-	if (r == 0 && L.voids > 0)
+	if (r == 0 && !info && cols == NULL && L.voids > 0)
 		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
 	if (r < 0) {
 		dem_close(d);
@@ -380,13 +395,20 @@ open_dem(const char *path, const dem_opts *o, int info, tl_err *e)
 dem *
 dem_open(const char *path, const dem_opts *o, tl_err *e)
 {
-	return open_dem(path, o, 0, e);
+	return open_dem(path, o, 0, NULL, e);
+}
+
+dem *
+dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
+    tl_err *e)
+{
+	return open_dem(path, o, 0, (const int[]){ x0, x1 }, e);
 }
 
 dem *
 dem_open_info(const char *path, const dem_opts *o, tl_err *e)
 {
-	return open_dem(path, o, 1, e);
+	return open_dem(path, o, 1, NULL, e);
 }
 
 const georef *
@@ -411,16 +433,18 @@ int
 dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
     tl_err *e)
 {
-	long long w = d->g.width, h = d->g.height;
+	long long w = d->cw, h = d->g.height;
 
 	if (d->fd < 0)
 		return tl_fail(e, "%s: opened for its header only", d->what);
 	if (j < 0 || j >= h)
 		return tl_fail(e, "%s: row %d outside 0 .. %lld", d->what, j,
 		    h - 1);
-	if (x0 < 0 || n < 0 || x0 + (long long)n > w)
-		return tl_fail(e, "%s: columns %d .. %lld outside 0 .. %lld",
-		    d->what, x0, x0 + (long long)n - 1, w - 1);
+	if (x0 < d->cx0 || n < 0 || x0 + (long long)n > d->cx0 + w)
+		return tl_fail(e, "%s: columns %d .. %lld outside %d .. %lld",
+		    d->what, x0, x0 + (long long)n - 1, d->cx0,
+		    d->cx0 + w - 1);
+	x0 -= d->cx0;
 	if (tl_pread(d->fd, z, (size_t)n * sizeof(float),
 	    (j * w + x0) * (long long)sizeof(float), "DEM scratch file",
 	    e) < 0)
@@ -429,6 +453,11 @@ dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 		return 0;
 	if (!bit(d->rowvoid, j)) {
 		memset(valid, 1, (size_t)n);
+		return 0;
+	}
+	if (d->unfilled) {
+		for (int i = 0; i < n; i++)
+			valid[i] = !isnan(z[i]);
 		return 0;
 	}
 	return tl_pread(d->fd, valid, (size_t)n,

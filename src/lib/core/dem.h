@@ -55,6 +55,15 @@ typedef struct dem dem;
 int dem_option(dem_opts *o, int c, const char *arg, tl_err *e);
 
 dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
+/* Only columns x0 .. x1-1 of every row (north-up), for a job that needs a
+ * window of a DEM larger than it should read (a tilepack piece): the
+ * scratch file holds the window, the source is read only where its
+ * blocks meet the window (all of a row for a striped file). Voids are not
+ * filled (the fill reaches across the whole DEM): a void's z is NaN,
+ * its valid 0. The georeferencing, the size and dem_read_span's column
+ * numbers are the whole DEM's; a span outside the window fails. */
+dem *dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
+    tl_err *e);
 /* The DEM's header only (dem2fqm -I): georeferencing, size, nodata,
  * vertical datum (-H, -D checked as dem_open does) and unit, read
  * through GDAL (or OpenImageIO) without reading a sample nor making a
@@ -62,7 +71,8 @@ dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
  * are unknown (-1) and dem_read_row fails. */
 dem *dem_open_info(const char *path, const dem_opts *o, tl_err *e);
 const georef *dem_georef(const dem *d); /* width, height inside */
-long long dem_voids(const dem *d);      /* void samples; -1: unknown */
+long long dem_voids(const dem *d);      /* void samples (of a window: its
+                                         * own); -1: unknown */
 double dem_zunit(const dem *d);         /* metres per unit of the file */
 /* Row j (any order): z gets heights with voids filled, valid (if not NULL)
  * gets 1 for a real sample and 0 for a void. Both have width entries. */

@@ -388,10 +388,18 @@ read_window(const src *s, dem_load *L, buffers *b, int x0, int y0, int nx,
 static int
 samples(const src *s, dem_load *L, tl_err *e)
 {
-	int ww, wh, flags = GDALGetMaskFlags(s->band), r = 0;
+	int ww, wh, x0, x1, flags = GDALGetMaskFlags(s->band), r = 0;
 	buffers b = { 0 };
 
 	window_size(s, &ww, &wh);
+	/* the source columns of the kept ones (dem_open_cols): whole
+	 * blocks of a file, just those of a VRT, which has none */
+	x0 = L->flip_x ? s->w - L->cx1 : L->cx0;
+	x1 = L->flip_x ? s->w - L->cx0 : L->cx1;
+	if (s->vrt)
+		ww = x1 - x0;
+	else
+		x0 -= x0 % ww;
 	b.rgb = L->enc != DEM_ENC_GREY;
 	b.i8 = s->i8 && !b.rgb;
 	b.type = b.rgb ? TL_PX_U8 : b.i8 ? TL_PX_I8 : TL_PX_F64;
@@ -404,9 +412,8 @@ samples(const src *s, dem_load *L, tl_err *e)
 	if (b.px == NULL || (b.use_mask && b.mask == NULL))
 		r = -1;
 	for (int y = 0; y < s->h && r == 0; y += wh)
-		for (int x = 0; x < s->w && r == 0; x += ww)
-			r = read_window(s, L, &b, x, y,
-			    s->w - x < ww ? s->w - x : ww,
+		for (int x = x0; x < x1 && r == 0; x += ww)
+			r = read_window(s, L, &b, x, y, x1 - x < ww ? x1 - x : ww,
 			    s->h - y < wh ? s->h - y : wh, e);
 	free(b.px);
 	free(b.mask);

@@ -37,6 +37,9 @@ typedef struct {
 	struct vdatum_shift *vd;     /* vertical datum conversion, or NULL */
 	int info;                /* the header only (dem_open_info): no
 	                          * scratch file, no samples read */
+	int cx0, cx1;            /* the columns kept (dem_open_cols), in
+	                          * north-up order; cx1 0: all, until
+	                          * dem_load_begin resolves it */
 } dem_load;
 
 /* Sets up the conversion once size, nodata and units are known (zunit,
@@ -53,7 +56,8 @@ int dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
 
 /* Stores n samples of source row y from source column x0: p holds them
  * as enum tl_px type t, stride values apart (pixel k's channels at
- * k * stride); mask (may be NULL) 0 marks a void. */
+ * k * stride); mask (may be NULL) 0 marks a void. Samples outside the
+ * kept columns are skipped, so an adapter may hand over more. */
 int dem_load_put(dem_load *L, const void *p, int t, int stride, int x0,
     int y, int n, const unsigned char *mask, tl_err *e);
 

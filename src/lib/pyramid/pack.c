@@ -622,18 +622,17 @@ bad:
 	    b1);
 }
 
-/* What pack_piece and pack_gather share: the DEM (opened fully, or its
- * header only), the index's levels from the vertex maps' headers. */
+/* What -p, -g and -l share: the DEM's header, the index's levels from
+ * the vertex maps' headers. */
 static int
 work_open(work *w, pyramid_index *ix, geo_metric *m, const pack_args *a,
-    pack_level *out, int info, tl_err *e)
+    pack_level *out, tl_err *e)
 {
 	memset(w, 0, sizeof *w);
 	w->a = a, w->ix = ix, w->m = m, w->out = out;
 	w->mu = (pthread_mutex_t)PTHREAD_MUTEX_INITIALIZER;
 	memset(out, 0, (size_t)a->nlevels * sizeof *out);
-	if ((w->d = info ? dem_open_info(a->dem_path, &a->dem, e) :
-	    dem_open(a->dem_path, &a->dem, e)) == NULL)
+	if ((w->d = dem_open_info(a->dem_path, &a->dem, e)) == NULL)
 		return -1;
 	ix->version = VGIS_VERSION;
 	ix->geo = *dem_georef(w->d);
@@ -656,6 +655,26 @@ work_close(work *w, pyramid_index *ix, geo_metric *m)
 	pyramid_index_free(ix);
 }
 
+/* The DEM of a piece in a process of its own: only the columns its
+ * window scans, so that a job's disk and time do not grow with the
+ * DEM's width (the header, opened by work_open, is replaced). */
+static int
+open_window(work *w, int l, const tiles_piece *p, tl_err *e)
+{
+	tiles_level L = { .level = l };
+	tiles_window win;
+	dem *d;
+
+	L.size[0] = w->ix->lev[l].size[0];
+	tiles_piece_window(&L, dem_georef(w->d)->width, p, &win);
+	if ((d = dem_open_cols(w->a->dem_path, &w->a->dem, (int)win.d0,
+	    (int)win.d1, e)) == NULL)
+		return -1;
+	dem_close(w->d);
+	w->d = d;
+	return 0;
+}
+
 int
 pack_piece(const pack_args *a, int l, int b0, int b1, tl_err *e)
 {
@@ -673,7 +692,7 @@ pack_piece(const pack_args *a, int l, int b0, int b1, tl_err *e)
 		    b1, l, a->nlevels - 1);
 		goto done;
 	}
-	if (work_open(&w, &ix, &m, a, out, 0, e) < 0)
+	if (work_open(&w, &ix, &m, a, out, e) < 0)
 		goto done;
 	if ((k = is_piece(&ix.lev[l], b0, b1, &n, e)) <= 0) {
 		if (k == 0)
@@ -681,6 +700,8 @@ pack_piece(const pack_args *a, int l, int b0, int b1, tl_err *e)
 			    "pieces", l, b0, b1, l, n);
 		goto done;
 	}
+	if (open_window(&w, l, &(tiles_piece){ b0, b1 }, e) < 0)
+		goto done;
 	w.tmp = a->dir;
 	snprintf(path, sizeof path, "%s/%d", a->dir, l);
 	if (mkdir_ok(a->dir, e) < 0 || mkdir_ok(path, e) < 0)
@@ -709,7 +730,7 @@ pack_gather(const pack_args *a, const char *dir, pack_level *out, tl_err *e)
 	int r = -1;
 
 	if (pack_check_dir(a->dir, a->force, e) < 0 ||
-	    work_open(&w, &ix, &m, a, out, 1, e) < 0)
+	    work_open(&w, &ix, &m, a, out, e) < 0)
 		goto done;
 	for (int l = 0; l < a->nlevels; l++) {
 		tiles_piece *p;
@@ -745,7 +766,7 @@ pack_list(const pack_args *a, FILE *f, tl_err *e)
 	work w = { 0 };
 	int r = -1;
 
-	if (out == NULL || work_open(&w, &ix, &m, a, out, 1, e) < 0)
+	if (out == NULL || work_open(&w, &ix, &m, a, out, e) < 0)
 		goto done;
 	for (int l = 0; l < a->nlevels; l++) {
 		tiles_piece *p;
