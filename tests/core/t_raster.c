@@ -524,6 +524,88 @@ test_stream(void)
 	rs_header_free(&h);
 }
 
+/* Columns x0 .. x0+n-1 of every row by rs_read_span: the rows' own values,
+ * channel c at c n. */
+static int
+check_spans(const char *path, int x0, int n, uint32_t seed, tl_err *e)
+{
+	rs_reader *r = rs_open(path, e);
+	const rs_header *h;
+	float *sp = NULL, *ref = NULL;
+	int rv = -1;
+
+	if (r == NULL)
+		return -1;
+	h = rs_header_of(r);
+	sp = malloc((size_t)n * h->nch * sizeof *sp);
+	ref = malloc((size_t)h->width * h->nch * sizeof *ref);
+	for (int y = 0; y < h->height; y++) {
+		if (rs_read_span(r, x0, n, sp, e) < 0)
+			goto out;
+		fill(ref, h->width, h->nch, y, seed, 0);
+		for (int c = 0; c < h->nch; c++)
+			if (memcmp(sp + (size_t)c * n,
+			    ref + (size_t)c * h->width + x0,
+			    (size_t)n * sizeof *sp) != 0) {
+				tl_fail(e, "row %d channel %d differs", y, c);
+				goto out;
+			}
+	}
+	rv = rs_read_span(r, x0, n, sp, e) < 0 ? 0 :
+	    tl_fail(e, "a span past the last row read");
+	if (rv == 0)
+		e->msg[0] = '\0';
+out:
+	free(sp);
+	free(ref);
+	rs_close(r);
+	return rv;
+}
+
+static void
+test_spans(void)
+{
+	const char *src = tmp("s.fqm"), *cut = tmp("s-cut.fqm");
+	rs_header h;
+	tl_err e = { { 0 } };
+
+	make_header(&h, 300, 41, 3);
+	ok(write_stream(src, &h, 21, &e) == 0 &&
+	    check_spans(src, 0, 300, 21, &e) == 0 &&
+	    check_spans(src, 17, 5, 21, &e) == 0 &&
+	    check_spans(src, 299, 1, 21, &e) == 0,
+	    "stream file: spans of 300, 5 and 1 columns read alone %s", e.msg);
+	ok(write_file(tmp("s.exr"), &h, RS_ZIP, 21, &e) == 0 &&
+	    check_spans(tmp("s.exr"), 120, 64, 21, &e) == 0,
+	    "EXR file: spans from whole rows %s", e.msg);
+	ok(check_piped(src, &h, 21, &e) == 0, "stream on a pipe %s", e.msg);
+	/* a stream file one byte short: no spans by pread, whole rows read,
+	 * the truncation found where it is */
+	/* a flipped byte in row 4's checksum: spans read by pread skip the
+	 * checksums (the data is intact), whole rows see it */
+	damage(src, cut, file_size(src), file_size(src) - 16 -
+	    36 * (3 * 300 * 4 + 4) - 2);
+	ok(check_spans(cut, 17, 5, 21, &e) == 0 &&
+	    check_file(cut, &h, 21, &e) < 0 && strstr(e.msg, "row 4") != NULL,
+	    "spans of a stream file come by pread: a bad row checksum is "
+	    "not read (whole rows: %s)", e.msg);
+	damage(src, cut, file_size(src) - 1, -1);
+	ok(check_spans(cut, 17, 5, 21, &e) < 0 &&
+	    strstr(e.msg, "trailer") != NULL, "a truncated stream file: "
+	    "read by whole rows, the truncation reported: %s", e.msg);
+	damage(src, cut, file_size(src), file_size(src) - 3);
+	ok(check_spans(cut, 17, 5, 21, &e) < 0 &&
+	    strstr(e.msg, "trailer") != NULL, "a damaged trailer: read by "
+	    "whole rows, reported: %s", e.msg);
+	damage(src, cut, file_size(src), -1);
+	append(cut, "x");
+	ok(check_spans(cut, 17, 5, 21, &e) < 0 &&
+	    strstr(e.msg, "garbage") != NULL, "trailing garbage: read by "
+	    "whole rows, reported: %s", e.msg);
+	unlink(src), unlink(cut), unlink(tmp("s.exr"));
+	rs_header_free(&h);
+}
+
 /* The first error reading path: from rs_open (*row = -2) or at a row. */
 static const char *
 first_error_seed(const char *path, uint32_t seed, int *row, tl_err *e)
@@ -1142,6 +1224,7 @@ main(void)
 	test_exr();
 	test_stream();
 	test_stream_damage();
+	test_spans();
 	test_exr_damage();
 	test_sizes();
 	test_foreign();

@@ -30,7 +30,7 @@ static char tmp[PATH_MAX - 64];
 typedef struct {
 	const float *z;
 	int w, h;
-	int next, bad_order;
+	int next, bad_order, bad_cols; /* bad_cols: a span past the row */
 	int fail_at; /* a row whose read fails, or -1 */
 	double jitter;
 } rows;
@@ -38,20 +38,23 @@ typedef struct {
 static float rough(int i, int j, unsigned salt);
 
 static int
-row_fn(void *ctx, int r, float *z, float *x, float *y, tl_err *e)
+row_fn(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
+    tl_err *e)
 {
 	rows *R = ctx;
 
 	R->bad_order += r != R->next++;
+	R->bad_cols += c0 < 0 || n < 1 || c0 + n > R->w;
 	if (r == R->fail_at)
 		return tl_fail(e, "row %d: cannot", r);
-	memcpy(z, R->z + (size_t)r * R->w, (size_t)R->w * sizeof *z);
+	memcpy(z, R->z + (size_t)r * R->w + c0, (size_t)n * sizeof *z);
 	if (x != NULL) {
-		memset(x, 0, (size_t)R->w * sizeof *x);
-		memset(y, 0, (size_t)R->w * sizeof *y);
-		for (int i = 0; R->jitter > 0 && i < R->w; i++) {
-			x[i] = (float)(R->jitter * (rough(i, r, 7) / 1003 - 0.5) * 0.9);
-			y[i] = (float)(R->jitter * (rough(i, r, 8) / 1003 - 0.5) * 0.9);
+		memset(x, 0, (size_t)n * sizeof *x);
+		memset(y, 0, (size_t)n * sizeof *y);
+		for (int i = 0; R->jitter > 0 && i < n; i++) {
+			int g = c0 + i;
+			x[i] = (float)(R->jitter * (rough(g, r, 7) / 1003 - 0.5) * 0.9);
+			y[i] = (float)(R->jitter * (rough(g, r, 8) / 1003 - 0.5) * 0.9);
 		}
 	}
 	return 0;
@@ -200,7 +203,7 @@ blocks_ok(const run *u)
 	for (int k = 0; k < u->s.bx * u->s.by; k++)
 		once &= u->s.seen[k] == 1;
 	return u->r == 0 && once && !u->s.bad_order && !u->s.bad_border &&
-	    !u->R.bad_order && u->R.next == u->R.h;
+	    !u->R.bad_order && !u->R.bad_cols && u->R.next == u->R.h;
 }
 
 /* A DEM of w x h samples from z, as a TIFF in tmp. */

@@ -3,6 +3,7 @@
  * picks EXR for a file name and the stream for "-". */
 #include "core/rs_impl.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdlib.h>
@@ -431,6 +432,37 @@ rs_read_row(rs_reader *r, float *row, tl_err *e)
 	return 0;
 }
 
+int
+rs_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e)
+{
+	size_t w = (size_t)r->h.width;
+	int k = 1;
+
+	if (r->failed)
+		return tl_fail(e, "%s: read after an error", r->name);
+	if (r->y >= r->h.height)
+		return tl_fail(e, "%s: read past the last row (%d)", r->name,
+		    r->h.height);
+	assert(x0 >= 0 && n >= 1 && (size_t)x0 + (size_t)n <= w);
+	if (r->full == NULL && r->span != NULL)
+		k = r->span(r, x0, n, dst, e);
+	if (k == 1) {
+		if (r->full == NULL &&
+		    (r->full = tl_alloc(w * r->h.nch, sizeof *r->full, e)) == NULL)
+			k = -1;
+		else if ((k = r->row(r, r->full, e)) == 0)
+			for (int c = 0; c < r->h.nch; c++)
+				memcpy(dst + (size_t)c * n, r->full + c * w + x0,
+				    (size_t)n * sizeof *dst);
+	}
+	if (k < 0) {
+		r->failed = 1;
+		return -1;
+	}
+	r->y++;
+	return 0;
+}
+
 void
 rs_close(rs_reader *r)
 {
@@ -441,6 +473,7 @@ rs_close(rs_reader *r)
 	if (r->ownfd && r->fd >= 0)
 		close(r->fd);
 	rs_header_free(&r->h);
+	free(r->full);
 	free(r->name);
 	free(r);
 }

@@ -75,6 +75,12 @@ const rs_header *rs_header_of(const rs_reader *r);
 /* Reads the next row; after the last row of a stream it also checks the
  * trailer, so truncation is reported before the caller commits output. */
 int rs_read_row(rs_reader *r, float *row, tl_err *e);
+/* Reads columns x0 .. x0+n-1 of the next row of every channel, channel c
+ * at dst + c n. From a complete stream file (its size and trailer checked
+ * once) only those bytes are read, and the rows' checksums, which cover
+ * whole rows, are not verified; otherwise whole rows are read and
+ * verified. A reader is read by rows or by spans, not both. */
+int rs_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e);
 void rs_close(rs_reader *r);
 
 /* --- writing ---------------------------------------------------------- */

@@ -19,6 +19,11 @@ struct rs_reader {
 	int y;       /* next row */
 	int failed;  /* an error was reported: every later read fails */
 	int (*row)(rs_reader *, float *, tl_err *);
+	/* columns x0 .. x0+n-1 of the next row, straight from the file;
+	 * returns 1 when it cannot (not a complete stream file): the caller
+	 * then reads whole rows. NULL: never. */
+	int (*span)(rs_reader *, int x0, int n, float *dst, tl_err *);
+	float *full; /* a whole row, for spans read as whole rows */
 	void (*close)(rs_reader *);
 	void *impl;
 	unsigned char pre[8]; /* bytes rs_open read to find the magic */

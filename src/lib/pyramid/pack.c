@@ -71,23 +71,28 @@ typedef struct {
 	const rs_header *h;
 	const char *name;
 	int cz, cx, cy; /* channels Z, X, Y (X, Y -1 on 1D levels) */
-	float *row;
+	float *row;     /* the span asked for, every channel */
 } vmap;
 
+/* Columns c0 .. c0+n-1 of row r: of a vertex map on file only those
+ * bytes (a piece reads its window, not the level), checked for NaN. */
 static int
-read_row(void *ctx, int r, float *z, float *x, float *y, tl_err *e)
+read_row(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
+    tl_err *e)
 {
 	vmap *v = ctx;
-	size_t w = (size_t)v->h->width;
 
-	/* a NaN that a format without checksums let through stops here */
-	if (rs_read_row(v->r, v->row, e) < 0 ||
-	    fqm_check_row(v->row, (int)w, v->h->nch, r, v->name, e) < 0)
+	if (v->row == NULL &&
+	    (v->row = tl_alloc((size_t)n * v->h->nch, sizeof *v->row, e)) == NULL)
 		return -1;
-	memcpy(z, v->row + (size_t)v->cz * w, w * sizeof *z);
+	/* a NaN that a format without checksums let through stops here */
+	if (rs_read_span(v->r, c0, n, v->row, e) < 0 ||
+	    fqm_check_row(v->row, n, v->h->nch, r, v->name, e) < 0)
+		return -1;
+	memcpy(z, v->row + (size_t)v->cz * n, (size_t)n * sizeof *z);
 	if (x != NULL) {
-		memcpy(x, v->row + (size_t)v->cx * w, w * sizeof *x);
-		memcpy(y, v->row + (size_t)v->cy * w, w * sizeof *y);
+		memcpy(x, v->row + (size_t)v->cx * n, (size_t)n * sizeof *x);
+		memcpy(y, v->row + (size_t)v->cy * n, (size_t)n * sizeof *y);
 	}
 	return 0;
 }
@@ -111,8 +116,7 @@ vmap_open(vmap *v, const char *path, int l, const georef *g, tl_err *e)
 	v->cx = rs_channel(v->h, "X"), v->cy = rs_channel(v->h, "Y");
 	if ((v->cx < 0) != (v->cy < 0))
 		return tl_fail(e, "%s: has only one of channels X and Y", name);
-	v->row = tl_alloc((size_t)v->h->width * v->h->nch, sizeof *v->row, e);
-	return v->row != NULL ? 0 : -1;
+	return 0;
 }
 
 static void

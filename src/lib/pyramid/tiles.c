@@ -45,16 +45,10 @@ load_row(state *s, int r, tl_err *e)
 	o = slot(s, r);
 	assert(n - 1 >= c);
 	if (r < m) {
-		if (L->row(L->row_ctx, r, s->rz, L->displaced ? s->rx : NULL,
-		    L->displaced ? s->ry : NULL, e) < 0)
+		if (L->row(L->row_ctx, r, c, nr - c, s->z + o,
+		    L->displaced ? s->ox + o : NULL,
+		    L->displaced ? s->oy + o : NULL, e) < 0)
 			return -1;
-		memcpy(s->z + o, s->rz + c, (size_t)(nr - c) * sizeof *s->z);
-		if (L->displaced) {
-			memcpy(s->ox + o, s->rx + c,
-			    (size_t)(nr - c) * sizeof *s->ox);
-			memcpy(s->oy + o, s->ry + c,
-			    (size_t)(nr - c) * sizeof *s->oy);
-		}
 	} else {
 		memcpy(s->z + o, s->z + slot(s, m - 1),
 		    (size_t)(nr - c) * sizeof *s->z);
@@ -509,7 +503,7 @@ state_free(state *s)
 	free(s->z), free(s->ox), free(s->oy), free(s->sx), free(s->sy);
 	free(s->nk), free(s->nu);
 	free(s->acc), free(s->band);
-	free(s->rz), free(s->rx), free(s->ry), free(s->dz), free(s->dv);
+	free(s->dz), free(s->dv);
 	free(s->dd);
 	strips_free(s);
 }
@@ -605,19 +599,15 @@ state_init(state *s, const tiles_level *L, const tiles_piece *pc, dem *d,
 	s->sx = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sx, e);
 	s->sy = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sy, e);
 	s->band = tl_alloc((size_t)BAND * s->P, sizeof *s->band, e);
-	s->rz = tl_alloc(L->size[0], sizeof *s->rz, e);
 	s->dz = tl_alloc(s->dend - s->d0, sizeof *s->dz, e);
 	s->dv = tl_alloc(s->dend - s->d0, 1, e);
 	if (L->displaced) {
 		s->ox = tl_alloc(ring, sizeof *s->ox, e);
 		s->oy = tl_alloc(ring, sizeof *s->oy, e);
-		s->rx = tl_alloc(L->size[0], sizeof *s->rx, e);
-		s->ry = tl_alloc(L->size[0], sizeof *s->ry, e);
 	}
 	if (!s->z || !s->acc || !s->sx || !s->sy || !s->band ||
 	    (L->displaced && s->nn > 1 && (!s->nk || !s->nu)) ||
-	    !s->rz || !s->dz || !s->dv || (L->displaced && (!s->ox ||
-	    !s->oy || !s->rx || !s->ry)) ||
+	    !s->dz || !s->dv || (L->displaced && (!s->ox || !s->oy)) ||
 	    (s->dd = tl_alloc((size_t)BATCH * (s->dend - s->d0 + 1),
 	    sizeof *s->dd, e)) == NULL ||
 	    strips_init(s, L->threads, e) < 0) {

@@ -39,11 +39,12 @@
 #include "core/dem.h"
 #include "pyramid/pyramid.h"
 
-/* The level's real row r (r < size[1]) of heights and, displaced, the X
- * and Y offsets in metres (x, y NULL for 1D levels). Rows are asked for in
- * order, once each. */
-typedef int (*tiles_row_fn)(void *ctx, int r, float *z, float *x, float *y,
-    tl_err *e);
+/* Columns c0 .. c0+n-1 of the level's real row r (r < size[1]) of
+ * heights and, displaced, the X and Y offsets in metres (x, y NULL for
+ * 1D levels), n entries each. Rows are asked for in order, once each,
+ * always the same columns: a piece's window, or the whole row. */
+typedef int (*tiles_row_fn)(void *ctx, int r, int c0, int n, float *z,
+    float *x, float *y, tl_err *e);
 /* A finished block; the callee writes it (b is reused afterwards). With
  * threads > 1 it is called from several threads at once, for different
  * blocks of one block row (block rows come in order, a row's blocks in

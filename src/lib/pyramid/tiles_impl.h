@@ -90,7 +90,6 @@ struct state {
 	int loaded;         /* level rows [0, loaded) have been loaded */
 	int next_bj;        /* next block row to hand out */
 	float *band;        /* BAND x P: saturated errors */
-	float *rz, *rx, *ry; /* a real row from the caller */
 	float *dz;
 	unsigned char *dv;  /* a DEM row */
 	tiles_stats *st;
