@@ -1,7 +1,7 @@
 # t_plan - dem2vgis --plan: the job graph built by make (-j2), by GNU
 # parallel when it is installed, killed in the middle and run again; the
 # pyramid byte for byte the one dem2vgis builds in one run. The Slurm
-# script is checked by sh -n (no cluster here).
+# script is parsed here (sh -n), run in t_plan_slurm.sh.
 . "$(dirname "$0")/../lib.sh"
 PATH=$B:$PATH
 

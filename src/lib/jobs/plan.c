@@ -110,26 +110,33 @@ parallel(FILE *f, const char *dir)
 static void
 slurm(FILE *f, const char *dir)
 {
+	/* The jobs run in the plan (-D), so that their commands (--wrap, a
+	 * line of sh) need not name it: any name, quotes included. A job
+	 * whose dependency failed is cancelled (--kill-on-invalid-dep),
+	 * not left pending for ever. */
 	fputs("#!/bin/sh\n"
 	    "# Slurm: the chain, then a job submitting the pieces as an array "
 	    "and the\n# gather after them (the pieces are known once the "
 	    "chain has run). Each job\n# is a make target of this directory: "
-	    "submitted again, it skips what is done.\n# sbatch options "
-	    "(partition, account, time) come from SBATCH_OPTS.\n"
+	    "submitted again, it skips what is done.\n# A failed job cancels "
+	    "those after it. sbatch options (partition, account,\n# time) "
+	    "come from SBATCH_OPTS.\n"
 	    "set -e\nP=", f);
 	word(f, dir, 0);
 	fputs("\nif [ \"${1:-}\" != --pieces ]; then\n"
 	    "\tc=$(sbatch --parsable $SBATCH_OPTS -J chain -D \"$P\" "
-	    "--wrap \"make -C '$P' done/pieces.mk\")\n"
+	    "--wrap 'make done/pieces.mk')\n"
 	    "\tsbatch --parsable $SBATCH_OPTS -J submit -D \"$P\" "
-	    "--dependency=afterok:$c --wrap \"sh '$P/slurm.sh' --pieces\"\n"
+	    "--dependency=afterok:$c --kill-on-invalid-dep=yes "
+	    "--wrap 'sh slurm.sh --pieces'\n"
 	    "\texit 0\nfi\n"
 	    "n=$(wc -l <\"$P/done/targets\")\n"
 	    "a=$(sbatch --parsable $SBATCH_OPTS -J pieces -D \"$P\" "
-	    "--array=1-$n --wrap \"make -C '$P' \\$(sed -n "
-	    "\\${SLURM_ARRAY_TASK_ID}p '$P/done/targets')\")\n"
+	    "--array=1-$n --wrap 'make \"$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" "
+	    "done/targets)\"')\n"
 	    "sbatch --parsable $SBATCH_OPTS -J gather -D \"$P\" "
-	    "--dependency=afterok:$a --wrap \"make -C '$P' done/gather\"\n", f);
+	    "--dependency=afterok:$a --kill-on-invalid-dep=yes "
+	    "--wrap 'make done/gather'\n", f);
 }
 
 /* File name in dir, written by fn, executable or not. */
