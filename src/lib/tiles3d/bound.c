@@ -1,0 +1,80 @@
+/* bound.c - how far a tile's stored triangles stand from the surface the
+ * pyramid's errors are about.
+ *
+ * The pyramid bounds the DEM's distance from triangles that are linear in
+ * the grid (height interpolated over the grid's cells). A renderer draws
+ * flat triangles in ECEF, through float32 vertices: these sag below the
+ * grid-linear surface by about d^2/8R (the Earth's curvature; 70 m for a
+ * 60 km triangle) and move by the float rounding. The difference, the
+ * height along the ellipsoid's normal of the drawn triangle minus the
+ * grid-linear height, is a smooth function over the triangle, at vertex
+ * i d_i (rounding), quadratic to the leading order: d = sum l_i d_i +
+ * sum_{i<j} c_ij l_i l_j in barycentric l, c_ij / 4 being its value at
+ * the midpoint of edge ij less (d_i + d_j) / 2. As l_i l_j <= 1/4,
+ * |d| <= max |d_i| + sum |c_ij| / 4: measured at the vertices and
+ * midpoints, exactly (PROJ, the WGS 84 closed form). */
+#include <math.h>
+
+#include "tiles3d/t3_impl.h"
+
+/* Height along the normal at (lon, lat) where it meets the plane
+ * through a with normal n. */
+static double
+plane_height(double lon, double lat, const double a[3], const double n[3])
+{
+	double s[3], u[3], r[9], num = 0, den = 0;
+
+	t3_ecef(lon, lat, 0, s);
+	t3_enu(lon, lat, r);
+	u[0] = r[6], u[1] = r[7], u[2] = r[8];
+	for (int q = 0; q < 3; q++)
+		num += (a[q] - s[q]) * n[q], den += u[q] * n[q];
+	return fabs(den) > 0 ? num / den : 0;
+}
+
+/* Longitude and latitude of block position (c, r), halves allowed. */
+static int
+lonlat(t3_work *w, const georef *g, const t3_tile *t, double c, double r,
+    double *lon, double *lat, tl_err *e)
+{
+	double z = 0;
+
+	if (c == floor(c) && r == floor(r)) {
+		int k = (int)r * BT_SIZE + (int)c;
+		*lon = w->lon[k], *lat = w->lat[k];
+		return 0;
+	}
+	geo_vertex_crs(g, t->level, t->bi * BT_CELLS + c,
+	    t->bj * BT_CELLS + r, lon, lat);
+	return t3_proj_geo(&w->proj, lon, lat, &z, 1, e);
+}
+
+int
+t3_flat_bound(t3_work *w, const georef *g, const t3_tile *t,
+    const uint16_t k[3], const double p[3][3], double *out, tl_err *e)
+{
+	double n[3], u[3], v[3], d[3], sum = 0, dmax = 0;
+
+	for (int q = 0; q < 3; q++)
+		u[q] = p[1][q] - p[0][q], v[q] = p[2][q] - p[0][q];
+	n[0] = u[1] * v[2] - u[2] * v[1];
+	n[1] = u[2] * v[0] - u[0] * v[2];
+	n[2] = u[0] * v[1] - u[1] * v[0];
+	for (int q = 0; q < 3; q++) {
+		d[q] = plane_height(w->lon[k[q]], w->lat[k[q]], p[0], n) -
+		    w->h[k[q]];
+		dmax = fmax(dmax, fabs(d[q]));
+	}
+	for (int q = 0; q < 3; q++) {
+		int a = k[q], b = k[(q + 1) % 3];
+		double c = 0.5 * (a % BT_SIZE + b % BT_SIZE);
+		double r = 0.5 * (a / BT_SIZE + b / BT_SIZE), lon, lat, dm;
+		if (lonlat(w, g, t, c, r, &lon, &lat, e) < 0)
+			return -1;
+		dm = plane_height(lon, lat, p[0], n) -
+		    0.5 * (w->h[a] + w->h[b]);
+		sum += fabs(dm - 0.5 * (d[q] + d[(q + 1) % 3]));
+	}
+	*out = dmax + sum;
+	return 0;
+}
