@@ -10,9 +10,11 @@
  * grid-linear height, is a smooth function over the triangle, at vertex
  * i d_i (rounding), quadratic to the leading order: d = sum l_i d_i +
  * sum_{i<j} c_ij l_i l_j in barycentric l, c_ij / 4 being its value at
- * the midpoint of edge ij less (d_i + d_j) / 2. As l_i l_j <= 1/4,
- * |d| <= max |d_i| + sum |c_ij| / 4: measured at the vertices and
- * midpoints, exactly (PROJ, the WGS 84 closed form). */
+ * the midpoint of edge ij less (d_i + d_j) / 2. So |d| <= max |d_i| +
+ * max |q| over the triangle, q = sum c_ij l_i l_j: on an edge at most
+ * |c_ij| / 4, inside at its critical point (quad_max); d_i and c_ij
+ * measured at the vertices and midpoints, exactly (PROJ, the WGS 84
+ * closed form). */
 #include <math.h>
 
 #include "tiles3d/t3_impl.h"
@@ -30,6 +32,48 @@ plane_height(double lon, double lat, const double a[3], const double n[3])
 	for (int q = 0; q < 3; q++)
 		num += (a[q] - s[q]) * n[q], den += u[q] * n[q];
 	return fabs(den) > 0 ? num / den : 0;
+}
+
+/* Largest |q| over the triangle, q = c0 l0 l1 + c1 l1 l2 + c2 l2 l0:
+ * the edges' midpoints (|c| / 4), and the critical point of q on
+ * l0 + l1 + l2 = 1 when it lies inside, where q = mu / 2 (q is
+ * homogeneous of degree 2). Gaussian elimination with pivoting. */
+static double
+quad_max(const double c[3])
+{
+	double m[4][5] = {
+		{ 0, c[0], c[2], -1, 0 }, { c[0], 0, c[1], -1, 0 },
+		{ c[2], c[1], 0, -1, 0 }, { 1, 1, 1, 0, 1 },
+	};
+	double best = fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2]))) / 4;
+	double x[4], scale = 4 * best + 1e-300;
+
+	for (int k = 0; k < 4; k++) {
+		int p = k;
+		for (int i = k + 1; i < 4; i++)
+			if (fabs(m[i][k]) > fabs(m[p][k]))
+				p = i;
+		if (fabs(m[p][k]) < 1e-12 * scale)
+			return best; /* no single critical point */
+		for (int j = 0; j < 5; j++) {
+			double t = m[k][j];
+			m[k][j] = m[p][j], m[p][j] = t;
+		}
+		for (int i = k + 1; i < 4; i++) {
+			double f = m[i][k] / m[k][k];
+			for (int j = k; j < 5; j++)
+				m[i][j] -= f * m[k][j];
+		}
+	}
+	for (int k = 3; k >= 0; k--) {
+		x[k] = m[k][4];
+		for (int j = k + 1; j < 4; j++)
+			x[k] -= m[k][j] * x[j];
+		x[k] /= m[k][k];
+	}
+	if (x[0] >= 0 && x[1] >= 0 && x[2] >= 0)
+		best = fmax(best, fabs(x[3]) / 2);
+	return best;
 }
 
 /* Longitude and latitude of block position (c, r), halves allowed. */
@@ -53,7 +97,7 @@ int
 t3_flat_bound(t3_work *w, const georef *g, const t3_tile *t,
     const uint16_t k[3], const double p[3][3], double *out, tl_err *e)
 {
-	double n[3], u[3], v[3], d[3], sum = 0, dmax = 0;
+	double n[3], u[3], v[3], d[3], c[3], dmax = 0;
 
 	for (int q = 0; q < 3; q++)
 		u[q] = p[1][q] - p[0][q], v[q] = p[2][q] - p[0][q];
@@ -67,14 +111,14 @@ t3_flat_bound(t3_work *w, const georef *g, const t3_tile *t,
 	}
 	for (int q = 0; q < 3; q++) {
 		int a = k[q], b = k[(q + 1) % 3];
-		double c = 0.5 * (a % BT_SIZE + b % BT_SIZE);
-		double r = 0.5 * (a / BT_SIZE + b / BT_SIZE), lon, lat, dm;
-		if (lonlat(w, g, t, c, r, &lon, &lat, e) < 0)
+		double mc = 0.5 * (a % BT_SIZE + b % BT_SIZE);
+		double mr = 0.5 * (a / BT_SIZE + b / BT_SIZE), lon, lat, dm;
+		if (lonlat(w, g, t, mc, mr, &lon, &lat, e) < 0)
 			return -1;
 		dm = plane_height(lon, lat, p[0], n) -
 		    0.5 * (w->h[a] + w->h[b]);
-		sum += fabs(dm - 0.5 * (d[q] + d[(q + 1) % 3]));
+		c[q] = 4 * (dm - 0.5 * (d[q] + d[(q + 1) % 3]));
 	}
-	*out = dmax + sum;
+	*out = dmax + quad_max(c);
 	return 0;
 }
