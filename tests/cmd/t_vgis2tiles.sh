@@ -11,12 +11,16 @@ JS=$TOP/tests/js
 # a projected DEM (UTM) and a geographic one with voids (SRTM, EGM96
 # heights made ellipsoidal by PROJ); 385 samples: 3 levels, 14 tiles
 gdal_translate -q -srcwin 400 100 385 385 "$DATA/bigtujunga.tif" "$T/utm.tif"
+gdal_translate -q -srcwin 700 300 257 257 "$DATA/bigtujunga.tif" "$T/q3d.tif"
 gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 2700 1650 385 385 \
     "$DATA/N48W125.hgt" "$T/srtm.tif"
 $PY "$TOP/tests/tools/ellipsoidal.py" "$T/srtm.tif" "$T/geo.tif"
-for d in utm geo; do
-	dem2vgis "$T/$d.tif" "$T/$d.pyr" 2>/dev/null
-	run "$d: vgis2tiles" vgis2tiles -q -j 2 "$T/$d.pyr" "$T/$d.3d"
+# and QEM-3D levels (vertices offset in x, y), 257 samples: 5 tiles
+for d in utm geo q3d; do
+	o=; [ $d = q3d ] && o=-3
+	dem2vgis $o "$T/$d.tif" "$T/$d.pyr" 2>/dev/null
+	# tau0 3 m: fewer triangles for the truth check to walk
+	run "$d: vgis2tiles" vgis2tiles -q -j 2 -t 3 "$T/$d.pyr" "$T/$d.3d"
 	ls "$T/$d.3d"/*/*.glb >"$T/glbs"
 	run "$d: every glb passes the glTF validator with 0 errors" \
 	    node "$JS/validate.js" glb $(cat "$T/glbs")
@@ -33,8 +37,8 @@ n=$(grep -c '"box"' "$T/utm.3d/tileset.json")
 [ "$n" -eq 14 ]; ok $? "projected DEM: boxes ($n)"
 
 # same bytes: a rerun, one thread
-run "rerun -j 2" vgis2tiles -q -j 2 "$T/utm.pyr" "$T/again.3d"
-run "rerun -j 1" vgis2tiles -q -j 1 "$T/utm.pyr" "$T/one.3d"
+run "rerun -j 2" vgis2tiles -q -j 2 -t 3 "$T/utm.pyr" "$T/again.3d"
+run "rerun -j 1" vgis2tiles -q -j 1 -t 3 "$T/utm.pyr" "$T/one.3d"
 diff -r "$T/utm.3d" "$T/again.3d" >/dev/null; ok $? "a rerun is byte-identical"
 diff -r "$T/utm.3d" "$T/one.3d" >/dev/null; ok $? "-j 1 and -j 2 are byte-identical"
 run "an existing tileset is replaced" vgis2tiles -q "$T/utm.pyr" "$T/one.3d"

@@ -27,6 +27,9 @@ from osgeo import gdal
 from pyproj import CRS, Transformer
 
 TOL = 1e-3  # metres: PROJ vs pyproj, and the writer's quadratic bound
+# Barycentric slack: float32 vertices come back ~1e-6 of a triangle off
+# their grid places, and samples on the DEM's edge lie on triangle edges
+EPS = 1e-5
 
 
 def glb_read(path):
@@ -135,7 +138,7 @@ def measure(dem, ecef, col, row, tris, covered):
             continue
         l1 = ((ii - c[0]) * (r[2] - r[0]) - (c[2] - c[0]) * (jj - r[0])) / d
         l2 = ((c[1] - c[0]) * (jj - r[0]) - (ii - c[0]) * (r[1] - r[0])) / d
-        inside = (l1 >= -1e-6) & (l2 >= -1e-6) & (l1 + l2 <= 1 + 1e-6)
+        inside = (l1 >= -EPS) & (l2 >= -EPS) & (l1 + l2 <= 1 + EPS)
         inside &= dem.valid[j0:j1 + 1, i0:i1 + 1]
         if not inside.any():
             continue

@@ -76,20 +76,23 @@ quad_max(const double c[3])
 	return best;
 }
 
-/* Longitude and latitude of block position (c, r), halves allowed. */
+/* Longitude and latitude of the midpoint of grid vertices a and b in
+ * level-0 grid places: a grid vertex's, or through PROJ (leaves, QEM-3D
+ * levels). */
 static int
-lonlat(t3_work *w, const georef *g, const t3_tile *t, double c, double r,
+midpoint(t3_work *w, const georef *g, const t3_tile *t, int a, int b,
     double *lon, double *lat, tl_err *e)
 {
+	int sc = a % BT_SIZE + b % BT_SIZE, sr = a / BT_SIZE + b / BT_SIZE;
 	double z = 0;
 
-	if (c == floor(c) && r == floor(r)) {
-		int k = (int)r * BT_SIZE + (int)c;
+	if (!t->displaced && !((sc | sr) & 1)) {
+		int k = sr / 2 * BT_SIZE + sc / 2;
 		*lon = w->lon[k], *lat = w->lat[k];
 		return 0;
 	}
-	geo_vertex_crs(g, t->level, t->bi * BT_CELLS + c,
-	    t->bj * BT_CELLS + r, lon, lat);
+	geo_vertex_crs(g, 0, 0.5 * (w->px[a] + w->px[b]),
+	    0.5 * (w->py[a] + w->py[b]), lon, lat);
 	return t3_proj_geo(&w->proj, lon, lat, &z, 1, e);
 }
 
@@ -111,9 +114,8 @@ t3_flat_bound(t3_work *w, const georef *g, const t3_tile *t,
 	}
 	for (int q = 0; q < 3; q++) {
 		int a = k[q], b = k[(q + 1) % 3];
-		double mc = 0.5 * (a % BT_SIZE + b % BT_SIZE);
-		double mr = 0.5 * (a / BT_SIZE + b / BT_SIZE), lon, lat, dm;
-		if (lonlat(w, g, t, mc, mr, &lon, &lat, e) < 0)
+		double lon, lat, dm;
+		if (midpoint(w, g, t, a, b, &lon, &lat, e) < 0)
 			return -1;
 		dm = plane_height(lon, lat, p[0], n) -
 		    0.5 * (w->h[a] + w->h[b]);

@@ -18,11 +18,6 @@ t3_check_datum(const t3_args *a, const pyramid_index *ix, tl_err *e)
 		return tl_fail(e, "%s: the pyramid has no CRS: it cannot be "
 		    "placed on the globe (rebuild it from a georeferenced DEM)",
 		    a->dir);
-	for (int l = 0; l < ix->nlevels; l++)
-		if (ix->lev[l].displaced)
-			return tl_fail(e, "%s: level %d is QEM-3D (displaced "
-			    "vertices), which vgis2tiles does not export yet",
-			    a->dir, l);
 	if (strcasecmp(g->vdatum, "EPSG:4979") == 0 ||
 	    strcasecmp(g->vdatum, "ellipsoid") == 0)
 		return 0;

@@ -131,6 +131,7 @@ t3_plan(t3_set *s, const pyramid_index *ix, double tau0, t3_proj *p,
 			t3_tile *t = &s->tile[s->first[l] + k];
 			t->level = l, t->bi = k % L->blocks[0];
 			t->bj = k / L->blocks[0];
+			t->displaced = L->displaced;
 			t->cmax = L->size[0] - 1 - BT_CELLS * t->bi;
 			t->rmax = L->size[1] - 1 - BT_CELLS * t->bj;
 			/* the bound is max(tau, base error): a tau under

@@ -59,6 +59,8 @@ struct t3_work {
 	t3_proj proj;
 	pyramid_block blk;
 	t3_tris tris;
+	const geo_metric *m;       /* QEM-3D offsets to grid steps, or NULL */
+	double *px, *py;           /* per grid vertex: level-0 grid place */
 	double *lon, *lat, *h, *x; /* per grid vertex; x: ECEF, 3 each */
 	int *map;                  /* grid and skirt vertex -> glb vertex */
 	float *pos, *nrm;          /* glb vertices, 3 each */
@@ -67,13 +69,15 @@ struct t3_work {
 	long long nverts, ntris, nbytes;
 };
 
-int t3_work_init(t3_work *w, const georef *g, tl_err *e);
+int t3_work_init(t3_work *w, const georef *g, const geo_metric *m,
+    tl_err *e);
 void t3_work_free(t3_work *w);
 
 /* A tile as the tileset needs it. */
 struct t3_tile {
 	int level, bi, bj;
 	int cmax, rmax;     /* last real vertex in block coordinates */
+	int displaced;      /* QEM-3D level: vertices offset in x, y */
 	double tau, skirt;  /* metres */
 	t3_frame f;
 	double error;       /* written by t3_tile */

@@ -12,11 +12,15 @@
 #define MAXI (3 * (2 * BT_CELLS * BT_CELLS + 2 * 4 * BT_CELLS))
 
 int
-t3_work_init(t3_work *w, const georef *g, tl_err *e)
+t3_work_init(t3_work *w, const georef *g, const geo_metric *m, tl_err *e)
 {
 	memset(w, 0, sizeof *w);
-	if (pyramid_block_alloc(&w->blk, 0, e) < 0)
+	w->m = m;
+	/* with X and Y: a tile's level decides whether they are read */
+	if (pyramid_block_alloc(&w->blk, 1, e) < 0)
 		return -1;
+	w->px = tl_alloc(PYRAMID_N, sizeof *w->px, e);
+	w->py = tl_alloc(PYRAMID_N, sizeof *w->py, e);
 	w->lon = tl_alloc(PYRAMID_N, sizeof *w->lon, e);
 	w->lat = tl_alloc(PYRAMID_N, sizeof *w->lat, e);
 	w->h = tl_alloc(PYRAMID_N, sizeof *w->h, e);
@@ -25,7 +29,7 @@ t3_work_init(t3_work *w, const georef *g, tl_err *e)
 	w->pos = tl_alloc(3 * NV, sizeof *w->pos, e);
 	w->nrm = tl_alloc(3 * NV, sizeof *w->nrm, e);
 	w->idx = tl_alloc(MAXI, sizeof *w->idx, e);
-	if (!w->lon || !w->lat || !w->h || !w->x || !w->map || !w->pos ||
+	if (!w->px || !w->py || !w->lon || !w->lat || !w->h || !w->x || !w->map || !w->pos ||
 	    !w->nrm || !w->idx || t3_proj_open(&w->proj, g, e) < 0) {
 		t3_work_free(w);
 		return -1;
@@ -36,8 +40,9 @@ t3_work_init(t3_work *w, const georef *g, tl_err *e)
 void
 t3_work_free(t3_work *w)
 {
+	w->blk.displaced = 1; /* its X and Y too */
 	pyramid_block_free(&w->blk);
-	free(w->lon), free(w->lat), free(w->h), free(w->x), free(w->map);
+	free(w->px), free(w->py), free(w->lon), free(w->lat), free(w->h), free(w->x), free(w->map);
 	free(w->pos), free(w->nrm), free(w->idx);
 	free(w->tris.idx), free(w->tris.bound);
 	if (w->proj.ctx)
@@ -45,15 +50,26 @@ t3_work_free(t3_work *w)
 	memset(w, 0, sizeof *w);
 }
 
-/* Every grid vertex: WGS 84 longitude, latitude, height, and ECEF. */
+/* Every grid vertex: its level-0 grid place (QEM-3D: offset as the
+ * checker has it), WGS 84 longitude, latitude, height, and ECEF. */
 static int
 place(t3_work *w, const georef *g, const t3_tile *t, tl_err *e)
 {
+	double s = ldexp(1, t->level);
+
 	for (int r = 0; r < BT_SIZE; r++)
 		for (int c = 0; c < BT_SIZE; c++) {
 			int k = r * BT_SIZE + c;
-			geo_vertex_crs(g, t->level, t->bi * BT_CELLS + c,
-			    t->bj * BT_CELLS + r, &w->lon[k], &w->lat[k]);
+			double di = 0, dj = 0;
+			w->px[k] = (t->bi * BT_CELLS + c) * s;
+			w->py[k] = (t->bj * BT_CELLS + r) * s;
+			if (t->displaced && isfinite(w->blk.x[k]) &&
+			    isfinite(w->blk.y[k]))
+				geo_offset_to_grid(w->m, w->px[k], w->py[k],
+				    w->blk.x[k], w->blk.y[k], &di, &dj);
+			w->px[k] += di, w->py[k] += dj;
+			geo_vertex_crs(g, 0, w->px[k], w->py[k], &w->lon[k],
+			    &w->lat[k]);
 			w->h[k] = w->blk.z[k];
 		}
 	if (t3_proj_geo(&w->proj, w->lon, w->lat, w->h, PYRAMID_N, e) < 0)
@@ -276,7 +292,7 @@ t3_tile_write(t3_work *w, const char *dir, const georef *g, t3_tile *t,
 	int nv, ni;
 
 	w->blk.level = t->level, w->blk.bi = t->bi, w->blk.bj = t->bj;
-	w->blk.displaced = 0;
+	w->blk.displaced = t->displaced;
 	pyramid_block_path(in, sizeof in, dir, t->level, t->bi, t->bj);
 	if (pyramid_block_read(in, &w->blk, e) < 0 ||
 	    t3_cut(&w->blk, t->tau, t->cmax, t->rmax, &w->tris, e) < 0 ||

@@ -15,11 +15,14 @@ static void
 node(const t3_set *s, const t3_tile *t, int q, double *x, double *y,
     double *z)
 {
-	double span = (double)BT_CELLS * ldexp(1, t->level);
-	int i = q % NL, j = q / NL % NL, top = q / (NL * NL);
+	double cell = ldexp(1, t->level), span = BT_CELLS * cell;
+	double pad = t->displaced ? 0.5 * cell : 0; /* QEM-3D offsets */
+	double u = (double)(q % NL) / (NL - 1), v = (double)(q / NL % NL) /
+	    (NL - 1);
+	int top = q / (NL * NL);
 
-	geo_vertex_crs(&s->ix->geo, 0, span * (t->bi + (double)i / (NL - 1)),
-	    span * (t->bj + (double)j / (NL - 1)), x, y);
+	geo_vertex_crs(&s->ix->geo, 0, span * (t->bi + u) + pad * (2 * u - 1),
+	    span * (t->bj + v) + pad * (2 * v - 1), x, y);
 	*z = top ? s->zhi[t - s->tile] : s->zlo[t - s->tile];
 }
 
