@@ -40,7 +40,6 @@ t3_work_init(t3_work *w, const georef *g, const geo_metric *m, tl_err *e)
 void
 t3_work_free(t3_work *w)
 {
-	w->blk.displaced = 1; /* its X and Y too */
 	pyramid_block_free(&w->blk);
 	free(w->px), free(w->py), free(w->lon), free(w->lat), free(w->h), free(w->x), free(w->map);
 	free(w->pos), free(w->nrm), free(w->idx);
@@ -72,9 +71,11 @@ place(t3_work *w, const georef *g, const t3_tile *t, tl_err *e)
 			    &w->lat[k]);
 			w->h[k] = w->blk.z[k];
 		}
-	if (t3_proj_geo(&w->proj, w->lon, w->lat, w->h, PYRAMID_N, e) < 0)
+	if (t3_proj_geo(&w->proj, w->lon, w->lat, w->h, PYRAMID_N, e) < 0) {
+		tl_err why = *e;
 		return tl_fail(e, "block %d/%d_%d: %s", t->level, t->bj, t->bi,
-		    e->msg);
+		    why.msg);
+	}
 	for (int k = 0; k < PYRAMID_N; k++)
 		t3_ecef(w->lon[k], w->lat[k], w->h[k], &w->x[3 * k]);
 	return 0;
