@@ -16,19 +16,18 @@
  * measured at the vertices and midpoints, exactly (PROJ, the WGS 84
  * closed form). */
 #include <math.h>
+#include <string.h>
 
 #include "tiles3d/t3_impl.h"
 
-/* Height along the normal at (lon, lat) where it meets the plane
- * through a with normal n. */
+/* Height along the normal u through the ellipsoid's point s where it
+ * meets the plane through a with normal n. */
 static double
-plane_height(double lon, double lat, const double a[3], const double n[3])
+plane_height(const double s[3], const double u[3], const double a[3],
+    const double n[3])
 {
-	double s[3], u[3], r[9], num = 0, den = 0;
+	double num = 0, den = 0;
 
-	t3_ecef(lon, lat, 0, s);
-	t3_enu(lon, lat, r);
-	u[0] = r[6], u[1] = r[7], u[2] = r[8];
 	for (int q = 0; q < 3; q++)
 		num += (a[q] - s[q]) * n[q], den += u[q] * n[q];
 	return fabs(den) > 0 ? num / den : 0;
@@ -76,24 +75,28 @@ quad_max(const double c[3])
 	return best;
 }
 
-/* Longitude and latitude of the midpoint of grid vertices a and b in
- * level-0 grid places: a grid vertex's, or through PROJ (leaves, QEM-3D
- * levels). */
+/* The ellipsoid's point and normal under the midpoint of grid vertices
+ * a and b in level-0 grid places: a grid vertex's, or through PROJ
+ * (leaves, QEM-3D levels). */
 static int
 midpoint(t3_work *w, const georef *g, const t3_tile *t, int a, int b,
-    double *lon, double *lat, tl_err *e)
+    double s[3], double u[3], tl_err *e)
 {
 	int sc = a % BT_SIZE + b % BT_SIZE, sr = a / BT_SIZE + b / BT_SIZE;
-	double z = 0;
+	double lon, lat, z = 0;
 
 	if (!t->displaced && !((sc | sr) & 1)) {
 		int k = sr / 2 * BT_SIZE + sc / 2;
-		*lon = w->lon[k], *lat = w->lat[k];
+		memcpy(s, &w->foot[3 * k], 3 * sizeof *s);
+		memcpy(u, &w->up[3 * k], 3 * sizeof *u);
 		return 0;
 	}
 	geo_vertex_crs(g, 0, 0.5 * (w->px[a] + w->px[b]),
-	    0.5 * (w->py[a] + w->py[b]), lon, lat);
-	return t3_proj_geo(&w->proj, lon, lat, &z, 1, e);
+	    0.5 * (w->py[a] + w->py[b]), &lon, &lat);
+	if (t3_proj_geo(&w->proj, &lon, &lat, &z, 1, e) < 0)
+		return -1;
+	t3_ellipsoid(lon, lat, s, u);
+	return 0;
 }
 
 int
@@ -108,16 +111,16 @@ t3_flat_bound(t3_work *w, const georef *g, const t3_tile *t,
 	n[1] = u[2] * v[0] - u[0] * v[2];
 	n[2] = u[0] * v[1] - u[1] * v[0];
 	for (int q = 0; q < 3; q++) {
-		d[q] = plane_height(w->lon[k[q]], w->lat[k[q]], p[0], n) -
-		    w->h[k[q]];
+		d[q] = plane_height(&w->foot[3 * k[q]], &w->up[3 * k[q]], p[0],
+		    n) - w->h[k[q]];
 		dmax = fmax(dmax, fabs(d[q]));
 	}
 	for (int q = 0; q < 3; q++) {
 		int a = k[q], b = k[(q + 1) % 3];
-		double lon, lat, dm;
-		if (midpoint(w, g, t, a, b, &lon, &lat, e) < 0)
+		double s[3], up[3], dm;
+		if (midpoint(w, g, t, a, b, s, up, e) < 0)
 			return -1;
-		dm = plane_height(lon, lat, p[0], n) -
+		dm = plane_height(s, up, p[0], n) -
 		    0.5 * (w->h[a] + w->h[b]);
 		c[q] = 4 * (dm - 0.5 * (d[q] + d[(q + 1) % 3]));
 	}

@@ -95,6 +95,18 @@ t3_ecef(double lon, double lat, double h, double out[3])
 }
 
 void
+t3_ellipsoid(double lon, double lat, double foot[3], double up[3])
+{
+	double e2 = WGS84_F * (2 - WGS84_F), sl = sin(lat * DEG);
+	double cl = cos(lat * DEG), so = sin(lon * DEG), co = cos(lon * DEG);
+	double n = WGS84_A / sqrt(1 - e2 * sl * sl);
+
+	foot[0] = n * cl * co, foot[1] = n * cl * so;
+	foot[2] = n * (1 - e2) * sl;
+	up[0] = cl * co, up[1] = cl * so, up[2] = sl;
+}
+
+void
 t3_enu(double lon, double lat, double r[9])
 {
 	double so = sin(lon * DEG), co = cos(lon * DEG);

@@ -27,6 +27,9 @@ int t3_proj_geo(t3_proj *p, double *x, double *y, double *z, int n,
 
 /* WGS84 (EPSG:4979 -> EPSG:4978), closed form. */
 void t3_ecef(double lon, double lat, double h, double out[3]);
+/* The point of height 0 at (lon, lat) and the unit normal there: the
+ * point of height h is foot + h up. */
+void t3_ellipsoid(double lon, double lat, double foot[3], double up[3]);
 /* The east, north, up unit vectors at (lon, lat), rows of r (9). */
 void t3_enu(double lon, double lat, double r[9]);
 
@@ -62,6 +65,8 @@ struct t3_work {
 	const geo_metric *m;       /* QEM-3D offsets to grid steps, or NULL */
 	double *px, *py;           /* per grid vertex: level-0 grid place */
 	double *lon, *lat, *h, *x; /* per grid vertex; x: ECEF, 3 each */
+	double *foot, *up;         /* per grid vertex: ECEF at height 0 and
+	                            * the ellipsoid's normal, 3 each */
 	int *map;                  /* grid and skirt vertex -> glb vertex */
 	float *pos, *nrm;          /* glb vertices, 3 each */
 	uint16_t *idx;             /* glb indices */

@@ -25,11 +25,14 @@ t3_work_init(t3_work *w, const georef *g, const geo_metric *m, tl_err *e)
 	w->lat = tl_alloc(PYRAMID_N, sizeof *w->lat, e);
 	w->h = tl_alloc(PYRAMID_N, sizeof *w->h, e);
 	w->x = tl_alloc(3 * PYRAMID_N, sizeof *w->x, e);
+	w->foot = tl_alloc(3 * PYRAMID_N, sizeof *w->foot, e);
+	w->up = tl_alloc(3 * PYRAMID_N, sizeof *w->up, e);
 	w->map = tl_alloc(NV, sizeof *w->map, e);
 	w->pos = tl_alloc(3 * NV, sizeof *w->pos, e);
 	w->nrm = tl_alloc(3 * NV, sizeof *w->nrm, e);
 	w->idx = tl_alloc(MAXI, sizeof *w->idx, e);
-	if (!w->px || !w->py || !w->lon || !w->lat || !w->h || !w->x || !w->map || !w->pos ||
+	if (!w->px || !w->py || !w->lon || !w->lat || !w->h || !w->x ||
+	    !w->foot || !w->up || !w->map || !w->pos ||
 	    !w->nrm || !w->idx || t3_proj_open(&w->proj, g, e) < 0) {
 		t3_work_free(w);
 		return -1;
@@ -42,6 +45,7 @@ t3_work_free(t3_work *w)
 {
 	pyramid_block_free(&w->blk);
 	free(w->px), free(w->py), free(w->lon), free(w->lat), free(w->h), free(w->x), free(w->map);
+	free(w->foot), free(w->up);
 	free(w->pos), free(w->nrm), free(w->idx);
 	free(w->tris.idx), free(w->tris.bound);
 	if (w->proj.ctx)
@@ -76,8 +80,12 @@ place(t3_work *w, const georef *g, const t3_tile *t, tl_err *e)
 		return tl_fail(e, "block %d/%d_%d: %s", t->level, t->bj, t->bi,
 		    why.msg);
 	}
-	for (int k = 0; k < PYRAMID_N; k++)
-		t3_ecef(w->lon[k], w->lat[k], w->h[k], &w->x[3 * k]);
+	for (int k = 0; k < PYRAMID_N; k++) {
+		double *f = &w->foot[3 * k], *u = &w->up[3 * k];
+		t3_ellipsoid(w->lon[k], w->lat[k], f, u);
+		for (int a = 0; a < 3; a++)
+			w->x[3 * k + a] = f[a] + w->h[k] * u[a];
+	}
 	return 0;
 }
 
