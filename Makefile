@@ -5,7 +5,8 @@
 # make example    build a pyramid from the default example DEM
 # make bench      measure errors, speed and memory on ../shared/data
 #                 (scripts/bench: the filters; scripts/bench-pyramid: DEM to
-#                 pyramid, triangle counts and real errors)
+#                 pyramid, triangle counts and real errors; scripts/bench-tiles:
+#                 the 3D Tiles export)
 # make install    PREFIX=/usr/local DESTDIR=
 
 PREFIX  ?= /usr/local
@@ -170,6 +171,7 @@ bench: all $(TOOLBIN)
 	sh scripts/bench
 	sh scripts/bench-pyramid
 	sh scripts/bench-play
+	sh scripts/bench-tiles
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
