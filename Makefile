@@ -1,10 +1,12 @@
 # terrain LOD toolchain: dem2fqm fqmfilter fqmsolve tilepack tileplay
+# tilecheck dem2vgis vgis2tiles
 # make            build everything (installs missing Debian packages first)
 # make check      build and run every test
 # make example    build a pyramid from the default example DEM
 # make bench      measure errors, speed and memory on ../shared/data
 #                 (scripts/bench: the filters; scripts/bench-pyramid: DEM to
-#                 pyramid, triangle counts and real errors)
+#                 pyramid, triangle counts and real errors; scripts/bench-tiles:
+#                 the 3D Tiles export)
 # make install    PREFIX=/usr/local DESTDIR=
 
 PREFIX  ?= /usr/local
@@ -19,9 +21,10 @@ CFLAGS  ?= -O2 -g
 CXXFLAGS ?= -O2 -g
 WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 
-# The library is four layers, each an archive, dependencies one way:
+# The library is five layers, each an archive, dependencies one way:
 # core (rasters, DEM input, georeferencing, quadrics) <- pyramid (bintree,
-# blocks, checker) <- play (camera, meshes, cache, GL); core <- jobs (the
+# blocks, checker) <- play (camera, meshes, cache, GL); pyramid <- tiles3d
+# (the 3D Tiles export: glTF, tileset.json); core <- jobs (the
 # supervisor of process graphs, scratch, the DEM-to-pyramid pipeline). A
 # program links the layers it uses and their packages only
 # (tests/cmd/t_layers.sh checks includes, archives and links). Package flags are resolved when a recipe runs, i.e. after
@@ -40,20 +43,22 @@ ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) -Isrc/lib \
             $(call pkgcf,geographiclib)
 SYSLIBS  = -lstdc++ -lm -lpthread -ldl
 
-LAYERS  := core pyramid play jobs
+LAYERS  := core pyramid play jobs tiles3d
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 CORE_A  := $(B)/libcore.a
 PYR_A   := $(B)/libpyramid.a
 PLAY_A  := $(B)/libplay.a
 JOBS_A  := $(B)/libjobs.a
+T3_A    := $(B)/libtiles3d.a
 CORE_LD  = $(CORE_A) -Wl,--as-needed $(call pkglibs,$(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
 PYR_LD   = $(PYR_A) $(CORE_A) -Wl,--as-needed $(call pkglibs,$(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
 PLAY_LD  = $(PLAY_A) $(PYR_A) $(CORE_A) -Wl,--as-needed \
            $(call pkglibs,$(PLAY_PKGS) $(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
 JOBS_LD  = $(JOBS_A) $(CORE_LD)
+T3_LD    = $(T3_A) $(PYR_LD)
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
@@ -96,7 +101,8 @@ $(CORE_A): $(call objs,core)
 $(PYR_A): $(call objs,pyramid)
 $(PLAY_A): $(call objs,play)
 $(JOBS_A): $(call objs,jobs)
-$(CORE_A) $(PYR_A) $(PLAY_A) $(JOBS_A):
+$(T3_A): $(call objs,tiles3d)
+$(CORE_A) $(PYR_A) $(PLAY_A) $(JOBS_A) $(T3_A):
 	rm -f $@
 	ar rcs $@ $^
 
@@ -113,6 +119,8 @@ $(B)/tileplay: $(B)/%: $(B)/cmd/%.o $(PLAY_A) $(PYR_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD)
 $(B)/dem2vgis: $(B)/%: $(B)/cmd/%.o $(JOBS_A) $(CORE_A)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(JOBS_LD)
+$(B)/vgis2tiles: $(B)/%: $(B)/cmd/%.o $(T3_A) $(PYR_A) $(CORE_A)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(T3_LD)
 
 TESTFLAGS = $(ALLCFLAGS) -Itests -MMD -MP
 TEST_LD  = $(call pkglibs,$(TEST_PKGS))
@@ -146,7 +154,12 @@ $(B)/tests/fuzz/fz_%: tests/fuzz/fz_%.c tests/fuzz/fuzz.c tests/fuzz/replay.c \
 	$(CC) $(TESTFLAGS) -Itests/fuzz $(LDFLAGS) -o $@ $< tests/fuzz/fuzz.c \
 	    tests/fuzz/replay.c $(PYR_LD)
 
-tests: all $(TESTBIN) $(TOOLBIN) $(FUZZREPLAY)
+# The validators of tests/js (npm, locked), installed once.
+NODE_DEPS := tests/js/node_modules/.package-lock.json
+$(NODE_DEPS): tests/js/package.json tests/js/package-lock.json
+	cd tests/js && npm ci --no-audit --no-fund --loglevel=error
+
+tests: all $(TESTBIN) $(TOOLBIN) $(FUZZREPLAY) $(NODE_DEPS)
 
 check: tests
 	@sh tests/run
@@ -158,6 +171,7 @@ bench: all $(TOOLBIN)
 	sh scripts/bench
 	sh scripts/bench-pyramid
 	sh scripts/bench-play
+	sh scripts/bench-tiles
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5

@@ -1,5 +1,6 @@
 # t_layers - the library's layers depend one way: core <- pyramid <- play,
-# core <- jobs (the supervisor), and the programs above them. Checked on the sources (project #includes), on the
+# pyramid <- tiles3d (the 3D Tiles export), core <- jobs (the supervisor),
+# and the programs above them. Checked on the sources (project #includes), on the
 # archives (no symbol a lower layer needs is defined by a higher one) and on
 # the programs (each links only its layers' libraries: no GL or JSON where
 # no layer asks for it).
@@ -12,9 +13,10 @@ allowed() {	# allowed LAYER: the layers its files may include
 	pyramid) echo "core pyramid" ;;
 	play) echo "core pyramid play" ;;
 	jobs) echo "core jobs" ;;
+	tiles3d) echo "core pyramid tiles3d" ;;
 	esac
 }
-for layer in core pyramid play jobs; do
+for layer in core pyramid play jobs tiles3d; do
 	bad=""
 	for f in "$L/$layer"/*.[ch] "$L/$layer"/*.cpp; do
 		[ -e "$f" ] || continue
@@ -47,15 +49,16 @@ check_up() {	# check_up LOWER HIGHER...
 		[ -z "$up" ]; ok $? "lib$low.a needs nothing from lib$high.a"
 	done
 }
-for layer in core pyramid play jobs; do
+for layer in core pyramid play jobs tiles3d; do
 	a=$B/lib$layer.a
 	[ -f "$a" ]; ok $? "build/lib$layer.a exists"
 	defined "$a" >"$T/d.$layer"
 	undef "$a" >"$T/u.$layer"
 done
-check_up core pyramid play jobs
-check_up pyramid play jobs
-check_up jobs pyramid play
+check_up core pyramid play jobs tiles3d
+check_up pyramid play jobs tiles3d
+check_up jobs pyramid play tiles3d
+check_up tiles3d play jobs
 
 # programs: the shared libraries they need
 needs() { readelf -d "$B/$1" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p'; }
@@ -68,7 +71,9 @@ for p in tilepack tilecheck; do
 	[ -z "$n" ]; ok $? "$p (pyramid) links no GL library ($n)"
 done
 needs tileplay | grep -q glfw; ok $? "tileplay (play) links GLFW"
-for p in dem2fqm fqmfilter fqmsolve tilepack tilecheck tileplay dem2vgis; do
+n=$(needs vgis2tiles | grep -E 'glfw|epoxy|EGL|GL\.|gdal' | tr '\n' ' ')
+[ -z "$n" ]; ok $? "vgis2tiles (tiles3d) links no GL library and no GDAL ($n)"
+for p in dem2fqm fqmfilter fqmsolve tilepack tilecheck tileplay dem2vgis vgis2tiles; do
 	n=$(needs $p | grep -i OpenImageIO | tr '\n' ' ')
 	[ -z "$n" ]; ok $? "$p does not link OpenImageIO (a plugin: $n)"
 done
