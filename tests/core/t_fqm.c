@@ -228,18 +228,21 @@ test_check_row(void)
 	for (int k = 0; k < NCH * W; k++)
 		row[k] = (float)k - 20.5f;
 	row[5] = -0.0f, row[7] = 1e-40f, row[9] = 3.4e38f;
-	ok(fqm_check_row(row, W, NCH, 0, "x", &e) == 0, "fqm_check_row: "
+	ok(fqm_check_row(row, 0, W, NCH, 0, "x", &e) == 0, "fqm_check_row: "
 	    "finite values (denormal, huge, -0) pass");
 	row[3 * W + 4] = NAN;
-	ok(fqm_check_row(row, W, NCH, 7, "l1.exr", &e) < 0 &&
+	ok(fqm_check_row(row, 0, W, NCH, 7, "l1.exr", &e) < 0 &&
 	    strcmp(e.msg, "l1.exr: row 7, channel 3: NaN at column 4 "
 	    "(damaged?)") == 0, "fqm_check_row: a NaN named by row, channel, "
 	    "column (%s)", e.msg);
 	row[3 * W + 4] = 0;
 	row[12 * W + 5] = -INFINITY;
-	ok(fqm_check_row(row, W, NCH, 2, "-", &e) < 0 &&
+	ok(fqm_check_row(row, 0, W, NCH, 2, "-", &e) < 0 &&
 	    strstr(e.msg, "row 2, channel 12: infinite value at column 5"),
 	    "fqm_check_row: an infinity too (%s)", e.msg);
+	ok(fqm_check_row(row, 300, W, NCH, 2, "-", &e) < 0 &&
+	    strstr(e.msg, "infinite value at column 305"),
+	    "fqm_check_row: a span's columns are the raster's (%s)", e.msg);
 
 	sample_info(&fi); /* level 2 of 37 x 23: 10 x 7 */
 	fqm_header(&h, &fi, "none", NULL);
@@ -258,7 +261,7 @@ test_check_row(void)
 		r = rv == 0 ? fqm_open(tmp("nan.exr"), &fi, &L, &e) : NULL;
 		for (y = 0; r != NULL && y < h.height; y++)
 			if (rs_read_row(r, buf, &e) < 0 ||
-			    fqm_check_row(buf, h.width, h.nch, y, "nan.exr",
+			    fqm_check_row(buf, 0, h.width, h.nch, y, "nan.exr",
 			    &e) < 0) {
 				bad = y;
 				break;

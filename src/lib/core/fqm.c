@@ -596,8 +596,8 @@ fqm_open(const char *path, fqm_info *fi, fqm_layout *L, tl_err *e)
 }
 
 int
-fqm_check_row(const float *row, int w, int nch, int y, const char *what,
-    tl_err *e)
+fqm_check_row(const float *row, int x0, int w, int nch, int y,
+    const char *what, tl_err *e)
 {
 	for (int c = 0; c < nch; c++) {
 		const float *p = row + (size_t)c * (size_t)w;
@@ -605,7 +605,7 @@ fqm_check_row(const float *row, int w, int nch, int y, const char *what,
 			if (!isfinite(p[i]))
 				return tl_fail(e, "%s: row %d, channel %d: %s at "
 				    "column %d (damaged?)", what, y, c,
-				    isnan(p[i]) ? "NaN" : "infinite value", i);
+				    isnan(p[i]) ? "NaN" : "infinite value", x0 + i);
 	}
 	return 0;
 }

@@ -55,13 +55,14 @@ rs_reader *fqm_open(const char *path, fqm_info *fi, fqm_layout *L,
 void fqm_decode(const fqm_layout *L, const float *row, int w,
     fqm_vertex *out);
 /* Every value of a row read from an intermediate file (an FQM, a vertex
- * map; w x nch floats, channel-planar as raster.h reads them) is finite:
+ * map; w x nch floats, channel-planar as raster.h reads them, its first
+ * column x0 of the raster's: a span, or 0) is finite:
  * no writer of ours makes NaN or an infinity there, so one is damage
  * that a format without checksums (EXR NONE, RLE, PIZ) let through, and
  * it must stop the work rather than spread. 0, or -1 with "what: row Y,
  * channel C: NaN at column X (damaged?)" (or "infinite value"). */
-int fqm_check_row(const float *row, int w, int nch, int y, const char *what,
-    tl_err *e);
+int fqm_check_row(const float *row, int x0, int w, int nch, int y,
+    const char *what, tl_err *e);
 void fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w,
     float *row);
 

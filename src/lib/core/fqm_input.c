@@ -31,7 +31,7 @@ fqm_input_read(fqm_input *in, tl_err *e)
 	if (rs_read_row(in->r, in->row, e) < 0)
 		return -1;
 	/* the vector test first; fqm_check_row names the first bad value */
-	if (!vec_all_finite(in->row, n) && fqm_check_row(in->row,
+	if (!vec_all_finite(in->row, n) && fqm_check_row(in->row, 0,
 	    in->h->width, in->h->nch, in->y, in->what, e) < 0)
 		return -1;
 	in->y++;

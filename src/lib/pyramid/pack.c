@@ -87,7 +87,7 @@ read_row(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
 		return -1;
 	/* a NaN that a format without checksums let through stops here */
 	if (rs_read_span(v->r, c0, n, v->row, e) < 0 ||
-	    fqm_check_row(v->row, n, v->h->nch, r, v->name, e) < 0)
+	    fqm_check_row(v->row, c0, n, v->h->nch, r, v->name, e) < 0)
 		return -1;
 	memcpy(z, v->row + (size_t)v->cz * n, (size_t)n * sizeof *z);
 	if (x != NULL) {
