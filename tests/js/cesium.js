@@ -1,4 +1,4 @@
-// cesium.js [--noskirts] [--sse N] [--shot OUT.png] TILESET VIEW...:
+// cesium.js [--noskirts] [--sse N] [--fovy DEG] [--shot OUT.png] TILESET VIEW...:
 // CesiumJS (Build/Cesium of npm cesium) in headless Chromium, served
 // with cesium.html and the tileset directory TILESET from a free
 // localhost port, draws the tileset from each VIEW (heading,pitch,range
@@ -10,22 +10,26 @@
 // projects whole, lies within it and covers half of it; no background
 // pixel is enclosed by terrain (a crack). One line per view on stdout;
 // exit 1 when a check fails, 2 on usage or a broken browser.
-// --shot writes the first view's picture. CHROMIUM: the browser
-// (default /usr/bin/chromium).
+// --shot writes the first view's picture; --fovy sets the vertical field
+// of view (Cesium's default: 60 degrees across the wider side); each line
+// ends with the triangles drawn and the camera (eye and target, lon lat
+// h) for scripts/bench-cesium. CHROMIUM: the browser (default
+// /usr/bin/chromium).
 'use strict';
 const http = require('http');
 const fs = require('fs');
 const path = require('path');
 const { chromium } = require('playwright-core');
 
-const usage = 'usage: cesium.js [--noskirts] [--sse N] [--shot OUT.png] TILESET VIEW...';
+const usage = 'usage: cesium.js [--noskirts] [--sse N] [--fovy DEG] [--shot OUT.png] TILESET VIEW...';
 const a = process.argv.slice(2);
-const opt = { noskirts: false, sse: 16, shot: null };
+const opt = { noskirts: false, sse: 16, shot: null, fovy: 0 };
 while (a.length && a[0].startsWith('--')) {
 	const o = a.shift();
 	if (o === '--noskirts') opt.noskirts = true;
 	else if (o === '--sse' && a.length) opt.sse = Number(a.shift());
 	else if (o === '--shot' && a.length) opt.shot = a.shift();
+	else if (o === '--fovy' && a.length) opt.fovy = Number(a.shift());
 	else { console.error(usage); process.exit(2); }
 }
 if (a.length < 2 || !fs.existsSync(path.join(a[0], 'tileset.json'))) {
@@ -147,7 +151,8 @@ function check(name, r, nlevels) {
 	const line = `${name}: levels drawn (level:tiles) ${lv}; terrain ` +
 	    `${(100 * area / n).toFixed(1)}% of ${w}x${h}, bbox ${x0}-${x1} x ` +
 	    `${y0}-${y1}, ${c ? (100 * area / inHull).toFixed(1) : '-'}% of ` +
-	    `the projected bounding box, ${out} pixels outside it; ${k} holes`;
+	    `the projected bounding box, ${out} pixels outside it; ${k} holes; ` +
+	    `${r.triangles} triangles; camera ${r.camera.flat().map((v) => v.toFixed(7)).join(' ')}`;
 	// else a wrong background colour would pass the crack test
 	if (!edge)
 		bad.push('no background on the frame\'s border: is it exact magenta?');
@@ -169,7 +174,8 @@ function check(name, r, nlevels) {
 async function main() {
 	await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
 	const url = `http://127.0.0.1:${server.address().port}/` +
-	    `?sse=${opt.sse}${opt.noskirts ? '&noskirts=1' : ''}`;
+	    `?sse=${opt.sse}${opt.noskirts ? '&noskirts=1' : ''}` +
+	    `${opt.fovy ? '&fovy=' + opt.fovy : ''}`;
 	// software WebGL 2 (SwiftShader through ANGLE); no sandbox: CI is root
 	const browser = await chromium.launch({
 		executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
