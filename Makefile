@@ -156,7 +156,10 @@ $(B)/tests/fuzz/fz_%: tests/fuzz/fz_%.c tests/fuzz/fuzz.c tests/fuzz/replay.c \
 
 # The validators of tests/js (npm, locked), installed once.
 NODE_DEPS := tests/js/node_modules/.package-lock.json
+# The tests' npm packages (validators, CesiumJS, playwright-core), locked;
+# npm itself comes with the test packages of scripts/install-deps.
 $(NODE_DEPS): tests/js/package.json tests/js/package-lock.json
+	@command -v npm >/dev/null || { echo "make: npm missing; running scripts/install-deps"; sh scripts/install-deps; }
 	cd tests/js && npm ci --no-audit --no-fund --loglevel=error
 
 tests: all $(TESTBIN) $(TOOLBIN) $(FUZZREPLAY) $(NODE_DEPS)
