@@ -48,8 +48,8 @@ quiet_context(char *log)
 	return ctx;
 }
 
-static int
-is_ellipsoid(const char *s)
+int
+vdatum_is_ellipsoid(const char *s)
 {
 	return strcasecmp(s, "ellipsoid") == 0 ||
 	    strcasecmp(s, "EPSG:4979") == 0;
@@ -113,7 +113,7 @@ open_side(PJ_CONTEXT *ctx, const char *def, side *s, const char *log,
 {
 	s->crs = NULL;
 	s->unit = 1;
-	if (is_ellipsoid(def))
+	if (vdatum_is_ellipsoid(def))
 		return 0;
 	if ((s->crs = vertical_crs(ctx, def)) == NULL)
 		return tl_fail(e, "%s: not a vertical CRS PROJ knows (%s)", def,
@@ -476,8 +476,8 @@ vdatum_open(const georef *g, const char *from, const char *to, tl_err *e)
 		return NULL;
 	v->g = *g;
 	snprintf(v->name, sizeof v->name, "%.80s to %.80s",
-	    is_ellipsoid(from) ? "EPSG:4979" : from,
-	    is_ellipsoid(to) ? "EPSG:4979" : to);
+	    vdatum_is_ellipsoid(from) ? "EPSG:4979" : from,
+	    vdatum_is_ellipsoid(to) ? "EPSG:4979" : to);
 	if ((v->ctx = quiet_context(v->log)) == NULL) {
 		tl_fail(e, "%s: cannot create a PROJ context", v->name);
 		goto done;

@@ -45,6 +45,10 @@ int vdatum_apply(vdatum_shift *v, int j, int i0, int n, float *z, tl_err *e);
  * it has no code. */
 const char *vdatum_target_name(const vdatum_shift *v);
 
+/* Whether a datum name means WGS 84 ellipsoidal heights: "ellipsoid"
+ * or "EPSG:4979", any case (what -H takes and the index records). */
+int vdatum_is_ellipsoid(const char *name);
+
 /* The PROJ operation chosen ("Inverse of WGS 84 to EGM96 height (1)"),
  * "identity" when there is nothing to do: for verbose output and tests. */
 const char *vdatum_operation_name(const vdatum_shift *v);

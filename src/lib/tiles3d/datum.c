@@ -4,9 +4,8 @@
  * would leave the saturated errors, measured against the orthometric DEM,
  * bounding something else. */
 #include <stdio.h>
-#include <string.h>
-#include <strings.h>
 
+#include "core/vdatum.h"
 #include "tiles3d/t3_impl.h"
 
 int
@@ -18,8 +17,7 @@ t3_check_datum(const t3_args *a, const pyramid_index *ix, tl_err *e)
 		return tl_fail(e, "%s: the pyramid has no CRS: it cannot be "
 		    "placed on the globe (rebuild it from a georeferenced DEM)",
 		    a->dir);
-	if (strcasecmp(g->vdatum, "EPSG:4979") == 0 ||
-	    strcasecmp(g->vdatum, "ellipsoid") == 0)
+	if (vdatum_is_ellipsoid(g->vdatum))
 		return 0;
 	if (g->vdatum[0] != '\0')
 		return tl_fail(e, "%s: heights are in %s, not ellipsoidal: "

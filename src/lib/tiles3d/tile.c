@@ -32,8 +32,8 @@ t3_work_init(t3_work *w, const georef *g, const geo_metric *m, tl_err *e)
 	w->nrm = tl_alloc(3 * NV, sizeof *w->nrm, e);
 	w->idx = tl_alloc(MAXI, sizeof *w->idx, e);
 	if (!w->px || !w->py || !w->lon || !w->lat || !w->h || !w->x ||
-	    !w->foot || !w->up || !w->map || !w->pos ||
-	    !w->nrm || !w->idx || t3_proj_open(&w->proj, g, e) < 0) {
+	    !w->foot || !w->up || !w->map || !w->pos || !w->nrm ||
+	    !w->idx || t3_proj_open(&w->proj, g, e) < 0) {
 		t3_work_free(w);
 		return -1;
 	}
@@ -191,7 +191,7 @@ skirt_top(int v)
 /* Indices: terrain triangles counter-clockwise seen from above (the
  * bintree's alternate), then two per border edge down to the skirt. */
 static int
-indices(t3_work *w, const t3_tile *t, const georef *g, int *nv)
+indices(t3_work *w, const georef *g, int *nv)
 {
 	double s = (g->step[0] > 0) == (g->step[1] > 0) ? 1 : -1;
 	int ni = 0;
@@ -233,7 +233,6 @@ indices(t3_work *w, const t3_tile *t, const georef *g, int *nv)
 			w->idx[ni++] = (uint16_t)bq;
 			w->idx[ni++] = (uint16_t)bp;
 		}
-	(void)t;
 	return ni;
 }
 
@@ -307,7 +306,7 @@ t3_tile_write(t3_work *w, const char *dir, const georef *g, t3_tile *t,
 	    t3_cut(&w->blk, t->tau, t->cmax, t->rmax, &w->tris, e) < 0 ||
 	    place(w, g, t, e) < 0)
 		return -1;
-	ni = indices(w, t, g, &nv);
+	ni = indices(w, g, &nv);
 	vertices(w, t);
 	if (error_of(w, g, t, e) < 0 || write_glb(w, path, nv, ni, e) < 0)
 		return -1;
