@@ -268,9 +268,10 @@ for c in qem1d qem3d flip; do
 		wait $kp 2>/dev/null
 		ok 0 "# SKIP $c: the piece ended before it could be killed"
 	fi
+	# {} as the placeholder: a capital P may be in $T (mktemp's letters)
 	# shellcheck disable=SC2086
 	echo "$pieces" | sort -r |
-	    xargs -P 2 -I P tilepack -j 1 -p P "$d" "$T/pw-$c" $vl 2>"$T/xargs.err"
+	    xargs -P 2 -I {} tilepack -j 1 -p {} "$d" "$T/pw-$c" $vl 2>"$T/xargs.err"
 	st=$?; [ $st -eq 0 ] || sed 's/^/#   /' "$T/xargs.err"
 	ok $st "$c: every piece, two processes at a time"
 	half=$(find "$T/pw-$c" -name '.*.??????' | wc -l)
