@@ -6,7 +6,7 @@
 
 static const char usage[] =
     "[-I] [-D datum] [-e encoding] [-H datum] [-N nodata] [-n name]\n"
-    "               [-s dx[,dy]] [-z compression] [dem [out]]\n"
+    "               [-s dx[,dy]] [-w a,b] [-z compression] [dem [out]]\n"
     "  -I              print the DEM's size, georeferencing, metric, datum "
     "and\n"
     "                  level count from its header; no output. -II also "
@@ -20,6 +20,9 @@ static const char usage[] =
     "  -N nodata       void value, overriding the file's\n"
     "  -n name         the file name of a DEM on stdin (N42E001.hgt)\n"
     "  -s dx[,dy]      cell size in metres (overrides the CRS's metric)\n"
+    "  -w a,b          only the DEM's columns a .. b-1: a window of the FQM "
+    "(a band\n"
+    "                  job's; its edge columns lack the cells beyond)\n"
     "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
     "  dem             any raster GDAL reads, EXR, or a list of DEM files (a\n"
     "                  mosaic); - (stdin, default)\n"
@@ -27,6 +30,7 @@ static const char usage[] =
 
 typedef struct {
 	int info; /* -I given: 1 the header, 2 (-II) the voids too */
+	int win[2], has_win; /* -w */
 	const char *in, *out;
 } options;
 
@@ -34,6 +38,7 @@ static int
 convert(const cli *c, const options *o, dem *d, tl_err *e)
 {
 	fqm_info fi = { .geo = *dem_georef(d) };
+	int win[2] = { o->win[0], o->win[1] };
 	rs_header h;
 	geo_metric m = { 0 };
 	fqm0_source j = { 0 };
@@ -44,15 +49,25 @@ convert(const cli *c, const options *o, dem *d, tl_err *e)
 	if (fi.geo.width < 3 || fi.geo.height < 3)
 		return tl_fail(e, "%s: %dx%d samples: a DEM needs at least 3x3",
 		    tl_name(o->in, 0), fi.geo.width, fi.geo.height);
+	if (!o->has_win)
+		win[0] = 0, win[1] = fi.geo.width;
+	else if (win[1] > fi.geo.width || win[1] - win[0] < 3)
+		return tl_fail(e, "-w %d,%d: not 3 or more of the DEM's %d "
+		    "columns", win[0], win[1], fi.geo.width);
+	fi.x0 = win[0];
 	if (dem_metric_note(d, &c->dem, tl_name(o->in, 0), note, sizeof note))
 		cli_warn(c, "%s", note);
 	rs_header_init(&h, 0, 0);
 	if (geo_metric_init(&m, &fi.geo, e) == 0 &&
 	    fqm_header(&h, &fi, "none", e) == 0 &&
-	    fqm_layout_of(&h, &j.L, c->prog, e) == 0 &&
-	    fqm0_init(&j.s, d, &m, e) == 0)
-		r = rowpipe_run(c->prog, o->out, &h, c->comp,
-		    fqm0_encoded_row, &j, e);
+	    fqm_layout_of(&h, &j.L, c->prog, e) == 0) {
+		/* the window's columns, its metric answering in them */
+		h.width = win[1] - win[0];
+		m.x0 = win[0];
+		if (fqm0_init_cols(&j.s, d, &m, win[0], h.width, e) == 0)
+			r = rowpipe_run(c->prog, o->out, &h, c->comp,
+			    fqm0_encoded_row, &j, e);
+	}
 	fqm0_free(&j.s);
 	rs_header_free(&h);
 	geo_metric_free(&m);
@@ -77,16 +92,22 @@ work(const cli *c, const options *o, tl_err *e)
 int
 main(int argc, char **argv)
 {
-	options o = { 0, "-", "-" };
+	options o = { 0, { 0, 0 }, 0, "-", "-" };
 	cli c;
 	tl_err e;
 	int ch;
 
 	cli_init(&c, argv, usage, CLI_COMPRESSION | CLI_DEM);
-	while ((ch = cli_next(&c, argc, argv, "I", NULL)) != -1) {
-		if (ch != 'I')
+	while ((ch = cli_next(&c, argc, argv, "Iw:", NULL)) != -1) {
+		if (ch == 'w' && cli_columns(optarg, o.win) < 0)
+			return cli_bad(&c, "-w %s: not columns a,b (0 <= a < b)",
+			    optarg);
+		else if (ch == 'w')
+			o.has_win = 1;
+		else if (ch != 'I')
 			return cli_usage_error(&c);
-		o.info = o.info < 2 ? o.info + 1 : 2;
+		else
+			o.info = o.info < 2 ? o.info + 1 : 2;
 	}
 	if (c.status >= 0)
 		return c.status;

@@ -9,7 +9,9 @@
 #include "core/rowpipe.h"
 
 static const char usage[] =
-    "[-k kernel] [-z compression] [in [out]]\n"
+    "[-C a,b] [-k kernel] [-z compression] [in [out]]\n"
+    "  -C a,b          only the output level's columns a .. b-1 (a band "
+    "job's)\n"
     "  -k kernel       binomial (default, [1 2 1]/4), none (plain "
     "sub-sampling),\n"
     "                  box ([1 1 1]/3), binomial5 ([1 4 6 4 1]/16)\n"
@@ -19,6 +21,7 @@ static const char usage[] =
 
 typedef struct {
 	const filter_kernel *kernel;
+	int cut[2], has_cut; /* -C */
 	const char *in, *out;
 } options;
 
@@ -59,15 +62,26 @@ filter(const cli *c, const options *o, tl_err *e)
 		    j.in.what, j.in.fi.level, h->width, h->height);
 		goto done;
 	}
+	/* a window sub-samples on the level's grid: coarse vertex k at fine
+	 * 2k counts from the level's column 0 */
+	if (j.in.fi.x0 % 2 != 0) {
+		tl_fail(e, "%s: a window from column %d: odd, so not on the "
+		    "coarse grid", j.in.what, j.in.fi.x0);
+		goto done;
+	}
 	if (filter_init(&j.f, o->kernel, j.in.fi.level, h->width, h->height,
 	    j.in.fi.size0[0], j.in.fi.size0[1], &j.in.m, e) < 0 ||
 	    rs_header_copy(&oh, h, e) < 0)
 		goto done;
+	j.f.x0 = j.in.fi.x0;
 	oh.width = j.f.cw, oh.height = j.f.ch;
+	rs_unset(&oh, FQM_ATTR_X0);
 	if (rs_set_int(&oh, FQM_ATTR_LEVEL, j.in.fi.level + 1, e) < 0 ||
-	    rs_set_string(&oh, FQM_ATTR_KERNEL, o->kernel->name, e) < 0)
+	    rs_set_string(&oh, FQM_ATTR_KERNEL, o->kernel->name, e) < 0 ||
+	    (j.f.x0 != 0 && rs_set_int(&oh, FQM_ATTR_X0, j.f.x0 / 2, e) < 0))
 		goto done;
-	r = rowpipe_run(c->prog, o->out, &oh, c->comp, coarse_row, &j, e);
+	r = rowpipe_run_cut(c->prog, o->out, &oh, o->has_cut ? o->cut : NULL,
+	    c->comp, coarse_row, &j, e);
 done:
 	fqm_input_close(&j.in);
 	rs_header_free(&oh);
@@ -82,16 +96,21 @@ main(int argc, char **argv)
 		{ "kernel", required_argument, NULL, 'k' },
 		{ NULL, 0, NULL, 0 },
 	};
-	options o = { filter_find("binomial"), "-", "-" };
+	options o = { filter_find("binomial"), { 0, 0 }, 0, "-", "-" };
 	cli c;
 	tl_err e;
 	int ch;
 
 	cli_init(&c, argv, usage, CLI_COMPRESSION);
-	while ((ch = cli_next(&c, argc, argv, "k:", longopts)) != -1) {
-		if (ch != 'k')
+	while ((ch = cli_next(&c, argc, argv, "C:k:", longopts)) != -1) {
+		if (ch == 'C') {
+			if (cli_columns(optarg, o.cut) < 0)
+				return cli_bad(&c, "-C %s: not columns a,b "
+				    "(0 <= a < b)", optarg);
+			o.has_cut = 1;
+		} else if (ch != 'k')
 			return cli_usage_error(&c);
-		if ((o.kernel = filter_find(optarg)) == NULL)
+		else if ((o.kernel = filter_find(optarg)) == NULL)
 			return cli_bad(&c, "-k %s: unknown kernel", optarg);
 	}
 	if ((ch = cli_filter_args(&c, argc, argv, &o.in, &o.out)) >= 0)

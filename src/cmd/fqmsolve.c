@@ -11,7 +11,9 @@
 #include "core/solve.h"
 
 static const char usage[] =
-    "[-v] [-j jobs] [-m mode] [-r cut] [-z compression] [in [out]]\n"
+    "[-v] [-C a,b] [-j jobs] [-m mode] [-r cut] [-z compression] "
+    "[in [out]]\n"
+    "  -C a,b          only the level's columns a .. b-1 (a band job's)\n"
     "  -j jobs         qem3d: threads placing a row's vertices (default: "
     "the CPUs)\n"
     "  -m mode         qem1d (default), qem3d, filtered, subsample\n"
@@ -27,6 +29,7 @@ typedef struct {
 	double rel;
 	int verbose;
 	int jobs;
+	int cut[2], has_cut; /* -C */
 	const char *in, *out;
 } options;
 
@@ -78,7 +81,8 @@ solve(const cli *c, const options *o, tl_err *e)
 	    solve_pool(&j.s, pool, e) < 0))
 		goto done;
 	if ((j.sv = tl_alloc(j.in.h->width, sizeof *j.sv, e)) != NULL)
-		r = rowpipe_run(c->prog, o->out, &oh, c->comp, vertex_row, &j, e);
+		r = rowpipe_run_cut(c->prog, o->out, &oh, o->has_cut ?
+		    o->cut : NULL, c->comp, vertex_row, &j, e);
 	n = (long long)j.in.h->width * j.in.h->height;
 	if (r == 0 && o->verbose && o->mode == SOLVE_QEM3D)
 		cli_warn(c, "level %d: fold fix reduced %lld of %lld vertices, "
@@ -101,7 +105,7 @@ main(int argc, char **argv)
 		{ NULL, 0, NULL, 0 },
 	};
 	long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
-	options o = { SOLVE_QEM1D, 1e-3, 0, 1, "-", "-" };
+	options o = { SOLVE_QEM1D, 1e-3, 0, 1, { 0, 0 }, 0, "-", "-" };
 	cli c;
 	tl_err e;
 	int ch;
@@ -109,8 +113,13 @@ main(int argc, char **argv)
 	o.jobs = ncpu < 1 ? 1 : ncpu > TL_POOL_MAXTHREADS ?
 	    TL_POOL_MAXTHREADS : (int)ncpu;
 	cli_init(&c, argv, usage, CLI_COMPRESSION);
-	while ((ch = cli_next(&c, argc, argv, "j:m:r:v", longopts)) != -1) {
-		if (ch == 'j' && (tl_parse_int(optarg, &o.jobs) < 0 ||
+	while ((ch = cli_next(&c, argc, argv, "C:j:m:r:v", longopts)) != -1) {
+		if (ch == 'C' && cli_columns(optarg, o.cut) < 0)
+			return cli_bad(&c, "-C %s: not columns a,b (0 <= a < b)",
+			    optarg);
+		else if (ch == 'C')
+			o.has_cut = 1;
+		else if (ch == 'j' && (tl_parse_int(optarg, &o.jobs) < 0 ||
 		    o.jobs < 1))
 			return cli_bad(&c, "-j %s: not a positive number", optarg);
 		else if (ch == 'j' && o.jobs > TL_POOL_MAXTHREADS)
@@ -122,7 +131,7 @@ main(int argc, char **argv)
 			return cli_bad(&c, "-r %s: not a number in [0, 1)", optarg);
 		else if (ch == 'v')
 			o.verbose = 1;
-		else if (ch != 'j' && ch != 'm' && ch != 'r')
+		else if (ch != 'j' && ch != 'm' && ch != 'r' && ch != 'C')
 			return cli_usage_error(&c);
 	}
 	if ((ch = cli_filter_args(&c, argc, argv, &o.in, &o.out)) >= 0)

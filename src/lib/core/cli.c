@@ -1,7 +1,10 @@
 /* cli.c - the programs' shared start-up: name, help, version, shared
  * options, operands, exit statuses (cli.h). */
 #include <assert.h>
+#include <errno.h>
+#include <limits.h>
 #include <stdarg.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -173,4 +176,23 @@ cli_exit(const cli *c, int r, const tl_err *e)
 		return CLI_OK;
 	cli_warn(c, "%s", e->msg);
 	return CLI_FAIL;
+}
+
+int
+cli_columns(const char *s, int r[2])
+{
+	char *end;
+	long a, b;
+
+	errno = 0;
+	a = strtol(s, &end, 10);
+	if (end == s || *end != ',')
+		return -1;
+	s = end + 1;
+	b = strtol(s, &end, 10);
+	if (end == s || *end != '\0' || errno != 0 || a < 0 || b <= a ||
+	    b > INT_MAX)
+		return -1;
+	r[0] = (int)a, r[1] = (int)b;
+	return 0;
 }

@@ -73,6 +73,9 @@ int cli_operands(const cli *c, int argc, char **argv, const char **in,
 int cli_filter_args(const cli *c, int argc, char **argv, const char **in,
     const char **out);
 
+/* Columns "a,b" (-w, -C: a .. b-1, 0 <= a < b): 0, or -1. */
+int cli_columns(const char *s, int r[2]);
+
 /* The exit status of a work function's result: 0 when r >= 0, else 1
  * after "prog: what: why" from e. */
 int cli_exit(const cli *c, int r, const tl_err *e);

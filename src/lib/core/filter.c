@@ -538,8 +538,9 @@ pull(filter_state *f)
 		for (int c = 0; c < cw; c++)
 			co[F_S * st + (size_t)c] = ext_rows(f, c, j0, F_S);
 	/* past the DEM's last sample: padding, marked invalid */
+	assert(f->x0 % 2 == 0);
 	for (int c = 0; c < cw; c++)
-		if ((long)c << (f->level + 1) > f->w0 - 1 ||
+		if ((long)(c + f->x0 / 2) << (f->level + 1) > f->w0 - 1 ||
 		    (long)m << (f->level + 1) > f->h0 - 1)
 			co[F_V * st + (size_t)c] = 0;
 }

@@ -29,6 +29,11 @@ typedef struct {
 	int level;         /* of the fine input */
 	int fw, fh, cw, ch; /* fine and coarse sizes */
 	int w0, h0;        /* level-0 size: vertices past it are padding */
+	int x0;            /* a window (fqm:x0): its column 0 is fine column
+	                    * x0, even, so that coarse column c is the
+	                    * level's x0/2 + c; 0 after filter_init. The
+	                    * window's edges are filtered as the level's
+	                    * would be: a band job drops the columns near them */
 	const geo_metric *m;
 	int nring;
 	double *ring;      /* nring x FILTER_NF x cw */

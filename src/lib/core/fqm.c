@@ -41,13 +41,16 @@ set_info(rs_header *h, const fqm_info *fi, const char *kind, tl_err *e)
 	    rs_set_int(h, FQM_ATTR_LEVEL, fi->level, e) < 0 ||
 	    rs_set_v2i(h, FQM_ATTR_SIZE0, fi->size0[0], fi->size0[1], e) < 0)
 		return -1;
+	rs_unset(h, FQM_ATTR_X0);
+	if (fi->x0 != 0 && rs_set_int(h, FQM_ATTR_X0, fi->x0, e) < 0)
+		return -1;
 	return geo_to_header(&fi->geo, h, e);
 }
 
 int
 fqm_header(rs_header *h, const fqm_info *fi, const char *kernel, tl_err *e)
 {
-	rs_header_init(h, fqm_level_size(fi->size0[0], fi->level),
+	rs_header_init(h, fqm_level_size(fi->size0[0], fi->level) - fi->x0,
 	    fqm_level_size(fi->size0[1], fi->level));
 	for (int k = 0; k < 10; k++)
 		if (rs_add_channel(h, qch[k], e) < 0)
@@ -84,16 +87,33 @@ fqm_info_of(const rs_header *h, const char *want, fqm_info *fi,
 	    fi->size0[1] < 1)
 		return tl_fail(e, "%s: bad fqm:level %d or fqm:size0 %dx%d",
 		    what, fi->level, fi->size0[0], fi->size0[1]);
-	if (h->width != fqm_level_size(fi->size0[0], fi->level) ||
+	if (rs_get_int(h, FQM_ATTR_X0, &fi->x0) < 0)
+		fi->x0 = 0;
+	if (fi->x0 < 0 || h->width < 1 || h->width >
+	    fqm_level_size(fi->size0[0], fi->level) - fi->x0 ||
 	    h->height != fqm_level_size(fi->size0[1], fi->level))
-		return tl_fail(e, "%s: size %dx%d is not that of level %d of "
-		    "a %dx%d DEM", what, h->width, h->height, fi->level,
+		return fi->x0 != 0 ? tl_fail(e, "%s: size %dx%d from column "
+		    "%d is not inside level %d of a %dx%d DEM", what, h->width,
+		    h->height, fi->x0, fi->level, fi->size0[0], fi->size0[1]) :
+		    tl_fail(e, "%s: size %dx%d is not that of level %d of a "
+		    "%dx%d DEM", what, h->width, h->height, fi->level,
 		    fi->size0[0], fi->size0[1]);
 	if (geo_from_header(&fi->geo, h, e) < 0)
 		return -1;
 	fi->geo.width = fi->size0[0];
 	fi->geo.height = fi->size0[1];
 	return 0;
+}
+
+int
+fqm_whole(const rs_header *h, const fqm_info *fi, const char *what,
+    tl_err *e)
+{
+	if (fi->x0 == 0 && h->width == fqm_level_size(fi->size0[0], fi->level))
+		return 0;
+	return tl_fail(e, "%s: columns %d..%d of level %d, not the whole "
+	    "level (a band: give the band list)", what, fi->x0,
+	    fi->x0 + h->width - 1, fi->level);
 }
 
 int

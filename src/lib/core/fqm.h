@@ -22,6 +22,9 @@ typedef struct {
 typedef struct {
 	int level;
 	int size0[2]; /* level-0 width, height */
+	int x0;       /* a window of the level (fqm:x0): its column 0 is
+	               * level column x0, its width any up to the level's
+	               * end; 0 for a whole level */
 	georef geo;
 } fqm_info;
 
@@ -39,13 +42,19 @@ int fqm_level_size(int n0, int level);
 #define FQM_BLOCK 129
 int fqm_levels(int w0, int h0);
 
-/* A fresh FQM header for a level: channels, fqm:* and geo:* attributes. */
+/* A fresh FQM header for a level: channels, fqm:* and geo:* attributes;
+ * width from fi->x0 to the level's end. */
 int fqm_header(rs_header *h, const fqm_info *fi, const char *kernel,
     tl_err *e);
 /* Reads fqm:* and geo:* attributes; checks that kind is want ("fqm" or
- * "vertices") and that the raster's size is that of its level. */
+ * "vertices") and that the raster's size is that of its level (its height;
+ * a window's columns x0 .. x0+width-1 inside the level's). */
 int fqm_info_of(const rs_header *h, const char *want, fqm_info *fi,
     const char *what, tl_err *e);
+/* 0, or -1 with "what: columns A..B of level L, not the whole level (a
+ * band: give the band list)" for a window: for readers of whole levels. */
+int fqm_whole(const rs_header *h, const fqm_info *fi, const char *what,
+    tl_err *e);
 int fqm_layout_of(const rs_header *h, fqm_layout *L, const char *what,
     tl_err *e);
 /* Opens an FQM (path or "-") and reads its info and layout: the filters'

@@ -8,11 +8,18 @@
 int
 fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e)
 {
+	return fqm0_init_cols(s, d, m, 0, dem_georef(d)->width, e);
+}
+
+int
+fqm0_init_cols(fqm0_state *s, dem *d, const geo_metric *m, int x0, int n,
+    tl_err *e)
+{
 	const georef *g = dem_georef(d);
 
 	memset(s, 0, sizeof *s);
-	s->d = d, s->m = m, s->w = g->width, s->h = g->height;
-	assert(s->w >= 3 && s->h >= 3);
+	s->d = d, s->m = m, s->x0 = x0, s->w = n, s->h = g->height;
+	assert(s->w >= 3 && s->h >= 3 && x0 >= 0 && x0 + n <= g->width);
 	for (int k = 0; k < 2; k++) {
 		s->z[k] = tl_alloc(s->w, sizeof *s->z[k], e);
 		s->valid[k] = tl_alloc(s->w, 1, e);
@@ -33,11 +40,12 @@ advance(fqm0_state *s, int j, tl_err *e)
 	if (j == 0) {
 		for (size_t k = 0; k < (size_t)s->w * 6; k++)
 			s->part[k] = 0;
-		if (dem_read_row(s->d, 0, s->z[0], s->valid[0], e) < 0)
+		if (dem_read_span(s->d, 0, s->x0, s->w, s->z[0], s->valid[0],
+		    e) < 0)
 			return -1;
 	}
-	if (j + 1 < s->h && dem_read_row(s->d, j + 1, s->z[!(j & 1)],
-	    s->valid[!(j & 1)], e) < 0)
+	if (j + 1 < s->h && dem_read_span(s->d, j + 1, s->x0, s->w,
+	    s->z[!(j & 1)], s->valid[!(j & 1)], e) < 0)
 		return -1;
 	return 0;
 }

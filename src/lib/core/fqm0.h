@@ -10,7 +10,8 @@
 typedef struct {
 	dem *d;
 	const geo_metric *m;
-	int w, h, next;              /* DEM size; the row expected next */
+	int x0, w, h, next;          /* DEM columns x0 .. x0+w-1, its
+	                              * height; the row expected next */
 	float *z[2];                 /* DEM rows j, j+1 (by parity) */
 	unsigned char *valid[2];
 	double *part;                /* 6 planes of w: fqm_step0's sums */
@@ -18,6 +19,11 @@ typedef struct {
 
 /* d of at least 3x3 samples, its metric m: both outlive the state. */
 int fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e);
+/* Only the DEM's columns x0 .. x0+n-1 (n >= 3), as a band job's window:
+ * m answers in the window's columns (geo_metric x0). The window's edge
+ * vertices lack the cells beyond it: a band job drops them. */
+int fqm0_init_cols(fqm0_state *s, dem *d, const geo_metric *m, int x0,
+    int n, tl_err *e);
 /* FQM row j of level 0 (w vertices); rows strictly in order from 0. */
 int fqm0_row(fqm0_state *s, int j, fqm_vertex *out, tl_err *e);
 

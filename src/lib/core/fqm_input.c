@@ -16,6 +16,8 @@ fqm_input_open(fqm_input *in, const char *path, tl_err *e)
 	in->h = rs_header_of(in->r);
 	if (geo_metric_init(&in->m, &in->fi.geo, e) < 0)
 		return -1;
+	/* a window's metric answers in its own columns */
+	in->m.x0 = (double)in->fi.x0 * (double)(1L << in->fi.level);
 	in->row = tl_alloc((size_t)in->h->width * in->h->nch, sizeof *in->row,
 	    e);
 	in->v = tl_alloc(in->h->width, sizeof *in->v, e);

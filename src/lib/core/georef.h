@@ -97,6 +97,10 @@ typedef struct {
 	double *sx, *sy;  /* nx x ny nodes, row-major: metres per step */
 	double *cx, *cy;  /* metres from column 0 along the node's row, from
 	                   * row 0 along its column */
+	double x0;        /* column offset: the metric of a window whose
+	                   * column 0 is level-0 column x0 of the grid (a
+	                   * band job, fqm(5) fqm:x0); every column argument
+	                   * I below is then the window's. 0 after init */
 } geo_metric;
 
 /* Fails with "CRS ...: cannot ..." when PROJ cannot use a projected CRS. */
@@ -143,7 +147,7 @@ void geo_row_y(const geo_metric *m, double J, double *v);
 static inline double
 geo_on_row(const geo_metric *m, const double *v, double I)
 {
-	double t = I * m->inv, u;
+	double t = (I + m->x0) * m->inv, u;
 	int k;
 
 	if (m->per_row || !(t > 0)) /* per-row metrics: inv is 0 */

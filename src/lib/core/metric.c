@@ -487,7 +487,7 @@ geo_sx(const geo_metric *m, double I, double J)
 {
 	if (m->per_row)
 		return J < 0 ? m->dx[0] : rows_at(m, J, row_dx);
-	return lattice_bilinear(m, m->sx, I, J);
+	return lattice_bilinear(m, m->sx, I + m->x0, J);
 }
 
 double
@@ -496,7 +496,7 @@ geo_y(const geo_metric *m, double I, double J)
 	if (m->per_row)
 		return J < 0 ? J * (row_y(m, 1) - row_y(m, 0)) :
 		    rows_at(m, J, row_y);
-	return lattice_y(m, I, J);
+	return lattice_y(m, I + m->x0, J);
 }
 
 double
@@ -504,7 +504,7 @@ geo_x(const geo_metric *m, double I0, double I, double J)
 {
 	if (m->per_row)
 		return (I - I0) * geo_sx(m, I0, J);
-	return lattice_x(m, I, J) - lattice_x(m, I0, J);
+	return lattice_x(m, I + m->x0, J) - lattice_x(m, I0 + m->x0, J);
 }
 
 void
@@ -519,8 +519,8 @@ void
 geo_scale(const geo_metric *m, double I, double J, double *sx, double *sy)
 {
 	if (!m->per_row) {
-		*sx = lattice_bilinear(m, m->sx, I, J);
-		*sy = lattice_bilinear(m, m->sy, I, J);
+		*sx = lattice_bilinear(m, m->sx, I + m->x0, J);
+		*sy = lattice_bilinear(m, m->sy, I + m->x0, J);
 		return;
 	}
 	*sx = geo_sx(m, I, J);

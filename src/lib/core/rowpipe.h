@@ -18,4 +18,12 @@ typedef int (*rowpipe_fn)(void *ctx, int y, float *row, tl_err *e);
 int rowpipe_run(const char *label, const char *out, const rs_header *h,
     enum rs_compression comp, rowpipe_fn fn, void *ctx, tl_err *e);
 
+/* The same, keeping only the level's columns cut[0] .. cut[1]-1 of the
+ * rows fn makes (a band job's own columns, -C): h is a level or a window
+ * of one (fqm:x0) that holds them; the output is the window they are.
+ * cut NULL: rowpipe_run. */
+int rowpipe_run_cut(const char *label, const char *out, const rs_header *h,
+    const int *cut, enum rs_compression comp, rowpipe_fn fn, void *ctx,
+    tl_err *e);
+
 #endif

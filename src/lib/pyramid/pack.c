@@ -110,6 +110,7 @@ vmap_open(vmap *v, const char *path, int l, const georef *g, tl_err *e)
 		return -1;
 	v->h = rs_header_of(v->r);
 	if (fqm_info_of(v->h, "vertices", &fi, name, e) < 0 ||
+	    fqm_whole(v->h, &fi, name, e) < 0 ||
 	    pack_check_level(&fi, l, g, name, e) < 0 ||
 	    (v->cz = rs_need_channel(v->h, "Z", name, e)) < 0)
 		return -1;
