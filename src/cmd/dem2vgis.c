@@ -24,6 +24,12 @@ static const char usage[] =
     "  -q              no summary from tilepack\n"
     "  -r cut          fqmsolve -r (QEM-3D)\n"
     "  -M              only the vertex maps of every level, into dir\n"
+    "  --band-width n  with -P: chain jobs of n level-0 columns (0: one "
+    "job)\n"
+    "  --band a,b --band-levels t [--fill file]  with -M: a plan's band "
+    "job, levels\n"
+    "                  0 .. t-1 of columns a .. b-1, and level t's FQM\n"
+    "  --from fqm      with -M: the chain from this FQM (a band list)\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
     "  dem ...         the DEM, or - (stdin); several are one mosaic\n"
     "  dir             the pyramid directory to build\n";
@@ -52,11 +58,49 @@ bindir(char *buf, size_t n)
 static const char dem_letters[] = "DeHNs";
 static const char *const flags[] = { "-D", "-e", "-H", "-N", "-s" };
 
+enum { OPT_BAND = 256, OPT_BAND_LEVELS, OPT_BAND_WIDTH, OPT_FILL, OPT_FROM };
+
+/* The options of a plan's band jobs (dem2vgis(1), section PLANS). */
+static int
+parse_band(cli *c, int ch, pipeline_opts *o)
+{
+	switch (ch) {
+	case OPT_BAND:
+		if (cli_columns(optarg, o->band) < 0)
+			return cli_bad(c, "--band %s: not columns a,b", optarg);
+		return 0;
+	case OPT_BAND_LEVELS:
+		if (tl_parse_int(optarg, &o->band_levels) < 0 ||
+		    o->band_levels < 1 || o->band_levels > 20)
+			return cli_bad(c, "--band-levels %s: not 1 .. 20",
+			    optarg);
+		return 0;
+	case OPT_BAND_WIDTH:
+		if (tl_parse_int(optarg, &o->bandplan) < 0 || o->bandplan < 0)
+			return cli_bad(c, "--band-width %s: not a column count",
+			    optarg);
+		o->bandplan = o->bandplan == 0 ? -1 : o->bandplan;
+		return 0;
+	case OPT_FILL:
+		o->fill = optarg;
+		return 0;
+	case OPT_FROM:
+		o->from = optarg;
+		return 0;
+	}
+	return cli_usage_error(c);
+}
+
 static int
 parse(cli *c, int argc, char **argv, pipeline_opts *o)
 {
 	static const struct option longopts[] = {
 		{ "plan", required_argument, NULL, 'P' },
+		{ "band", required_argument, NULL, OPT_BAND },
+		{ "band-levels", required_argument, NULL, OPT_BAND_LEVELS },
+		{ "band-width", required_argument, NULL, OPT_BAND_WIDTH },
+		{ "fill", required_argument, NULL, OPT_FILL },
+		{ "from", required_argument, NULL, OPT_FROM },
 		{ NULL, 0, NULL, 0 },
 	};
 	int ch, j;
@@ -86,7 +130,10 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 			o->demopt[o->ndemopt++] = optarg;
 			break;
 		default:
-			return cli_usage_error(c);
+			if (ch < OPT_BAND)
+				return cli_usage_error(c);
+			if (parse_band(c, ch, o) != 0)
+				return CLI_USAGE;
 		}
 	}
 	return c->status >= 0 ? c->status : -1;
@@ -114,6 +161,11 @@ main(int argc, char **argv)
 			return cli_bad(&c, "-: stdin can only be the one DEM");
 	if (o.plan != NULL && o.vmaps)
 		return cli_bad(&c, "-M and -P: one or the other");
+	if ((o.band[1] > 0) != (o.band_levels > 0) || ((o.band[1] > 0 ||
+	    o.fill != NULL || o.from != NULL) && !o.vmaps) ||
+	    (o.from != NULL && (o.band[1] > 0 || o.fill != NULL)))
+		return cli_bad(&c, "--band and --band-levels go together, with "
+		    "-M; --from with -M, alone");
 	if (o.plan != NULL && strcmp(o.dem, "-") == 0)
 		return cli_bad(&c, "-P: the DEM must be a file, not stdin");
 	if (pipeline_run(&o, &st, &e) == 0)

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/fqm.h"
 #include "core/outfile.h"
 #include "core/progress.h"
 #include "jobs/graph.h"
@@ -204,15 +205,15 @@ ours(const pipeline_opts *o, tl_err *e)
 	return tl_fail(e, "%s: %s", o->prog, m);
 }
 
-/* The level count from the reader itself ("dem2fqm -I"); its message is
- * ours if it cannot read the DEM. */
+/* The level count and the width from the reader itself ("dem2fqm -I");
+ * its message is ours if it cannot read the DEM. */
 static int
 level_count(const pipeline_opts *o, const char *dem, int *levels,
-    int *status, tl_err *e)
+    int *width, int *status, tl_err *e)
 {
 	char info[4096], *p;
 	words a = { 0 };
-	int in = -1, r;
+	int in = -1, r, h;
 
 	say(&a, "dem2fqm");
 	say_demopts(&a, o);
@@ -231,37 +232,78 @@ level_count(const pipeline_opts *o, const char *dem, int *levels,
 		close(in);
 	if (r < 0)
 		return -1;
+	*levels = *width = 0;
 	for (p = info; p != NULL && *p; p = strchr(p, '\n'), p = p ? p + 1 : p)
-		if (sscanf(p, "levels %d", levels) == 1 && *levels >= 1 &&
-		    *levels <= MAXLEVELS)
-			return 0;
+		if (sscanf(p, "levels %d", levels) != 1)
+			(void)sscanf(p, "size %d %d", width, &h);
+	if (*levels >= 1 && *levels <= MAXLEVELS && *width >= 1)
+		return 0;
 	*status = 1;
-	return tl_fail(e, "%s: %s: dem2fqm -I gave no level count", o->prog,
-	    dem);
+	return tl_fail(e, "%s: %s: dem2fqm -I gave no level count or size",
+	    o->prog, dem);
 }
 
-/* The filter chain and one solver per level, all at once. */
-static int
-quadrics(const pipeline_opts *o, const char *dem, int levels,
-    vpath_t *vpath, meter *m, int *status, tl_err *e)
+/* A band's columns of level l (-C a,b), of a DEM w columns wide. */
+static void
+band_cols(const pipeline_opts *o, int w, int l, char *buf, size_t n)
 {
-	graph *g = graph_new(o->prog, o->bindir, e);
-	words a = { 0 };
-	int up[2], r = -1;
+	int b = o->band[1] >= w ? fqm_level_size(w, l) : o->band[1] >> l;
 
-	if (g == NULL || graph_pipe(g, up, e) < 0)
-		goto done;
-	graph_progress(g, on_progress, m);
+	snprintf(buf, n, "%d,%d", o->band[0] >> l, b);
+}
+
+/* The chain's first stage: dem2fqm writing level 0 into a pipe, whose
+ * end to read is *up; a band reads its window (-w) of the filled DEM. */
+static int
+level0(const pipeline_opts *o, graph *g, const char *dem, int w, char *win,
+    size_t nwin, int *up, tl_err *e)
+{
+	words a = { 0 };
+	int p[2];
+
+	if (graph_pipe(g, p, e) < 0)
+		return -1;
 	say(&a, "dem2fqm");
 	say_demopts(&a, o);
 	if (o->name != NULL && strcmp(o->dem, "-") != 0)
 		say(&a, "-n"), say(&a, o->name);
+	if (o->fill != NULL)
+		say(&a, "-F"), say(&a, o->fill);
+	if (o->band[1] > 0) {
+		long h = pipeline_halo(o->band_levels);
+		long x0 = o->band[0] - h, x1 = o->band[1] + h;
+		snprintf(win, nwin, "%ld,%ld", x0 < 0 ? 0 : x0, x1 > w ? w : x1);
+		say(&a, "-w"), say(&a, win);
+	}
 	say(&a, dem), say(&a, "-");
-	if (graph_exec(g, (char *const *)a.w, -1, up[1], e) < 0)
+	*up = p[0];
+	return graph_exec(g, (char *const *)a.w, -1, p[1], e);
+}
+
+/* The filter chain and one solver per level, all at once: levels first
+ * .. levels-1, from the DEM (first 0) or from the FQM o->from; a band's
+ * top filter writes level `levels`' FQM to fpath. */
+static int
+quadrics(const pipeline_opts *o, const char *dem, int first, int levels,
+    int w, vpath_t *vpath, const char *fpath, meter *m, int *status,
+    tl_err *e)
+{
+	graph *g = graph_new(o->prog, o->bindir, e);
+	char cut[MAXLEVELS + 1][32], win[64];
+	int band = o->band[1] > 0, up = -1, r = -1;
+	words a = { 0 };
+
+	if (g == NULL)
 		goto done;
-	for (int l = 0; l < levels; l++) {
-		int q[2], f[2], v;
-		if (graph_pipe(g, q, e) < 0 ||
+	graph_progress(g, on_progress, m);
+	if (o->from == NULL && level0(o, g, dem, w, win, sizeof win, &up,
+	    e) < 0)
+		goto done;
+	for (int l = first; l < levels; l++) {
+		/* the level's FQM: the pipe up, or the file o->from */
+		const char *src = up < 0 ? o->from : "-";
+		int q[2] = { -1, -1 }, f[2] = { -1, -1 }, v, top = l == levels - 1;
+		if ((up >= 0 && graph_pipe(g, q, e) < 0) ||
 		    (v = graph_open(g, vpath[l], O_WRONLY | O_CREAT | O_EXCL,
 		    0600, e)) < 0)
 			goto done;
@@ -269,23 +311,37 @@ quadrics(const pipeline_opts *o, const char *dem, int levels,
 		say(&a, "fqmsolve"), say(&a, "-m"), say(&a, o->mode);
 		if (o->cut != NULL)
 			say(&a, "-r"), say(&a, o->cut);
-		say(&a, "-"), say(&a, "-");
+		if (band)
+			band_cols(o, w, l, cut[l], sizeof cut[l]),
+			    say(&a, "-C"), say(&a, cut[l]);
+		say(&a, src), say(&a, "-");
 		if (graph_exec(g, (char *const *)a.w, q[0], v, e) < 0)
 			goto done;
-		if (l == levels - 1) { /* the top: no filter above it */
-			if (graph_tee(g, up[0], q[1], -1, e) < 0)
+		if (top && !band) { /* the top: no filter above it */
+			if (up >= 0 && graph_tee(g, up, q[1], -1, e) < 0)
 				goto done;
 			break;
 		}
-		if (graph_pipe(g, f, e) < 0 ||
-		    graph_tee(g, up[0], q[1], f[1], e) < 0)
+		if (up >= 0 && (graph_pipe(g, f, e) < 0 ||
+		    graph_tee(g, up, q[1], f[1], e) < 0))
 			goto done;
 		a.n = 0;
 		say(&a, "fqmfilter"), say(&a, "-k"), say(&a, o->kernel);
-		say(&a, "-"), say(&a, "-");
-		if (graph_pipe(g, up, e) < 0 ||
-		    graph_exec(g, (char *const *)a.w, f[0], up[1], e) < 0)
+		if (top)
+			band_cols(o, w, l + 1, cut[l + 1], sizeof cut[l + 1]),
+			    say(&a, "-C"), say(&a, cut[l + 1]);
+		say(&a, src), say(&a, "-");
+		if (top) {
+			if ((v = graph_open(g, fpath, O_WRONLY | O_CREAT | O_EXCL,
+			    0600, e)) < 0 ||
+			    graph_exec(g, (char *const *)a.w, f[0], v, e) < 0)
+				goto done;
+			break;
+		}
+		if (graph_pipe(g, q, e) < 0 ||
+		    graph_exec(g, (char *const *)a.w, f[0], q[1], e) < 0)
 			goto done;
+		up = q[0];
 	}
 	r = graph_run(g, status, e);
 done:
@@ -326,22 +382,50 @@ pack(const pipeline_opts *o, const char *dem, int levels,
 	return r;
 }
 
-/* -M: the quadric chain only, its vertex maps into the directory o->out,
- * made atomically (an earlier one replaced): a plan's first job. */
+/* The level of the FQM the chain starts from (--from), 0 from a DEM. */
 static int
-vmaps_only(const pipeline_opts *o, const char *dem, int levels,
+first_level(const pipeline_opts *o, int *first, tl_err *e)
+{
+	fqm_info fi;
+	fqm_layout L;
+	rs_reader *r;
+	int ok;
+
+	*first = 0;
+	if (o->from == NULL)
+		return 0;
+	if ((r = fqm_open(o->from, &fi, &L, e)) == NULL)
+		return -1;
+	ok = fqm_whole(rs_header_of(r), &fi, o->from, e);
+	rs_close(r);
+	*first = fi.level;
+	return ok;
+}
+
+/* -M: the quadric chain only, its vertex maps into the directory o->out,
+ * made atomically (an earlier one replaced): a plan's job. A band's
+ * directory also gets f.fqm, its columns of level band_levels' FQM. */
+static int
+vmaps_only(const pipeline_opts *o, const char *dem, int levels, int w,
     vpath_t *vpath, meter *m, int *status, tl_err *e)
 {
+	char fpath[PATHMAX];
 	tl_outfile d;
-	int r;
+	int first, r;
 
-	if (tl_outdir_begin(&d, o->out, e) < 0)
+	if (o->band[1] > 0)
+		levels = o->band_levels;
+	if (first_level(o, &first, e) < 0)
 		return ours(o, e);
-	for (int l = 0; l < levels; l++)
+	if (first >= levels || tl_outdir_begin(&d, o->out, e) < 0)
+		return first >= levels ? tl_fail(e, "%s: %s: level %d, the "
+		    "DEM has %d", o->prog, o->from, first, levels) : ours(o, e);
+	for (int l = first; l < levels; l++)
 		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", d.tmp, l);
+	snprintf(fpath, sizeof fpath, "%s/f.fqm", d.tmp);
 	tl_progress_start(&m->bar, o->prog, 1000);
-	if ((r = quadrics(o, dem, levels, vpath, m, status, e)) == 0 &&
-	    (r = tl_outdir_commit(&d, e)) < 0)
+	if ((r = quadrics(o, dem, first, levels, w, vpath, fpath, m, status,
+	    e)) == 0 && (r = tl_outdir_commit(&d, e)) < 0)
 		return ours(o, e);
 	if (r < 0)
 		tl_outdir_abort(&d);
@@ -365,11 +449,38 @@ absolute(const char *p, char *buf, size_t n, tl_err *e)
 	    tl_fail(e, "%s: name too long", p);
 }
 
+/* The chain's split into column bands (plan.h): bands of a multiple of
+ * 2^T columns, T levels banded (the rest is 4^T times smaller). Not for
+ * QEM-3D: its fold fix carries each row's moves into the next rows with
+ * no bound on how far they travel along a row, so a band's vertices
+ * could depend on columns any distance away (dem2vgis(1)). */
+#define PLAN_BAND_LEVELS 4
+#define PLAN_BAND_WIDTH 4096
+
+static void
+plan_bands(const pipeline_opts *o, int levels, int w, plan_opts *p)
+{
+	int t = levels - 1 < PLAN_BAND_LEVELS ? levels - 1 : PLAN_BAND_LEVELS;
+	long bw = o->bandplan > 0 ? o->bandplan : PLAN_BAND_WIDTH;
+
+	p->width = w;
+	if (o->bandplan < 0 || t < 1 || strcmp(o->mode, "qem3d") == 0)
+		return;
+	bw = (bw + (1L << t) - 1) >> t << t;
+	if (bw * 2 > w) /* one band would do */
+		return;
+	p->band_levels = t, p->bandw = (int)bw;
+	p->nbands = (int)((w + bw - 1) / bw);
+	/* a last band narrower than a halo joins the one before it */
+	if (w - (long)(p->nbands - 1) * bw < pipeline_halo(t))
+		p->nbands--;
+}
+
 /* --plan: the job graph (plan.h), each job one of the stages with the
  * options given here. */
 static int
-plan(const pipeline_opts *o, const char *dem, int levels, int *status,
-    tl_err *e)
+plan(const pipeline_opts *o, const char *dem, int levels, int w,
+    int *status, tl_err *e)
 {
 	const char *chain[PIPELINE_MAXOPTS + 8], *dopt[PIPELINE_MAXOPTS + 2];
 	char adem[PATHMAX], aout[PATHMAX], abin[PATHMAX];
@@ -389,6 +500,7 @@ plan(const pipeline_opts *o, const char *dem, int levels, int *status,
 	}
 	p.chainopt = chain, p.nchainopt = nc;
 	p.demopt = dopt, p.ndemopt = nd;
+	plan_bands(o, levels, w, &p);
 	if (absolute(o->out, aout, sizeof aout, e) < 0 ||
 	    absolute(o->bindir != NULL ? o->bindir : ".", abin, sizeof abin,
 	    e) < 0 || (o->ndem <= 1 && absolute(dem, adem, sizeof adem, e) < 0))
@@ -409,7 +521,7 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 	char spool[PATHMAX];
 	const char *dem = o->dem;
 	meter m = { 0 };
-	int levels, r;
+	int levels, w, r;
 
 	*status = 1;
 	if (o->ndem > 1) {
@@ -422,16 +534,16 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 		dem = spool;
 	} else if (access(dem, F_OK) < 0)
 		return tl_failsys(e, "%s: %s", o->prog, dem);
-	if (level_count(o, dem, &levels, status, e) < 0)
+	if (level_count(o, dem, &levels, &w, status, e) < 0)
 		return -1;
 	if (o->plan != NULL)
-		return plan(o, dem, levels, status, e);
+		return plan(o, dem, levels, w, status, e);
 	if (o->vmaps)
-		return vmaps_only(o, dem, levels, vpath, &m, status, e);
+		return vmaps_only(o, dem, levels, w, vpath, &m, status, e);
 	for (int l = 0; l < levels; l++)
 		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", s->path, l);
 	tl_progress_start(&m.bar, o->prog, 1000);
-	r = quadrics(o, dem, levels, vpath, &m, status, e);
+	r = quadrics(o, dem, 0, levels, w, vpath, NULL, &m, status, e);
 	if (r == 0)
 		r = pack(o, dem, levels, vpath, &m, status, e);
 	if (r == 0)

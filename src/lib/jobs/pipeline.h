@@ -37,7 +37,29 @@ typedef struct {
 	                        * (a plan's chain job), no pyramid */
 	const char *plan;      /* --plan: the job graph into this directory
 	                        * instead of a run (plan.h) */
+	/* -M as a part of a plan split into column bands (plan.h): */
+	int band[2];           /* --band a,b: level-0 columns a .. b-1 only,
+	                        * read with pipeline_halo(band_levels) more
+	                        * on either side; b 0: no band */
+	int band_levels;       /* --band-levels T: the vertex maps of levels
+	                        * 0 .. T-1, and level T's FQM as f.fqm */
+	const char *fill;      /* --fill: the filled DEM (dem2fqm -F) */
+	const char *from;      /* --from: the chain from this FQM (a band
+	                        * list of the bands' f.fqm) instead of the
+	                        * DEM: vertex maps of its level and above */
+	int bandplan;          /* --plan: band width in level-0 columns (0:
+	                        * the plan's own choice, -1: no bands) */
 } pipeline_opts;
+
+/* The level-0 columns a band reads past its own on either side so that
+ * levels 0 .. t come out as the whole DEM's: a window's edge vertex lacks
+ * the cells beyond it (1 column wrong), and a filter of radius r <= 2
+ * turns z wrong fine columns into ceil((z + r) / 2) coarse ones, so at
+ * most 2 columns of every level are wrong, 2 x 2^t at level 0 for level
+ * t. One more level-t column of margin; a multiple of 2^t, so that a
+ * window starts on every level's grid. t_plan shows a halo of 2^t
+ * failing for binomial5. */
+#define pipeline_halo(t) (3L << (t))
 
 /* Runs it. 0, or -1 with e holding the failing stage's own message and
  * *status the exit status to give (2 usage, 1 failure, 128+n signal). */

@@ -34,6 +34,52 @@ words(FILE *f, const char *const *w, int n, int make)
 	}
 }
 
+/* The vertex maps tilepack reads: the bands' lists below band_levels. */
+static void
+vmaps(FILE *f, const plan_opts *o)
+{
+	fputs("\nV =", f);
+	for (int l = 0; l < o->levels; l++)
+		if (l < o->band_levels)
+			fprintf(f, " bands/v%d.bands", l);
+		else
+			fprintf(f, " vmaps/v%d.fqm", l);
+}
+
+/* The chain as one job, or as the fill, the bands and the rest. */
+static void
+chain(FILE *f, const plan_opts *o)
+{
+	if (o->nbands == 0) {
+		fputs("done/chain:\n"
+		    "\tmkdir -p done\n"
+		    "\t$(B)/dem2vgis -M $(CHAINOPTS) $(DEM) vmaps\n"
+		    "\ttouch $@\n\n", f);
+		return;
+	}
+	fputs("BANDS =", f);
+	for (int k = 0; k < o->nbands; k++)
+		fprintf(f, " done/b-%d", k);
+	fputs("\n\n# the DEM converted and its voids filled, once: the "
+	    "fill reaches across it\n"
+	    "done/fill:\n"
+	    "\tmkdir -p done\n"
+	    "\t$(B)/dem2fqm -W fill.dem $(DEMOPTS) $(DEM)\n"
+	    "\ttouch $@\n\n", f);
+	for (int k = 0; k < o->nbands; k++) {
+		int a = k * o->bandw;
+		int b = k == o->nbands - 1 ? o->width : a + o->bandw;
+		fprintf(f, "done/b-%d: done/fill\n"
+		    "\t$(B)/dem2vgis -M --band %d,%d --band-levels %d "
+		    "--fill fill.dem $(CHAINOPTS) $(DEM) bands/%d\n"
+		    "\ttouch $@\n\n", k, a, b, o->band_levels, k);
+	}
+	fprintf(f, "done/chain: $(BANDS)\n"
+	    "\t$(B)/dem2vgis -M --from bands/f.bands $(CHAINOPTS) $(DEM) "
+	    "vmaps\n"
+	    "\ttouch $@\n\n");
+}
+
 static void
 makefile(FILE *f, const plan_opts *o)
 {
@@ -44,6 +90,12 @@ makefile(FILE *f, const plan_opts *o)
 	    "vmaps/), done/p-L-B0-B1 (tilepack -p: one\n# piece into work/), "
 	    "done/gather (tilepack -g: work/ becomes the pyramid).\n",
 	    o->prog, o->out, o->dem);
+	if (o->nbands > 0)
+		fprintf(f, "# The chain is split into %d column bands: done/fill "
+		    "(the DEM, its voids\n# filled), done/b-K (levels 0..%d "
+		    "of band K into bands/K), then done/chain\n# (levels %d.. "
+		    "from the bands' FQMs of level %d).\n", o->nbands,
+		    o->band_levels - 1, o->band_levels, o->band_levels);
 	fputs("SHELL = /bin/sh\nB =", f);
 	words(f, &o->bindir, 1, 1);
 	fputs("\nDEM =", f);
@@ -54,16 +106,10 @@ makefile(FILE *f, const plan_opts *o)
 	words(f, o->demopt, o->ndemopt, 1);
 	fputs("\nCHAINOPTS =", f);
 	words(f, o->chainopt, o->nchainopt, 1);
-	fputs("\nV =", f);
-	for (int l = 0; l < o->levels; l++)
-		fprintf(f, " vmaps/v%d.fqm", l);
-	fprintf(f, "\n\n"
-	    "all: done/gather\n\n"
-	    "done/chain:\n"
-	    "\tmkdir -p done\n"
-	    "\t$(B)/dem2vgis -M $(CHAINOPTS) $(DEM) vmaps\n"
-	    "\ttouch $@\n\n"
-	    "# the pieces, known once the vertex maps are: a rule each\n"
+	vmaps(f, o);
+	fputs("\n\nall: done/gather\n\n", f);
+	chain(f, o);
+	fprintf(f, "# the pieces, known once the vertex maps are: a rule each\n"
 	    "done/pieces.mk: done/chain\n"
 	    "\t$(B)/tilepack -l $(DEMOPTS) $(DEM) - $(V) >done/pieces.tmp\n"
 	    "\tsed 's/:/-/g; s|^|done/p-|' done/pieces.tmp >done/targets\n"
@@ -93,40 +139,59 @@ mkpieces(FILE *f)
 }
 
 static void
-parallel(FILE *f, const char *dir)
+parallel(FILE *f, const plan_opts *o, const char *dir)
 {
 	fputs("#!/bin/sh\n"
-	    "# GNU parallel, stage by stage: the chain, the pieces, the "
-	    "gather. Each job is\n# a make target of this directory, so a run "
-	    "again skips what is done. Its\n# options come from PARALLEL, e.g. "
-	    "PARALLEL='--sshloginfile hosts -j 4' for\n# machines that share "
-	    "this file system (same paths).\nset -e\nP=", f);
+	    "# GNU parallel, stage by stage: the chain (the fill, the bands, "
+	    "the rest, when\n# split), the pieces, the gather. Each job is "
+	    "a make target of this directory,\n# so a run again skips what "
+	    "is done. Its options come from PARALLEL, e.g.\n"
+	    "# PARALLEL='--sshloginfile hosts -j 4' for machines that share "
+	    "this file\n# system (same paths).\nset -e\nP=", f);
 	word(f, dir, 0);
+	if (o->nbands > 0)
+		fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" "
+		    "::: done/fill\n"
+		    "parallel --will-cite --halt now,fail=1 make -C \"$P\" "
+		    ":::: \"$P/bands/targets\"", f);
 	fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" ::: done/pieces.mk\n"
 	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" :::: \"$P/done/targets\"\n"
 	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" ::: done/gather\n", f);
 }
 
 static void
-slurm(FILE *f, const char *dir)
+slurm(FILE *f, const plan_opts *o, const char *dir)
 {
 	/* The jobs run in the plan (-D), so that their commands (--wrap, a
 	 * line of sh) need not name it: any name, quotes included. A job
 	 * whose dependency failed is cancelled (--kill-on-invalid-dep),
 	 * not left pending for ever. */
 	fputs("#!/bin/sh\n"
-	    "# Slurm: the chain, then a job submitting the pieces as an array "
-	    "and the\n# gather after them (the pieces are known once the "
-	    "chain has run). Each job\n# is a make target of this directory: "
-	    "submitted again, it skips what is done.\n# A failed job cancels "
-	    "those after it. sbatch options (partition, account,\n# time) "
-	    "come from SBATCH_OPTS.\n"
+	    "# Slurm: the chain (split: the fill, the bands as an array, the "
+	    "rest), then a\n# job submitting the pieces as an array and the "
+	    "gather after them (the pieces\n# are known once the chain has "
+	    "run). Each job is a make target of this\n# directory: "
+	    "submitted again, it skips what is done. A failed job cancels\n"
+	    "# those after it. sbatch options (partition, account, time) come "
+	    "from\n# SBATCH_OPTS.\n"
 	    "set -e\nP=", f);
 	word(f, dir, 0);
-	fputs("\nif [ \"${1:-}\" != --pieces ]; then\n"
-	    "\tc=$(sbatch --parsable $SBATCH_OPTS -J chain -D \"$P\" "
-	    "--wrap 'make done/pieces.mk')\n"
-	    "\tsbatch --parsable $SBATCH_OPTS -J submit -D \"$P\" "
+	fputs("\nif [ \"${1:-}\" != --pieces ]; then\n", f);
+	if (o->nbands > 0)
+		fputs("\tf=$(sbatch --parsable $SBATCH_OPTS -J fill -D \"$P\" "
+		    "--wrap 'make done/fill')\n"
+		    "\tn=$(wc -l <\"$P/bands/targets\")\n"
+		    "\tb=$(sbatch --parsable $SBATCH_OPTS -J bands -D \"$P\" "
+		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
+		    "--array=1-$n --wrap 'make \"$(sed -n "
+		    "\"${SLURM_ARRAY_TASK_ID}p\" bands/targets)\"')\n"
+		    "\tc=$(sbatch --parsable $SBATCH_OPTS -J chain -D \"$P\" "
+		    "--dependency=afterok:$b --kill-on-invalid-dep=yes "
+		    "--wrap 'make done/pieces.mk')\n", f);
+	else
+		fputs("\tc=$(sbatch --parsable $SBATCH_OPTS -J chain -D \"$P\" "
+		    "--wrap 'make done/pieces.mk')\n", f);
+	fputs("\tsbatch --parsable $SBATCH_OPTS -J submit -D \"$P\" "
 	    "--dependency=afterok:$c --kill-on-invalid-dep=yes "
 	    "--wrap 'sh slurm.sh --pieces'\n"
 	    "\texit 0\nfi\n"
@@ -144,7 +209,7 @@ static int
 put(const char *dir, const char *name, int exec,
     void (*fn)(FILE *, const void *), const void *arg, tl_err *e)
 {
-	char path[4096];
+	char path[4400];
 	FILE *f;
 
 	snprintf(path, sizeof path, "%s/%s", dir, name);
@@ -171,16 +236,78 @@ put_mkpieces(FILE *f, const void *o)
 	mkpieces(f);
 }
 
+/* The scripts need the plan's options and its final path. */
+typedef struct {
+	const plan_opts *o;
+	const char *dir;
+} script;
+
 static void
-put_parallel(FILE *f, const void *dir)
+put_parallel(FILE *f, const void *arg)
 {
-	parallel(f, dir);
+	const script *s = arg;
+
+	parallel(f, s->o, s->dir);
 }
 
 static void
-put_slurm(FILE *f, const void *dir)
+put_slurm(FILE *f, const void *arg)
 {
-	slurm(f, dir);
+	const script *s = arg;
+
+	slurm(f, s->o, s->dir);
+}
+
+/* bands/targets: the band jobs, a line each (GNU parallel, Slurm). */
+static void
+put_targets(FILE *f, const void *arg)
+{
+	const plan_opts *o = arg;
+
+	for (int k = 0; k < o->nbands; k++)
+		fprintf(f, "done/b-%d\n", k);
+}
+
+/* A band list (fqm(5)) of the bands' file name in their directories. */
+typedef struct {
+	const plan_opts *o;
+	const char *name;
+} bandlist;
+
+static void
+put_bandlist(FILE *f, const void *arg)
+{
+	const bandlist *b = arg;
+
+	fputs("fqm-bands 1\n", f);
+	for (int k = 0; k < b->o->nbands; k++)
+		fprintf(f, "%d/%s\n", k, b->name);
+}
+
+/* bands/: the lists of every banded level's vertex maps and of the top
+ * FQMs, and the band jobs' targets. */
+static int
+put_bands(const char *dir, const plan_opts *o, tl_err *e)
+{
+	char sub[4200], name[32], list[48];
+
+	if (o->nbands == 0)
+		return 0;
+	snprintf(sub, sizeof sub, "%s/bands", dir);
+	if (mkdir(sub, 0777) != 0)
+		return tl_failsys(e, "%s", sub);
+	for (int l = 0; l <= o->band_levels; l++) {
+		bandlist b = { o, name };
+		if (l < o->band_levels)
+			snprintf(name, sizeof name, "v%d.fqm", l),
+			    snprintf(list, sizeof list, "v%d.bands", l);
+		else
+			snprintf(name, sizeof name, "f.fqm"),
+			    snprintf(list, sizeof list, "f.bands");
+		if (put(sub, list, 0, put_bandlist, &b, e) < 0)
+			return -1;
+	}
+	return put(sub, "targets", 0, put_targets, o, e);
 }
 
 /* The mosaic's files as a list, absolute paths (cwd for relative). */
@@ -202,6 +329,7 @@ plan_write(const plan_opts *o, const char *dir, tl_err *e)
 {
 	char full[4096], list[4200], cwd[4096];
 	plan_opts q = *o;
+	script sc = { o, full };
 	struct stat st;
 	tl_outfile d;
 
@@ -221,8 +349,9 @@ plan_write(const plan_opts *o, const char *dir, tl_err *e)
 	if ((o->ndem > 0 && put(d.tmp, "dems.txt", 0, put_list, o, e) < 0) ||
 	    put(d.tmp, "Makefile", 0, put_makefile, &q, e) < 0 ||
 	    put(d.tmp, "mkpieces", 1, put_mkpieces, o, e) < 0 ||
-	    put(d.tmp, "parallel.sh", 1, put_parallel, full, e) < 0 ||
-	    put(d.tmp, "slurm.sh", 1, put_slurm, full, e) < 0) {
+	    put(d.tmp, "parallel.sh", 1, put_parallel, &sc, e) < 0 ||
+	    put(d.tmp, "slurm.sh", 1, put_slurm, &sc, e) < 0 ||
+	    put_bands(d.tmp, o, e) < 0) {
 		tl_outdir_abort(&d);
 		return -1;
 	}

@@ -1,6 +1,6 @@
 /* plan.h - a DEM-to-pyramid build written as a job graph instead of run
  * (dem2vgis --plan): the quadric chain as one job writing every level's
- * vertex map, then tilepack's pieces (tilepack -l, -p), one job each, then
+ * vertex map (or as jobs over column bands, below), then tilepack's pieces (tilepack -l, -p), one job each, then
  * the gather (tilepack -g) that makes the pyramid appear. The same graph
  * three ways: a Makefile (make -C PLANDIR -j N: incremental, so a killed
  * or failed run goes on where it stopped), a script for GNU parallel
@@ -27,6 +27,11 @@ typedef struct {
 	int ndemopt;
 	int levels;
 	int force;                     /* tilepack -f at the gather */
+	/* the chain in column bands (0 bands: one job): a job filling the
+	 * DEM's voids once (dem2fqm -W), then one per band of bandw level-0
+	 * columns (the last to width) for levels 0 .. band_levels-1, then
+	 * the chain from level band_levels on, from the bands' FQMs */
+	int nbands, bandw, band_levels, width;
 } plan_opts;
 
 /* Writes the plan into the directory dir, made atomically (an existing

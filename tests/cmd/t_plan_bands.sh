@@ -1,0 +1,96 @@
+# t_plan_bands - dem2vgis --plan with the chain split into column bands
+# (--band-width): the fill job, a job per band, the chain from the bands'
+# FQMs, then the pieces read the bands' vertex maps through band lists;
+# the pyramid byte for byte the one dem2vgis builds in one run, on a
+# geographic DEM with voids across the bands' borders (rows and columns
+# stored backwards) and on a UTM DEM (a metric that varies along the rows)
+# with the widest kernel. Killed in the middle and run again; GNU
+# parallel; and the halo shown to be needed.
+. "$(dirname "$0")/../lib.sh"
+PATH=$B:$PATH
+
+gdal_translate -q -srcwin 1300 2900 2200 400 "$DATA/N48W125.hgt" "$T/crop.tif"
+/usr/bin/python3 "$TOP/tests/tools/mkgdal.py" flipped "$T/crop.tif" "$T/flip.tif"
+ok $? "a 2200x400 crop of N48W125 flipped both ways, with voids"
+no_tmp() { [ "$(find "$1" -name '.*.??????' | wc -l)" -eq 0 ]; }
+
+# plan NAME DEM BANDWIDTH [OPTIONS]: the plan, run by make -j2, against
+# dem2vgis in one run
+plan() {
+	n=$1 d=$2 bw=$3; shift 3
+	dem2vgis -q "$@" "$d" "$T/ref-$n" &&
+	    dem2vgis "$@" --band-width "$bw" --plan "$T/plan-$n" "$d" \
+	    "$T/out-$n"
+	ok $? "$n: dem2vgis in one run; the plan in bands of $bw columns"
+	nb=$(wc -l <"$T/plan-$n/bands/targets")
+	[ "$nb" -ge 3 ]; ok $? "$n: $nb band jobs"
+	make -s -C "$T/plan-$n" -j2 >"$T/make.log" 2>&1 &&
+	    diff -r "$T/ref-$n" "$T/out-$n" >/dev/null
+	s=$?
+	[ $s -eq 0 ] || sed 's/^/#   /' "$T/make.log" | head -5
+	ok $s "$n: make -j2: the pyramid dem2vgis makes, byte for byte"
+	no_tmp "$T/plan-$n" && no_tmp "$T/out-$n"
+	ok $? "$n: no temporary left"
+}
+plan flip "$T/flip.tif" 256
+# the bands' vertex maps, read as one, are the single chain's
+dem2vgis -M "$T/flip.tif" "$T/vm"
+for l in 0 1 2 3; do
+	[ "$(rsinfo -c "$T/vm/v$l.fqm" | grep hash)" = \
+	    "$(rsinfo -c "$T/plan-flip/bands/v$l.bands" | grep hash)" ]
+	ok $? "flip: level $l's vertex maps in bands hash as the whole level's"
+done
+plan utm "$DATA/bigtujunga.tif" 128 -k binomial5
+
+# QEM-3D stays one chain job: its fold fix has no bounded reach
+dem2vgis -3 --band-width 256 --plan "$T/plan-3d" "$T/flip.tif" "$T/out-3d" &&
+    [ ! -e "$T/plan-3d/bands" ] && ! grep -q done/fill "$T/plan-3d/Makefile"
+ok $? "qem3d: no bands, the chain one job"
+
+# killed while the bands run (SIGKILL to the whole process group), run
+# again: it finishes, identical
+dem2vgis --band-width 256 --plan "$T/plan-k" "$T/flip.tif" "$T/out-k"
+setsid make -s -C "$T/plan-k" -j2 >/dev/null 2>&1 & mk=$!
+i=0	# until a band has started
+while [ $i -lt 1200 ] && [ -z "$(ls "$T/plan-k/done" 2>/dev/null | grep b-)" ]
+do sleep 0.02; i=$((i + 1)); done
+/bin/kill -KILL -- -"$mk" 2>/dev/null; wait "$mk" 2>/dev/null
+[ ! -e "$T/out-k" ] && [ ! -e "$T/plan-k/done/chain" ]
+ok $? "killed while the bands ran: no chain, no pyramid yet"
+make -s -C "$T/plan-k" -j2 >/dev/null 2>&1 &&
+    diff -r "$T/ref-flip" "$T/out-k" >/dev/null && no_tmp "$T/plan-k"
+ok $? "run again: it finishes, byte for byte, no temporary left"
+
+if command -v parallel >/dev/null; then
+	dem2vgis --band-width 256 --plan "$T/plan-p" "$T/flip.tif" "$T/out-p"
+	PARALLEL=-j2 sh "$T/plan-p/parallel.sh" >/dev/null 2>&1 &&
+	    diff -r "$T/ref-flip" "$T/out-p" >/dev/null
+	ok $? "GNU parallel (local, -j2): the pyramid byte for byte"
+else
+	ok 0 "GNU parallel # SKIP not installed"
+fi
+sh -n "$T/plan-flip/slurm.sh" && grep -q 'J bands' "$T/plan-flip/slurm.sh"
+ok $? "the Slurm script parses (sh -n) and has the band array"
+
+# The halo is needed: level 3's FQM of columns 64 .. 127 (level-0 columns
+# 512 .. 1023) from a window 3 x 2^3 columns wider on either side is the
+# whole level's; 2^3 wider, with binomial5, it is not.
+# band DEM A B: level 3's FQM of level-0 columns A..B-1's window
+band() {
+	dem2fqm -w "$2,$3" "$1" - | fqmfilter -k binomial5 |
+	    fqmfilter -k binomial5 | fqmfilter -k binomial5 -C 64,128 -
+}
+dem2fqm "$T/flip.tif" - | fqmfilter -k binomial5 | fqmfilter -k binomial5 |
+    fqmfilter -k binomial5 -C 64,128 - >"$T/whole.fqm"
+band "$T/flip.tif" 488 1048 >"$T/h24.fqm" && cmp -s "$T/whole.fqm" "$T/h24.fqm"
+ok $? "halo 3 x 2^3: level 3's band is the whole level's"
+band "$T/flip.tif" 504 1032 >"$T/h8.fqm" && ! cmp -s "$T/whole.fqm" "$T/h8.fqm"
+ok $? "halo 2^3 with binomial5: it is not (the halo is needed)"
+
+fails "--band without -M: refused" 2 "with -M" \
+    dem2vgis --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
+fails "--from and --band together: refused" 2 "alone" \
+    dem2vgis -M --from x.bands --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
+fails "fqmfilter on a window from an odd column: refused" 1 "odd" \
+    sh -c "dem2fqm -w 3,40 '$T/flip.tif' - | fqmfilter >/dev/null"
+done_testing
