@@ -1,6 +1,7 @@
 /* raster.c - raster headers, and the front door of both forms: rs_open
- * finds out by magic whether it reads EXR or the fqm(5) stream, rs_create
- * picks EXR for a file name and the stream for "-". */
+ * finds out by magic whether it reads EXR, the fqm(5) stream or a band
+ * list of either (rs_bands.c), rs_create picks EXR for a file name and the
+ * stream for "-". */
 #include "core/rs_impl.h"
 
 #include <assert.h>
@@ -356,9 +357,10 @@ open_fd(rs_reader *r, const char *path, tl_err *e)
 	return 0;
 }
 
-/* Finds the form by its magic and hands the reader to its backend. */
+/* Finds the form by its magic and hands the reader to its backend; lists:
+ * a band list is welcome (not as one of a list's bands). */
 static int
-dispatch(rs_reader *r, tl_err *e)
+dispatch(rs_reader *r, int lists, tl_err *e)
 {
 	struct stat st;
 	off_t pos;
@@ -374,6 +376,9 @@ dispatch(rs_reader *r, tl_err *e)
 		return tl_failsys(e, "%s: read", r->name);
 	if (r->npre == 8 && memcmp(r->pre, rs_stream_magic, 8) == 0)
 		return rs_stream_open_read(r, e);
+	if (r->npre == 8 && memcmp(r->pre, rs_bands_magic, 8) == 0)
+		return lists ? rs_bands_open_read(r, e) :
+		    tl_fail(e, "%s: a band list cannot be a band", r->name);
 	if (r->npre < 4 || memcmp(r->pre, rs_exr_magic, 4) != 0)
 		return tl_fail(e, "%s: %s", r->name, r->npre == 0 ?
 		    "empty input" : "not an fqm stream or EXR file");
@@ -389,8 +394,8 @@ dispatch(rs_reader *r, tl_err *e)
 	return rs_exr_open_read(r, (long long)pos - r->npre, e);
 }
 
-rs_reader *
-rs_open(const char *path, tl_err *e)
+static rs_reader *
+open_reader(const char *path, int lists, tl_err *e)
 {
 	rs_reader *r = tl_alloc(1, sizeof *r, e);
 
@@ -403,11 +408,23 @@ rs_open(const char *path, tl_err *e)
 		free(r);
 		return NULL;
 	}
-	if (open_fd(r, path, e) < 0 || dispatch(r, e) < 0) {
+	if (open_fd(r, path, e) < 0 || dispatch(r, lists, e) < 0) {
 		rs_close(r);
 		return NULL;
 	}
 	return r;
+}
+
+rs_reader *
+rs_open(const char *path, tl_err *e)
+{
+	return open_reader(path, 1, e);
+}
+
+rs_reader *
+rs_open_band(const char *path, tl_err *e)
+{
+	return open_reader(path, 0, e);
 }
 
 const rs_header *

@@ -1,6 +1,8 @@
 /* raster.h - row-streaming float32 rasters: OpenEXR scanline files at rest,
  * the fqm(5) stream on pipes. Every reader accepts either form (detected by
- * magic); a writer makes EXR for a file name and the stream for "-".
+ * magic), and a band list, a text file naming rasters that are column
+ * bands of one, read as that one (fqm(5) BAND LISTS); a writer makes EXR
+ * for a file name and the stream for "-".
  *
  * A row is channel-planar: channel c of row y occupies row[c*width ..
  * c*width + width - 1], channels in the header's (sorted) order. Rows are
@@ -27,6 +29,10 @@ typedef struct {
 
 #define RS_MAXCH 16
 #define RS_MAXATTR 64
+
+/* int: a raster that is a window of a wider one: its column 0 is column
+ * x0 of that one (absent: 0). A band list's bands are such windows. */
+#define RS_ATTR_X0 "fqm:x0"
 
 typedef struct {
 	int width, height;
@@ -69,7 +75,17 @@ int rs_get_v2d(const rs_header *h, const char *name, double v[2]);
 typedef struct rs_reader rs_reader;
 
 /* Opens path ("-" = stdin) as EXR or fqm stream. An EXR arriving on a pipe
- * is spooled to an anonymous scratch file first (EXR needs seeking). */
+ * is spooled to an anonymous scratch file first (EXR needs seeking).
+ *
+ * Or as a band list ("fqm-bands 1", then a path a line, left to right,
+ * relative to the list's directory): a file only, whose bands are regular
+ * files of either form, of the same height, channels and attributes
+ * (RS_ATTR_X0 apart), their columns contiguous by RS_ATTR_X0. It reads as
+ * one raster: the first band's header, widths summed, RS_ATTR_X0 the
+ * first band's (unset when 0). It holds one file descriptor and one
+ * reader per band, and one band's row; each band's reader checks its own
+ * data as it goes, so a damaged band is reported by the row that reaches
+ * it. Spans read only the bands they overlap. */
 rs_reader *rs_open(const char *path, tl_err *e);
 const rs_header *rs_header_of(const rs_reader *r);
 /* Reads the next row; after the last row of a stream it also checks the
@@ -79,7 +95,10 @@ int rs_read_row(rs_reader *r, float *row, tl_err *e);
  * at dst + c n. From a complete stream file (its size and trailer checked
  * once) only those bytes are read, and the rows' checksums, which cover
  * whole rows, are not verified; otherwise whole rows are read and
- * verified. A reader is read by rows or by spans, not both. */
+ * verified. Of a band list, each band overlapped is read so, a band left
+ * behind by earlier spans first skipping the rows it missed (by position
+ * in a complete stream file, otherwise read and verified). A reader is
+ * read by rows or by spans, not both. */
 int rs_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e);
 void rs_close(rs_reader *r);
 

@@ -1,5 +1,5 @@
-/* rs_impl.h - private to raster.c, exr*.c and stream.c: the reader and
- * writer objects and the entry points of the two backends. */
+/* rs_impl.h - private to raster.c, exr*.c, stream.c and rs_bands.c: the
+ * reader and writer objects and the entry points of the backends. */
 #ifndef TL_RS_IMPL_H
 #define TL_RS_IMPL_H
 
@@ -23,6 +23,10 @@ struct rs_reader {
 	 * returns 1 when it cannot (not a complete stream file): the caller
 	 * then reads whole rows. NULL: never. */
 	int (*span)(rs_reader *, int x0, int n, float *dst, tl_err *);
+	/* skips the next n rows of a reader read by spans by moving y
+	 * alone (the caller does), when its spans come by pread; returns 1
+	 * when it cannot: the caller reads and discards them. NULL: never. */
+	int (*skip)(rs_reader *, int n);
 	float *full; /* a whole row, for spans read as whole rows */
 	void (*close)(rs_reader *);
 	void *impl;
@@ -54,7 +58,14 @@ int rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
 int rs_stream_open_read(rs_reader *r, tl_err *e);
 int rs_stream_create(rs_writer *w, int fd, tl_err *e);
 
+/* Band list (rs_bands.c): r->pre holds the first 8 bytes of the list
+ * file r->name, r->fd the rest. */
+int rs_bands_open_read(rs_reader *r, tl_err *e);
+/* rs_open of one band: any form but a band list. */
+rs_reader *rs_open_band(const char *path, tl_err *e);
+
 extern const unsigned char rs_exr_magic[4];
 extern const unsigned char rs_stream_magic[8];
+extern const unsigned char rs_bands_magic[8]; /* "fqm-band" */
 
 #endif

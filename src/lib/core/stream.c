@@ -658,6 +658,18 @@ st_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e)
 	return 0;
 }
 
+/* Rows of a span reader come by position: skipping them is moving y.
+ * Called before any span, it decides as the first span would. */
+static int
+st_skip(rs_reader *r, int n)
+{
+	struct st_rd *s = r->impl;
+
+	if (s->spans < 0)
+		s->spans = spannable(r);
+	return s->spans ? 0 : 1;
+}
+
 static void
 st_close(rs_reader *r)
 {
@@ -675,6 +687,7 @@ rs_stream_open_read(rs_reader *r, tl_err *e)
 	s->row0 = -1, s->spans = -1;
 	r->row = st_read_row;
 	r->span = st_read_span;
+	r->skip = st_skip;
 	r->close = st_close;
 	return read_header(r, e);
 }
