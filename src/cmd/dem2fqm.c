@@ -5,8 +5,10 @@
 #include "core/rowpipe.h"
 
 static const char usage[] =
-    "[-I] [-D datum] [-e encoding] [-H datum] [-N nodata] [-n name]\n"
-    "               [-s dx[,dy]] [-w a,b] [-z compression] [dem [out]]\n"
+    "[-I] [-D datum] [-e encoding] [-F filled] [-H datum] [-N nodata]\n"
+    "               [-n name] [-s dx[,dy]] [-W filled] [-w a,b] "
+    "[-z compression]\n"
+    "               [dem [out]]\n"
     "  -I              print the DEM's size, georeferencing, metric, datum "
     "and\n"
     "                  level count from its header; no output. -II also "
@@ -15,11 +17,15 @@ static const char usage[] =
     "  -D datum        the DEM's vertical datum (EPSG:5773) when it declares "
     "none\n"
     "  -e encoding     auto (default), grey, terrainrgb, terrarium\n"
+    "  -F filled       the samples from this filled DEM, made by -W from "
+    "dem\n"
     "  -H datum        convert heights to datum: ellipsoid (WGS 84) or "
     "EPSG:n\n"
     "  -N nodata       void value, overriding the file's\n"
     "  -n name         the file name of a DEM on stdin (N42E001.hgt)\n"
     "  -s dx[,dy]      cell size in metres (overrides the CRS's metric)\n"
+    "  -W filled       write dem's samples, voids filled, to the file "
+    "filled; no FQM\n"
     "  -w a,b          only the DEM's columns a .. b-1: a window of the FQM "
     "(a band\n"
     "                  job's; its edge columns lack the cells beyond)\n"
@@ -31,6 +37,8 @@ static const char usage[] =
 typedef struct {
 	int info; /* -I given: 1 the header, 2 (-II) the voids too */
 	int win[2], has_win; /* -w */
+	const char *filled;  /* -F: read from it; -W: write it */
+	int save;            /* -W */
 	const char *in, *out;
 } options;
 
@@ -80,11 +88,22 @@ work(const cli *c, const options *o, tl_err *e)
 	dem *d;
 	int r;
 
-	/* -I reads the header only; -II and the conversion every sample */
-	if ((d = o->info == 1 ? dem_open_info(o->in, &c->dem, e) :
-	    dem_open(o->in, &c->dem, e)) == NULL)
+	/* -I reads the header only; -II and the conversion every sample;
+	 * -F the header, the samples from the filled DEM */
+	if (o->info == 1)
+		d = dem_open_info(o->in, &c->dem, e);
+	else if (o->filled != NULL && !o->save)
+		d = dem_open_filled(o->in, &c->dem, o->filled, e);
+	else
+		d = dem_open(o->in, &c->dem, e);
+	if (d == NULL)
 		return -1;
-	r = o->info ? dem_info_print(d, stdout, e) : convert(c, o, d, e);
+	if (o->info)
+		r = dem_info_print(d, stdout, e);
+	else if (o->save)
+		r = dem_save_filled(d, o->filled, e);
+	else
+		r = convert(c, o, d, e);
 	dem_close(d);
 	return r;
 }
@@ -92,14 +111,18 @@ work(const cli *c, const options *o, tl_err *e)
 int
 main(int argc, char **argv)
 {
-	options o = { 0, { 0, 0 }, 0, "-", "-" };
+	options o = { 0, { 0, 0 }, 0, NULL, 0, "-", "-" };
 	cli c;
 	tl_err e;
 	int ch;
 
 	cli_init(&c, argv, usage, CLI_COMPRESSION | CLI_DEM);
-	while ((ch = cli_next(&c, argc, argv, "Iw:", NULL)) != -1) {
-		if (ch == 'w' && cli_columns(optarg, o.win) < 0)
+	while ((ch = cli_next(&c, argc, argv, "F:IW:w:", NULL)) != -1) {
+		if (ch == 'F' || ch == 'W') {
+			if (o.filled != NULL)
+				return cli_bad(&c, "-F, -W: one of them, once");
+			o.filled = optarg, o.save = ch == 'W';
+		} else if (ch == 'w' && cli_columns(optarg, o.win) < 0)
 			return cli_bad(&c, "-w %s: not columns a,b (0 <= a < b)",
 			    optarg);
 		else if (ch == 'w')
@@ -112,8 +135,8 @@ main(int argc, char **argv)
 	if (c.status >= 0)
 		return c.status;
 	argc -= optind, argv += optind;
-	if (o.info) { /* one DEM in, "key value" lines out */
-		if (argc > 1)
+	if (o.info || o.save) { /* one DEM in, no raster out */
+		if (argc > 1 || (o.save && (o.info || o.has_win)))
 			return cli_usage_error(&c);
 		o.in = argc > 0 ? argv[0] : "-";
 	} else if ((ch = cli_operands(&c, argc, argv, &o.in, &o.out)) != 0)

@@ -75,10 +75,10 @@ filter(const cli *c, const options *o, tl_err *e)
 		goto done;
 	j.f.x0 = j.in.fi.x0;
 	oh.width = j.f.cw, oh.height = j.f.ch;
-	rs_unset(&oh, FQM_ATTR_X0);
+	rs_unset(&oh, RS_ATTR_X0);
 	if (rs_set_int(&oh, FQM_ATTR_LEVEL, j.in.fi.level + 1, e) < 0 ||
 	    rs_set_string(&oh, FQM_ATTR_KERNEL, o->kernel->name, e) < 0 ||
-	    (j.f.x0 != 0 && rs_set_int(&oh, FQM_ATTR_X0, j.f.x0 / 2, e) < 0))
+	    (j.f.x0 != 0 && rs_set_int(&oh, RS_ATTR_X0, j.f.x0 / 2, e) < 0))
 		goto done;
 	r = rowpipe_run_cut(c->prog, o->out, &oh, o->has_cut ? o->cut : NULL,
 	    c->comp, coarse_row, &j, e);

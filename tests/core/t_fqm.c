@@ -103,7 +103,7 @@ test_header(void)
 	    "fqm_info_of: a size that is not the level's (%s)", e.msg);
 	/* a window: level 2 of 37 columns has 10; columns 3 .. 8 */
 	h.width = 6;
-	rs_set_int(&h, FQM_ATTR_X0, 3, &e);
+	rs_set_int(&h, RS_ATTR_X0, 3, &e);
 	ok(fqm_info_of(&h, "fqm", &back, "x.exr", &e) == 0 && back.x0 == 3 &&
 	    fqm_whole(&h, &back, "x.exr", &e) < 0 &&
 	    strstr(e.msg, "columns 3..8 of level 2, not the whole level"),
@@ -112,11 +112,11 @@ test_header(void)
 	ok(fqm_info_of(&h, "fqm", &back, "x.exr", &e) < 0 &&
 	    strstr(e.msg, "size 8x7 from column 3 is not inside level 2"),
 	    "fqm_info_of: a window past the level's end (%s)", e.msg);
-	rs_set_int(&h, FQM_ATTR_X0, -1, &e);
+	rs_set_int(&h, RS_ATTR_X0, -1, &e);
 	h.width = 6;
 	ok(fqm_info_of(&h, "fqm", &back, "x.exr", &e) < 0,
 	    "fqm_info_of: a window before column 0");
-	rs_unset(&h, FQM_ATTR_X0);
+	rs_unset(&h, RS_ATTR_X0);
 	h.width = 10;
 	ok(fqm_info_of(&h, "fqm", &back, "x.exr", &e) == 0 && back.x0 == 0 &&
 	    fqm_whole(&h, &back, "x.exr", &e) == 0,

@@ -10,8 +10,7 @@
 #define FQM_ATTR_MODE "fqm:mode"
 #define FQM_ATTR_SIZE0 "fqm:size0"
 #define FQM_ATTR_VERSION "fqm:version"
-/* a window (a band job's): its column 0 is this column of its level */
-#define FQM_ATTR_X0 "fqm:x0"
+/* a window (a band job's) has RS_ATTR_X0 (raster.h) */
 
 /* georeferencing, also in vgis(5)'s blocks */
 #define GEO_ATTR_CELL "geo:cell"

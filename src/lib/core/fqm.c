@@ -41,8 +41,8 @@ set_info(rs_header *h, const fqm_info *fi, const char *kind, tl_err *e)
 	    rs_set_int(h, FQM_ATTR_LEVEL, fi->level, e) < 0 ||
 	    rs_set_v2i(h, FQM_ATTR_SIZE0, fi->size0[0], fi->size0[1], e) < 0)
 		return -1;
-	rs_unset(h, FQM_ATTR_X0);
-	if (fi->x0 != 0 && rs_set_int(h, FQM_ATTR_X0, fi->x0, e) < 0)
+	rs_unset(h, RS_ATTR_X0);
+	if (fi->x0 != 0 && rs_set_int(h, RS_ATTR_X0, fi->x0, e) < 0)
 		return -1;
 	return geo_to_header(&fi->geo, h, e);
 }
@@ -87,7 +87,7 @@ fqm_info_of(const rs_header *h, const char *want, fqm_info *fi,
 	    fi->size0[1] < 1)
 		return tl_fail(e, "%s: bad fqm:level %d or fqm:size0 %dx%d",
 		    what, fi->level, fi->size0[0], fi->size0[1]);
-	if (rs_get_int(h, FQM_ATTR_X0, &fi->x0) < 0)
+	if (rs_get_int(h, RS_ATTR_X0, &fi->x0) < 0)
 		fi->x0 = 0;
 	if (fi->x0 < 0 || h->width < 1 || h->width >
 	    fqm_level_size(fi->size0[0], fi->level) - fi->x0 ||

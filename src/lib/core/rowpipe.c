@@ -67,7 +67,7 @@ rowpipe_run_cut(const char *label, const char *out, const rs_header *h,
 
 	if (cut == NULL)
 		return rowpipe_run(label, out, h, comp, fn, ctx, e);
-	if (rs_get_int(h, FQM_ATTR_X0, &x0) < 0)
+	if (rs_get_int(h, RS_ATTR_X0, &x0) < 0)
 		x0 = 0;
 	k.c0 = cut[0] - x0, k.n = cut[1] - cut[0];
 	if (k.c0 < 0 || k.n < 1 || k.c0 + k.n > h->width)
@@ -77,8 +77,8 @@ rowpipe_run_cut(const char *label, const char *out, const rs_header *h,
 	if (rs_header_copy(&ch, h, e) < 0)
 		return -1;
 	ch.width = k.n;
-	rs_unset(&ch, FQM_ATTR_X0);
-	if ((cut[0] == 0 || rs_set_int(&ch, FQM_ATTR_X0, cut[0], e) == 0) &&
+	rs_unset(&ch, RS_ATTR_X0);
+	if ((cut[0] == 0 || rs_set_int(&ch, RS_ATTR_X0, cut[0], e) == 0) &&
 	    (k.full = tl_alloc((size_t)h->width * h->nch, sizeof *k.full,
 	    e)) != NULL)
 		r = rowpipe_run(label, out, &ch, comp, cut_row, &k, e);
