@@ -8,7 +8,8 @@
  * file, voids as NaN. Voids are then filled for geometry (dem_fill.c) and
  * the scratch file holds the filled rows followed by a validity mask for
  * each row that has voids, so any row can be read back in any order with
- * O(width) memory. */
+ * O(width) memory. A dem may instead read them from a filled DEM file
+ * (dem_filled.c). */
 #include "core/dem_impl.h"
 
 #include <errno.h>
@@ -23,18 +24,6 @@
 
 #include "core/outfile.h"
 #include "core/vdatum.h"
-
-struct dem {
-	georef g;
-	int fd;                  /* filled rows, then masks of void rows;
-	                          * of a window (cols): its rows, unfilled */
-	int cx0, cw;             /* the columns in fd (all but dem_open_cols) */
-	int unfilled;            /* dem_open_cols: NaN marks a void */
-	long long voids;
-	double zunit;            /* metres per height unit of the file */
-	unsigned char *rowvoid;  /* one bit per row: the row has voids */
-	char what[256];          /* the file, for messages */
-};
 
 static int
 bit(const unsigned char *b, long long i)
@@ -189,6 +178,7 @@ dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
 		L->zunit = 1;
 	if (L->scale == 0)
 		L->scale = 1;
+	L->print = dem_fingerprint(L, g, o);
 	if (datum(L, g, o, e) < 0)
 		return -1;
 	if (L->info)
@@ -376,6 +366,7 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 	d->rowvoid = L.rowvoid;
 	d->voids = info ? -1 : L.voids;
 	d->zunit = L.zunit;
+	d->print = L.print;
 	d->cx0 = L.cx0, d->cw = L.cx1 - L.cx0;
 	/* a window may be all voids, and is not filled: filling reaches
 	 * across the whole DEM */
@@ -445,6 +436,8 @@ dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 		    d->what, x0, x0 + (long long)n - 1, d->cx0,
 		    d->cx0 + w - 1);
 	x0 -= d->cx0;
+	if (d->file != NULL)
+		return dem_file_span(d, j, x0, n, z, valid, e);
 	if (tl_pread(d->fd, z, (size_t)n * sizeof(float),
 	    (j * w + x0) * (long long)sizeof(float), "DEM scratch file",
 	    e) < 0)
@@ -479,5 +472,6 @@ dem_close(dem *d)
 	if (d->fd >= 0)
 		close(d->fd);
 	free(d->rowvoid);
+	free(d->file);
 	free(d);
 }

@@ -12,7 +12,9 @@
  * scratch file; voids (declared nodata, masked, NaN, +-Inf, |z| > 1e6 m)
  * are then filled for geometry by 4-direction inverse-distance weighting
  * (see dem2fqm(1)). Afterwards any row can be read in any order with
- * bounded memory (a few rows), whatever the DEM's size. */
+ * bounded memory (a few rows), whatever the DEM's size. The filled
+ * samples can be saved to a filled DEM file (filled(5)), from which jobs
+ * read windows of the DEM without converting or filling it again. */
 #ifndef TL_DEM_H
 #define TL_DEM_H
 
@@ -64,6 +66,25 @@ dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
  * numbers are the whole DEM's; a span outside the window fails. */
 dem *dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
     tl_err *e);
+/* Saves d's converted, void-filled samples and validity (what
+ * dem_read_row gives for every row; d from dem_open or dem_open_filled)
+ * to path as a filled DEM file (filled(5)), streamed a row at a time,
+ * atomically: built under a hidden temporary name beside path and renamed
+ * when complete, nothing left behind on failure. A job that needs a
+ * window of a DEM too large to fill per job reads it back with
+ * dem_open_filled. */
+int dem_save_filled(dem *d, const char *path, tl_err *e);
+/* The DEM at dem_path (its header only, as dem_open_info reads it, with
+ * options o) whose samples are read from the filled DEM file that
+ * dem_save_filled wrote for it: dem_read_row and dem_read_span give
+ * exactly what they give on dem_open(dem_path, o), bit for bit, reading
+ * only the bytes asked for (pread); dem_voids is the file's count. Fails,
+ * naming the file, when it is not such a file, is truncated or damaged,
+ * or was made from another DEM or with other options (its size and a
+ * fingerprint of what makes the values: dem_impl.h, dem_fingerprint).
+ * Neither path may be "-": a DEM on stdin cannot be opened again. */
+dem *dem_open_filled(const char *dem_path, const dem_opts *o,
+    const char *filled, tl_err *e);
 /* The DEM's header only (dem2fqm -I): georeferencing, size, nodata,
  * vertical datum (-H, -D checked as dem_open does) and unit, read
  * through GDAL (or OpenImageIO) without reading a sample nor making a

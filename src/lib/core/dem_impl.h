@@ -1,12 +1,13 @@
 /* dem_impl.h - inside the DEM reader (dem.h): the conversion of source
  * samples into the scratch file, which its format adapters share (GDAL in
  * dem_gdal.c, OpenImageIO for EXR in dem_oiio.c), the mosaics of several
- * files (dem_mosaic.c, lists of them in dem_list.c), and the void filling.
- * Not for users of dem.h. */
+ * files (dem_mosaic.c, lists of them in dem_list.c), the void filling, and
+ * filled DEM files (dem_filled.c). Not for users of dem.h. */
 #ifndef TL_DEM_IMPL_H
 #define TL_DEM_IMPL_H
 
 #include <gdal.h>
+#include <stdint.h>
 
 #include "core/dem.h"
 #include "core/oiio_plugin.h"
@@ -40,7 +41,26 @@ typedef struct {
 	int cx0, cx1;            /* the columns kept (dem_open_cols), in
 	                          * north-up order; cx1 0: all, until
 	                          * dem_load_begin resolves it */
+	uint64_t print;          /* dem_fingerprint, by dem_load_begin */
 } dem_load;
+
+/* The dem of dem.h (dem.c), also opened on a filled DEM file
+ * (dem_filled.c). */
+struct dem {
+	georef g;
+	int fd;                  /* filled rows, then masks of void rows;
+	                          * of a window (cols): its rows, unfilled;
+	                          * or a filled DEM file (file) */
+	int cx0, cw;             /* the columns in fd (all but dem_open_cols) */
+	int unfilled;            /* dem_open_cols: NaN marks a void */
+	long long voids;
+	double zunit;            /* metres per height unit of the file */
+	unsigned char *rowvoid;  /* one bit per row: the row has voids */
+	uint64_t print;          /* dem_fingerprint of how it was read */
+	struct dem_file *file;   /* where fd's rows and masks are, when fd
+	                          * is a filled DEM file; else NULL */
+	char what[256];          /* the file, for messages */
+};
 
 /* Sets up the conversion once size, nodata and units are known (zunit,
  * scale, offset and the flips are set by the caller first; 0 scale = 1).
@@ -127,5 +147,22 @@ int dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
  * void; rowvoid marks the rows that have some) and appends a validity
  * mask per such row (dem_fill.c documents the method). */
 int dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e);
+
+/* --- filled DEM files (dem_filled.c) ---------------------------------- */
+
+/* A fingerprint (64-bit FNV-1a, no cryptography) of what makes the values
+ * a DEM's samples become: its size and georeferencing (g as the file
+ * declares it, before the datum conversion), the resolved conversion of
+ * L (encoding, nodata, scale, offset, unit, flips) and the datum options
+ * of o. dem_load_begin takes it, the same for dem_open and
+ * dem_open_info, so a filled DEM file can be matched to its DEM from the
+ * DEM's header alone. */
+uint64_t dem_fingerprint(const dem_load *L, const georef *g,
+    const dem_opts *o);
+
+/* dem_read_span on a dem whose fd is a filled DEM file: row j, columns
+ * x0 .. x0+n-1 (checked by the caller). */
+int dem_file_span(dem *d, int j, int x0, int n, float *z,
+    unsigned char *valid, tl_err *e);
 
 #endif
