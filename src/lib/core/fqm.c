@@ -15,14 +15,6 @@ _Static_assert(sizeof qch / sizeof qch[0] ==
 _Static_assert(FQM_BAND0_DOUBLES == 4 * 6, "4 corners x a[6]");
 
 int
-fqm_level_size(int n0, int level)
-{
-	long long span = n0 - 1, step = 1LL << level;
-
-	return (int)((span + step - 1) / step) + 1;
-}
-
-int
 fqm_levels(int w0, int h0)
 {
 	int l = 0;

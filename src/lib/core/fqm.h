@@ -34,8 +34,15 @@ typedef struct {
 	int z, s, v;
 } fqm_layout;
 
-/* Columns (or rows) of level l for a level-0 extent of n0: ceil((n0-1)/2^l)+1. */
-int fqm_level_size(int n0, int level);
+/* Columns (or rows) of level l for a level-0 extent of n0: ceil((n0-1)/2^l)+1.
+ * Inline: the supervisor (dem2vgis) needs it and links no georeferencing. */
+static inline int
+fqm_level_size(int n0, int level)
+{
+	long long span = n0 - 1, step = 1LL << level;
+
+	return (int)((span + step - 1) / step) + 1;
+}
 
 /* The pyramid's level count: levels 0 .. the first that fits one block of
  * FQM_BLOCK x FQM_BLOCK vertices (vgis(5)). */

@@ -382,24 +382,28 @@ pack(const pipeline_opts *o, const char *dem, int levels,
 	return r;
 }
 
-/* The level of the FQM the chain starts from (--from), 0 from a DEM. */
+/* The level of the FQM the chain starts from (--from), 0 from a DEM:
+ * its header's (read by the raster layer alone: the supervisor links no
+ * georeferencing; the stages check the rest). */
 static int
 first_level(const pipeline_opts *o, int *first, tl_err *e)
 {
-	fqm_info fi;
-	fqm_layout L;
 	rs_reader *r;
-	int ok;
+	int x0 = 0, ok;
 
 	*first = 0;
 	if (o->from == NULL)
 		return 0;
-	if ((r = fqm_open(o->from, &fi, &L, e)) == NULL)
+	if ((r = rs_open(o->from, e)) == NULL)
 		return -1;
-	ok = fqm_whole(rs_header_of(r), &fi, o->from, e);
+	ok = rs_get_int(rs_header_of(r), FQM_ATTR_LEVEL, first) == 0 &&
+	    *first >= 0 && *first < MAXLEVELS;
+	(void)rs_get_int(rs_header_of(r), RS_ATTR_X0, &x0);
 	rs_close(r);
-	*first = fi.level;
-	return ok;
+	if (!ok)
+		return tl_fail(e, "%s: no fqm:level", o->from);
+	return x0 == 0 ? 0 : tl_fail(e, "%s: a band from column %d, not a "
+	    "whole level (give the band list)", o->from, x0);
 }
 
 /* -M: the quadric chain only, its vertex maps into the directory o->out,
