@@ -87,6 +87,17 @@ ok $? "halo 3 x 2^3: level 3's band is the whole level's"
 band "$T/flip.tif" 504 1032 >"$T/h8.fqm" && ! cmp -s "$T/whole.fqm" "$T/h8.fqm"
 ok $? "halo 2^3 with binomial5: it is not (the halo is needed)"
 
+# the filled DEM: its windows give the FQM's windows; refused for
+# another DEM's options
+dem2fqm -W "$T/f.dem" "$T/flip.tif" && dem2fqm -w 700,1300 "$T/flip.tif" - |
+    fqmfilter -C 400,600 - >"$T/w1.fqm" &&
+    dem2fqm -F "$T/f.dem" -w 700,1300 "$T/flip.tif" - |
+    fqmfilter -C 400,600 - >"$T/w2.fqm" && cmp -s "$T/w1.fqm" "$T/w2.fqm"
+ok $? "dem2fqm -W, then -F -w: the window as from the DEM itself"
+fails "dem2fqm -F with other DEM options: refused" 1 "f.dem: made from another DEM or other options" \
+    dem2fqm -F "$T/f.dem" -N 0 -w 0,100 "$T/flip.tif" /dev/null
+fails "dem2fqm -W with an output operand: usage" 2 "usage" \
+    dem2fqm -W "$T/g.dem" "$T/flip.tif" "$T/out.fqm"
 fails "--band without -M: refused" 2 "with -M" \
     dem2vgis --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
 fails "--from and --band together: refused" 2 "alone" \
