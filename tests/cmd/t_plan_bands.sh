@@ -44,7 +44,7 @@ plan utm "$DATA/bigtujunga.tif" 128 -k binomial5
 
 # QEM-3D stays one chain job: its fold fix has no bounded reach
 dem2vgis -3 --band-width 256 --plan "$T/plan-3d" "$T/flip.tif" "$T/out-3d" &&
-    [ ! -e "$T/plan-3d/bands" ] && ! grep -q done/fill "$T/plan-3d/Makefile"
+    [ ! -e "$T/plan-3d/bands" ] && ! grep -q '^done/fill:' "$T/plan-3d/Makefile"
 ok $? "qem3d: no bands, the chain one job"
 
 # killed while the bands run (SIGKILL to the whole process group), run
@@ -61,8 +61,17 @@ make -s -C "$T/plan-k" -j2 >/dev/null 2>&1 &&
     diff -r "$T/ref-flip" "$T/out-k" >/dev/null && no_tmp "$T/plan-k"
 ok $? "run again: it finishes, byte for byte, no temporary left"
 
+# GNU parallel and Slurm run the stages as separate makes: each goal
+# makes itself alone, not the chain after it
+P=$T/plan-p
+dem2vgis --band-width 256 --plan "$P" "$T/flip.tif" "$T/out-p" &&
+    make -s -C "$P" done/fill >/dev/null 2>&1 && [ -f "$P/fill.dem" ] &&
+    [ -z "$(ls "$P/bands" | grep -v '[.a-z]')" ] && [ ! -e "$P/done/chain" ]
+ok $? "make done/fill: the fill alone, no band, no chain"
+make -s -C "$P" done/b-1 >/dev/null 2>&1 && [ -f "$P/bands/1/f.fqm" ] &&
+    [ ! -e "$P/bands/0" ] && [ ! -e "$P/done/chain" ]
+ok $? "make done/b-1: that band alone"
 if command -v parallel >/dev/null; then
-	dem2vgis --band-width 256 --plan "$T/plan-p" "$T/flip.tif" "$T/out-p"
 	PARALLEL=-j2 sh "$T/plan-p/parallel.sh" >/dev/null 2>&1 &&
 	    diff -r "$T/ref-flip" "$T/out-p" >/dev/null
 	ok $? "GNU parallel (local, -j2): the pyramid byte for byte"

@@ -115,7 +115,11 @@ makefile(FILE *f, const plan_opts *o)
 	    "\tsed 's/:/-/g; s|^|done/p-|' done/pieces.tmp >done/targets\n"
 	    "\tsh mkpieces done/pieces.tmp >$@.tmp\n"
 	    "\tmv $@.tmp $@\n\n"
-	    "-include done/pieces.mk\n\n"
+	    "# made (and read again) for any goal but the chain's band stages\n"
+	    "# alone, which GNU parallel and Slurm run before it\n"
+	    "ifneq ($(filter-out done/fill done/b-%%,$(or $(MAKECMDGOALS),all)),)\n"
+	    "-include done/pieces.mk\n"
+	    "endif\n\n"
 	    "done/gather: done/pieces.mk $(PIECES)\n"
 	    "\t$(B)/tilepack -q%s -g work $(DEMOPTS) $(DEM) $(OUT) $(V)\n"
 	    "\ttouch $@\n", o->force ? " -f" : "");
