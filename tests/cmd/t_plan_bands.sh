@@ -41,6 +41,14 @@ for l in 0 1 2 3; do
 	ok $? "flip: level $l's vertex maps in bands hash as the whole level's"
 done
 plan utm "$DATA/bigtujunga.tif" 128 -k binomial5
+# 2200 columns in bands of 1088: the third would be 24 wide, narrower
+# than a halo (48), so the second takes it
+dem2vgis --band-width 1088 --plan "$T/plan-m" "$T/flip.tif" "$T/out-m" &&
+    [ "$(wc -l <"$T/plan-m/bands/targets")" -eq 2 ] &&
+    grep -q 'band 1088,2200 ' "$T/plan-m/Makefile" &&
+    make -s -C "$T/plan-m" -j2 >/dev/null 2>&1 &&
+    diff -r "$T/ref-flip" "$T/out-m" >/dev/null
+ok $? "a last band narrower than the halo joins the one before: 2 bands, byte for byte"
 
 # QEM-3D stays one chain job: its fold fix has no bounded reach
 dem2vgis -3 --band-width 256 --plan "$T/plan-3d" "$T/flip.tif" "$T/out-3d" &&
