@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 #include "core/dem_impl.h"
+#include "core/le.h"
 #include "core/outfile.h"
 
 #define FILLED_MAGIC "TLFILLED"
@@ -52,48 +53,6 @@ bit(const unsigned char *b, long long i)
 	return b[i >> 3] >> (i & 7) & 1;
 }
 
-static void
-put32(unsigned char *p, uint32_t v)
-{
-	for (int i = 0; i < 4; i++)
-		p[i] = (unsigned char)(v >> (8 * i));
-}
-
-static void
-put64(unsigned char *p, uint64_t v)
-{
-	for (int i = 0; i < 8; i++)
-		p[i] = (unsigned char)(v >> (8 * i));
-}
-
-static uint32_t
-get32(const unsigned char *p)
-{
-	return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-	    (uint32_t)p[3] << 24;
-}
-
-static uint64_t
-get64(const unsigned char *p)
-{
-	return (uint64_t)get32(p) | (uint64_t)get32(p + 4) << 32;
-}
-
-/* Heights are little-endian float32 in the file: swapped in place on a
- * big-endian host. */
-static void
-le32s(void *p, size_t n)
-{
-#if __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-	uint32_t *u = p;
-
-	for (size_t i = 0; i < n; i++)
-		u[i] = __builtin_bswap32(u[i]);
-#else
-	(void)p, (void)n;
-#endif
-}
-
 /* --- the fingerprint ----------------------------------------------------- */
 
 static uint64_t
@@ -112,7 +71,7 @@ fnv_u64(uint64_t h, uint64_t v)
 {
 	unsigned char b[8];
 
-	put64(b, v);
+	le_put64(b, v);
 	return fnv(h, b, sizeof b);
 }
 
@@ -212,29 +171,29 @@ static void
 head_put(unsigned char *b, const head *H)
 {
 	memcpy(b, FILLED_MAGIC, 8);
-	put32(b + 8, H->version);
-	put32(b + 12, H->w);
-	put32(b + 16, H->h);
-	put32(b + 20, H->vrows);
-	put64(b + 24, H->voids);
-	put64(b + 32, H->print);
-	put64(b + 40, H->zoff);
-	put64(b + 48, H->moff);
-	put64(b + 56, H->sum);
+	le_put32(b + 8, H->version);
+	le_put32(b + 12, H->w);
+	le_put32(b + 16, H->h);
+	le_put32(b + 20, H->vrows);
+	le_put64(b + 24, H->voids);
+	le_put64(b + 32, H->print);
+	le_put64(b + 40, H->zoff);
+	le_put64(b + 48, H->moff);
+	le_put64(b + 56, H->sum);
 }
 
 static void
 head_get(const unsigned char *b, head *H)
 {
-	H->version = get32(b + 8);
-	H->w = get32(b + 12);
-	H->h = get32(b + 16);
-	H->vrows = get32(b + 20);
-	H->voids = get64(b + 24);
-	H->print = get64(b + 32);
-	H->zoff = get64(b + 40);
-	H->moff = get64(b + 48);
-	H->sum = get64(b + 56);
+	H->version = le_get32(b + 8);
+	H->w = le_get32(b + 12);
+	H->h = le_get32(b + 16);
+	H->vrows = le_get32(b + 20);
+	H->voids = le_get64(b + 24);
+	H->print = le_get64(b + 32);
+	H->zoff = le_get64(b + 40);
+	H->moff = le_get64(b + 48);
+	H->sum = le_get64(b + 56);
 }
 
 /* The checksum of the header's first 56 bytes and the bitmap. */
@@ -261,7 +220,7 @@ write_rows(dem *d, const head *H, int fd, const char *path, tl_err *e)
 	for (int j = 0; j < d->g.height && r == 0; j++) {
 		if ((r = dem_read_row(d, j, z, v, e)) < 0)
 			break;
-		le32s(z, (size_t)w);
+		le_swap32s(z, (size_t)w);
 		r = tl_pwrite(fd, z, (size_t)w * sizeof *z, (long long)H->zoff +
 		    (long long)j * w * (long long)sizeof *z, path, e);
 		if (r == 0 && bit(d->rowvoid, j))
@@ -477,7 +436,7 @@ dem_file_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 	if (tl_pread(d->fd, z, (size_t)n * sizeof *z, f->zoff + (j * w + x0) *
 	    (long long)sizeof *z, f->what, e) < 0)
 		return -1;
-	le32s(z, (size_t)n);
+	le_swap32s(z, (size_t)n);
 	if (valid == NULL)
 		return 0;
 	if (!bit(d->rowvoid, j)) {

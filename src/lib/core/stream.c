@@ -2,6 +2,7 @@
  * strictly in sequence. Little-endian throughout; a CRC-32 guards the
  * header, every row and the trailer, so truncation and damage are reported
  * by row, never passed on as data. */
+#include "core/le.h"
 #include "core/rs_impl.h"
 
 #include <errno.h>
@@ -20,48 +21,6 @@ enum { T_INT = 1, T_DOUBLE, T_STRING, T_V2I, T_V2D }; /* type codes */
 
 static const unsigned char st_end[8] = { 0x89, 'E', 'N', 'D', '\r', '\n',
     0x1a, '\n' };
-
-static void
-le32(unsigned char *p, uint32_t v)
-{
-	for (int i = 0; i < 4; i++)
-		p[i] = (unsigned char)(v >> (8 * i));
-}
-
-static uint32_t
-get32(const unsigned char *p)
-{
-	return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-	    (uint32_t)p[3] << 24;
-}
-
-static void
-le64(unsigned char *p, uint64_t v)
-{
-	for (int i = 0; i < 8; i++)
-		p[i] = (unsigned char)(v >> (8 * i));
-}
-
-static uint64_t
-get64(const unsigned char *p)
-{
-	return (uint64_t)get32(p) | (uint64_t)get32(p + 4) << 32;
-}
-
-/* Float rows travel as little-endian IEEE binary32: on a big-endian host
- * swap in place (rows are never const on that path). */
-static void
-swap32s(void *p, size_t n)
-{
-#if __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-	uint32_t *u = p;
-
-	for (size_t i = 0; i < n; i++)
-		u[i] = __builtin_bswap32(u[i]);
-#else
-	(void)p, (void)n;
-#endif
-}
 
 /* CRC-32 (ISO-HDLC, zlib's crc32): libdeflate's uses PCLMUL where the
  * CPU has it, several times zlib's speed, the same values. */
@@ -157,7 +116,7 @@ put32(rs_writer *w, uint32_t v, tl_err *e)
 {
 	unsigned char b[4];
 
-	le32(b, v);
+	le_put32(b, v);
 	return put(w, b, 4, e);
 }
 
@@ -184,19 +143,19 @@ put_attr(rs_writer *w, const rs_attr *a, tl_err *e)
 		return -1;
 	switch (a->type) {
 	case RS_INT:
-		le32(b, (uint32_t)a->v.i), n = 4;
+		le_put32(b, (uint32_t)a->v.i), n = 4;
 		break;
 	case RS_V2I:
-		le32(b, (uint32_t)a->v.v2i[0]);
-		le32(b + 4, (uint32_t)a->v.v2i[1]), n = 8;
+		le_put32(b, (uint32_t)a->v.v2i[0]);
+		le_put32(b + 4, (uint32_t)a->v.v2i[1]), n = 8;
 		break;
 	case RS_DOUBLE:
 		memcpy(u, &a->v.d, 8);
-		le64(b, u[0]), n = 8;
+		le_put64(b, u[0]), n = 8;
 		break;
 	case RS_V2D:
 		memcpy(u, a->v.v2d, 16);
-		le64(b, u[0]), le64(b + 8, u[1]), n = 16;
+		le_put64(b, u[0]), le_put64(b + 8, u[1]), n = 16;
 		break;
 	case RS_STRING:
 		n = strlen(a->s);
@@ -238,10 +197,10 @@ st_write_row(rs_writer *w, const float *row, tl_err *e)
 
 	if (s->tmp != NULL) {
 		memcpy(s->tmp, row, s->rowbytes);
-		swap32s(s->tmp, s->rowbytes / 4);
+		le_swap32s(s->tmp, s->rowbytes / 4);
 		p = s->tmp;
 	}
-	le32(b, (uint32_t)w->y);
+	le_put32(b, (uint32_t)w->y);
 	s->crc = crc(0, b, 4);
 	if (put(w, p, s->rowbytes, e) < 0)
 		return -1;
@@ -379,7 +338,7 @@ hget32(rs_reader *r, uint32_t *v, tl_err *e)
 
 	if (hget(r, b, 4, e) < 0)
 		return -1;
-	*v = get32(b);
+	*v = le_get32(b);
 	return 0;
 }
 
@@ -460,15 +419,15 @@ hget_attr(rs_reader *r, tl_err *e)
 		return -1;
 	switch (t) {
 	case T_INT:
-		return rs_set_int(&r->h, name, (int32_t)get32(b), e);
+		return rs_set_int(&r->h, name, (int32_t)le_get32(b), e);
 	case T_V2I:
-		return rs_set_v2i(&r->h, name, (int32_t)get32(b),
-		    (int32_t)get32(b + 4), e);
+		return rs_set_v2i(&r->h, name, (int32_t)le_get32(b),
+		    (int32_t)le_get32(b + 4), e);
 	case T_DOUBLE:
-		return rs_set_double(&r->h, name, dbl(get64(b)), e);
+		return rs_set_double(&r->h, name, dbl(le_get64(b)), e);
 	default:
-		return rs_set_v2d(&r->h, name, dbl(get64(b)),
-		    dbl(get64(b + 8)), e);
+		return rs_set_v2d(&r->h, name, dbl(le_get64(b)),
+		    dbl(le_get64(b + 8)), e);
 	}
 }
 
@@ -572,12 +531,12 @@ read_trailer(rs_reader *r, tl_err *e)
 		    r->name);
 	if (memcmp(b, st_end, 8) != 0)
 		return tl_fail(e, "%s: bad end-of-stream trailer", r->name);
-	if (get32(b + 12) != crc(0, b, 12))
+	if (le_get32(b + 12) != crc(0, b, 12))
 		return tl_fail(e, "%s: corrupt end-of-stream trailer",
 		    r->name);
-	if (get32(b + 8) != (uint32_t)r->h.height)
+	if (le_get32(b + 8) != (uint32_t)r->h.height)
 		return tl_fail(e, "%s: trailer counts %u rows, header %d",
-		    r->name, get32(b + 8), r->h.height);
+		    r->name, le_get32(b + 8), r->h.height);
 	if ((got = get(r, &extra, 1, e)) < 0)
 		return -1;
 	if (got > 0)
@@ -601,7 +560,7 @@ st_read_row(rs_reader *r, float *row, tl_err *e)
 	uint32_t sum;
 	long long got;
 
-	le32(b, (uint32_t)r->y);
+	le_put32(b, (uint32_t)r->y);
 	s->crc = crc(0, b, 4);
 	if ((got = get(r, row, s->rowbytes, e)) < 0)
 		return -1;
@@ -612,10 +571,10 @@ st_read_row(rs_reader *r, float *row, tl_err *e)
 		return -1;
 	if (got < 4)
 		return truncated(r, e);
-	if (get32(b) != sum)
+	if (le_get32(b) != sum)
 		return tl_fail(e, "%s: corrupt row %d of %d (checksum "
 		    "mismatch)", r->name, r->y, r->h.height);
-	swap32s(row, s->rowbytes / 4);
+	le_swap32s(row, s->rowbytes / 4);
 	if (r->y == r->h.height - 1)
 		return read_trailer(r, e);
 	return 0;
@@ -635,8 +594,8 @@ spannable(rs_reader *r)
 	return s->row0 >= 0 && r->y == 0 && fstat(r->fd, &st) == 0 &&
 	    (long long)st.st_size == end + 16 &&
 	    pread(r->fd, b, 16, end) == 16 && memcmp(b, st_end, 8) == 0 &&
-	    get32(b + 12) == crc(0, b, 12) &&
-	    get32(b + 8) == (uint32_t)r->h.height;
+	    le_get32(b + 12) == crc(0, b, 12) &&
+	    le_get32(b + 8) == (uint32_t)r->h.height;
 }
 
 static int
@@ -654,7 +613,7 @@ st_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e)
 		if (tl_pread(r->fd, dst + (size_t)c * n, (size_t)n * 4,
 		    rec + c * plane + 4LL * x0, r->name, e) < 0)
 			return -1;
-	swap32s(dst, (size_t)n * r->h.nch);
+	le_swap32s(dst, (size_t)n * r->h.nch);
 	return 0;
 }
 
