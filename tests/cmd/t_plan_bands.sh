@@ -117,6 +117,10 @@ fails "dem2fqm -W with an output operand: usage" 2 "usage" \
     dem2fqm -W "$T/g.dem" "$T/flip.tif" "$T/out.fqm"
 fails "--band without -M: refused" 2 "with -M" \
     dem2vgis --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
+fails "--band past the DEM's columns: refused" 2 "has 2200 columns and 6 levels" \
+    dem2vgis -M --band 2000,2300 --band-levels 2 "$T/flip.tif" "$T/x"
+fails "--band-levels as many as the DEM's levels: refused" 2 "has 2200 columns and 6 levels" \
+    dem2vgis -M --band 0,1000 --band-levels 6 "$T/flip.tif" "$T/x"
 fails "--from and --band together: refused" 2 "alone" \
     dem2vgis -M --from x.bands --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
 fails "fqmfilter on a window from an odd column: refused" 1 "odd" \

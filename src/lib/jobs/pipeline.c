@@ -417,6 +417,12 @@ vmaps_only(const pipeline_opts *o, const char *dem, int levels, int w,
 	tl_outfile d;
 	int first, r;
 
+	if (o->band[1] > 0 && (o->band_levels >= levels || o->band[1] > w)) {
+		*status = 2;
+		return tl_fail(e, "%s: --band %d,%d --band-levels %d: the DEM "
+		    "has %d columns and %d levels", o->prog, o->band[0],
+		    o->band[1], o->band_levels, w, levels);
+	}
 	if (o->band[1] > 0)
 		levels = o->band_levels;
 	if (first_level(o, &first, e) < 0)
