@@ -61,10 +61,11 @@ chain(FILE *f, const plan_opts *o)
 	for (int k = 0; k < o->nbands; k++)
 		fprintf(f, " done/b-%d", k);
 	fputs("\n\n# the DEM converted and its voids filled, once: the "
-	    "fill reaches across it\n"
+	    "fill reaches across it;\n# its scratch copy here, beside "
+	    "fill.dem, not in one machine's TMPDIR\n"
 	    "done/fill:\n"
 	    "\tmkdir -p done\n"
-	    "\t$(B)/dem2fqm -W fill.dem $(DEMOPTS) $(DEM)\n"
+	    "\tTMPDIR=. $(B)/dem2fqm -W fill.dem $(DEMOPTS) $(DEM)\n"
 	    "\ttouch $@\n\n", f);
 	for (int k = 0; k < o->nbands; k++) {
 		int a = k * o->bandw;
