@@ -26,6 +26,7 @@ static const char usage[] =
     "  -M              only the vertex maps of every level, into dir\n"
     "  --band-width n  with -P: chain jobs of n level-0 columns (0: one "
     "job)\n"
+    "  --fill-rows n   with -P: the fill in jobs of n rows (0: one job)\n"
     "  --band a,b --band-levels t [--fill file]  with -M: a plan's band "
     "job, levels\n"
     "                  0 .. t-1 of columns a .. b-1, and level t's FQM\n"
@@ -58,7 +59,8 @@ bindir(char *buf, size_t n)
 static const char dem_letters[] = "DeHNs";
 static const char *const flags[] = { "-D", "-e", "-H", "-N", "-s" };
 
-enum { OPT_BAND = 256, OPT_BAND_LEVELS, OPT_BAND_WIDTH, OPT_FILL, OPT_FROM };
+enum { OPT_BAND = 256, OPT_BAND_LEVELS, OPT_BAND_WIDTH, OPT_FILL, OPT_FROM,
+    OPT_FILL_ROWS };
 
 /* The options of a plan's band jobs (dem2vgis(1), section PLANS). */
 static int
@@ -81,6 +83,12 @@ parse_band(cli *c, int ch, pipeline_opts *o)
 			    optarg);
 		o->bandplan = o->bandplan == 0 ? -1 : o->bandplan;
 		return 0;
+	case OPT_FILL_ROWS:
+		if (tl_parse_int(optarg, &o->fillplan) < 0 || o->fillplan < 0)
+			return cli_bad(c, "--fill-rows %s: not a row count",
+			    optarg);
+		o->fillplan = o->fillplan == 0 ? -1 : o->fillplan;
+		return 0;
 	case OPT_FILL:
 		o->fill = optarg;
 		return 0;
@@ -100,6 +108,7 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 		{ "band-levels", required_argument, NULL, OPT_BAND_LEVELS },
 		{ "band-width", required_argument, NULL, OPT_BAND_WIDTH },
 		{ "fill", required_argument, NULL, OPT_FILL },
+		{ "fill-rows", required_argument, NULL, OPT_FILL_ROWS },
 		{ "from", required_argument, NULL, OPT_FROM },
 		{ NULL, 0, NULL, 0 },
 	};

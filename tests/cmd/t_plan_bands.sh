@@ -14,16 +14,17 @@ gdal_translate -q -srcwin 1300 2900 2200 400 "$DATA/N48W125.hgt" "$T/crop.tif"
 ok $? "a 2200x400 crop of N48W125 flipped both ways, with voids"
 no_tmp() { [ "$(find "$1" -name '.*.??????' | wc -l)" -eq 0 ]; }
 
-# plan NAME DEM BANDWIDTH [OPTIONS]: the plan, run by make -j2, against
-# dem2vgis in one run
+# plan NAME DEM BANDWIDTH FILLROWS [OPTIONS]: the plan, run by make -j2,
+# against dem2vgis in one run
 plan() {
-	n=$1 d=$2 bw=$3; shift 3
+	n=$1 d=$2 bw=$3 fr=$4; shift 4
 	dem2vgis -q "$@" "$d" "$T/ref-$n" &&
-	    dem2vgis "$@" --band-width "$bw" --plan "$T/plan-$n" "$d" \
-	    "$T/out-$n"
+	    dem2vgis "$@" --band-width "$bw" --fill-rows "$fr" \
+	    --plan "$T/plan-$n" "$d" "$T/out-$n"
 	ok $? "$n: dem2vgis in one run; the plan in bands of $bw columns"
 	nb=$(wc -l <"$T/plan-$n/bands/targets")
-	[ "$nb" -ge 3 ]; ok $? "$n: $nb band jobs"
+	nf=$(cat "$T/plan-$n/bands/fill1" 2>/dev/null | wc -l)
+	[ "$nb" -ge 3 ]; ok $? "$n: $nb band jobs, the fill in $nf row bands"
 	make -s -C "$T/plan-$n" -j2 >"$T/make.log" 2>&1 &&
 	    diff -r "$T/ref-$n" "$T/out-$n" >/dev/null
 	s=$?
@@ -32,7 +33,8 @@ plan() {
 	no_tmp "$T/plan-$n" && no_tmp "$T/out-$n"
 	ok $? "$n: no temporary left"
 }
-plan flip "$T/flip.tif" 256
+plan flip "$T/flip.tif" 256 70
+[ "$nf" -eq 6 ]; ok $? "flip: 400 rows in fill bands of 70: 6 (the last 50)"
 # the bands' vertex maps, read as one, are the single chain's
 dem2vgis -M "$T/flip.tif" "$T/vm"
 for l in 0 1 2 3; do
@@ -40,7 +42,9 @@ for l in 0 1 2 3; do
 	    "$(rsinfo -c "$T/plan-flip/bands/v$l.bands" | grep hash)" ]
 	ok $? "flip: level $l's vertex maps in bands hash as the whole level's"
 done
-plan utm "$DATA/bigtujunga.tif" 128 -k binomial5
+plan utm "$DATA/bigtujunga.tif" 128 0 -k binomial5
+[ "$nf" -eq 0 ] && grep -q '^done/fill:$' "$T/plan-utm/Makefile"
+ok $? "utm: --fill-rows 0: the fill one job"
 # 2200 columns in bands of 1088: the third would be 24 wide, narrower
 # than a halo (48), so the second takes it
 dem2vgis --band-width 1088 --plan "$T/plan-m" "$T/flip.tif" "$T/out-m" &&
@@ -57,7 +61,7 @@ ok $? "qem3d: no bands, the chain one job"
 
 # killed while the bands run (SIGKILL to the whole process group), run
 # again: it finishes, identical
-dem2vgis --band-width 256 --plan "$T/plan-k" "$T/flip.tif" "$T/out-k"
+dem2vgis --band-width 256 --fill-rows 70 --plan "$T/plan-k" "$T/flip.tif" "$T/out-k"
 setsid make -s -C "$T/plan-k" -j2 >/dev/null 2>&1 & mk=$!
 i=0	# until a band has started
 while [ $i -lt 1200 ] && [ -z "$(ls "$T/plan-k/done" 2>/dev/null | grep b-)" ]
@@ -72,10 +76,14 @@ ok $? "run again: it finishes, byte for byte, no temporary left"
 # GNU parallel and Slurm run the stages as separate makes: each goal
 # makes itself alone, not the chain after it
 P=$T/plan-p
-dem2vgis --band-width 256 --plan "$P" "$T/flip.tif" "$T/out-p" &&
-    make -s -C "$P" done/fill >/dev/null 2>&1 && [ -f "$P/fill.dem" ] &&
-    [ -z "$(ls "$P/bands" | grep -v '[.a-z]')" ] && [ ! -e "$P/done/chain" ]
-ok $? "make done/fill: the fill alone, no band, no chain"
+dem2vgis --band-width 256 --fill-rows 70 --plan "$P" "$T/flip.tif" "$T/out-p" &&
+    make -s -C "$P" done/f1-2 >/dev/null 2>&1 && [ -e "$P/done/f1-2" ] &&
+    [ "$(ls "$P/done")" = f1-2 ]
+ok $? "make done/f1-2: that fill band's pass 1 alone"
+make -s -C "$P" done/fill >/dev/null 2>&1 && [ -f "$P/fill.dem" ] &&
+    [ -z "$(ls "$P/bands" | grep -v '[.a-z]')" ] && [ ! -e "$P/done/chain" ] &&
+    [ -z "$(ls "$P" | grep -v '^bands$\|^done$\|^fill.dem$\|^Makefile$\|^mkpieces$\|sh$')" ]
+ok $? "make done/fill: the fill's parts, no band, no chain, no part left"
 make -s -C "$P" done/b-1 >/dev/null 2>&1 && [ -f "$P/bands/1/f.fqm" ] &&
     [ ! -e "$P/bands/0" ] && [ ! -e "$P/done/chain" ]
 ok $? "make done/b-1: that band alone"

@@ -209,11 +209,11 @@ ours(const pipeline_opts *o, tl_err *e)
  * its message is ours if it cannot read the DEM. */
 static int
 level_count(const pipeline_opts *o, const char *dem, int *levels,
-    int *width, int *status, tl_err *e)
+    int *width, int *height, int *status, tl_err *e)
 {
 	char info[4096], *p;
 	words a = { 0 };
-	int in = -1, r, h;
+	int in = -1, r;
 
 	say(&a, "dem2fqm");
 	say_demopts(&a, o);
@@ -232,11 +232,12 @@ level_count(const pipeline_opts *o, const char *dem, int *levels,
 		close(in);
 	if (r < 0)
 		return -1;
-	*levels = *width = 0;
+	*levels = *width = *height = 0;
 	for (p = info; p != NULL && *p; p = strchr(p, '\n'), p = p ? p + 1 : p)
 		if (sscanf(p, "levels %d", levels) != 1)
-			(void)sscanf(p, "size %d %d", width, &h);
-	if (*levels >= 1 && *levels <= MAXLEVELS && *width >= 1)
+			(void)sscanf(p, "size %d %d", width, height);
+	if (*levels >= 1 && *levels <= MAXLEVELS && *width >= 1 &&
+	    *height >= 1)
 		return 0;
 	*status = 1;
 	return tl_fail(e, "%s: %s: dem2fqm -I gave no level count or size",
@@ -466,6 +467,22 @@ absolute(const char *p, char *buf, size_t n, tl_err *e)
  * could depend on columns any distance away (dem2vgis(1)). */
 #define PLAN_BAND_LEVELS 4
 #define PLAN_BAND_WIDTH 4096
+#define PLAN_FILL_ROWS 4096
+
+/* The fill in row bands, when it has two or more: a void's neighbours
+ * along its row are in the band, and across rows a band needs only each
+ * column's nearest valid samples above and below it (dem2fqm(1)). */
+static void
+plan_fill(const pipeline_opts *o, int h, plan_opts *p)
+{
+	long rows = o->fillplan > 0 ? o->fillplan : PLAN_FILL_ROWS;
+
+	p->height = h;
+	if (p->nbands == 0 || o->fillplan < 0 || rows * 2 > h)
+		return;
+	p->fillrows = (int)rows;
+	p->nfill = (int)((h + rows - 1) / rows);
+}
 
 static void
 plan_bands(const pipeline_opts *o, int levels, int w, plan_opts *p)
@@ -489,7 +506,7 @@ plan_bands(const pipeline_opts *o, int levels, int w, plan_opts *p)
 /* --plan: the job graph (plan.h), each job one of the stages with the
  * options given here. */
 static int
-plan(const pipeline_opts *o, const char *dem, int levels, int w,
+plan(const pipeline_opts *o, const char *dem, int levels, int w, int h,
     int *status, tl_err *e)
 {
 	const char *chain[PIPELINE_MAXOPTS + 8], *dopt[PIPELINE_MAXOPTS + 2];
@@ -511,6 +528,7 @@ plan(const pipeline_opts *o, const char *dem, int levels, int w,
 	p.chainopt = chain, p.nchainopt = nc;
 	p.demopt = dopt, p.ndemopt = nd;
 	plan_bands(o, levels, w, &p);
+	plan_fill(o, h, &p);
 	if (absolute(o->out, aout, sizeof aout, e) < 0 ||
 	    absolute(o->bindir != NULL ? o->bindir : ".", abin, sizeof abin,
 	    e) < 0 || (o->ndem <= 1 && absolute(dem, adem, sizeof adem, e) < 0))
@@ -531,7 +549,7 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 	char spool[PATHMAX];
 	const char *dem = o->dem;
 	meter m = { 0 };
-	int levels, w, r;
+	int levels, w, h, r;
 
 	*status = 1;
 	if (o->ndem > 1) {
@@ -544,10 +562,10 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 		dem = spool;
 	} else if (access(dem, F_OK) < 0)
 		return tl_failsys(e, "%s: %s", o->prog, dem);
-	if (level_count(o, dem, &levels, &w, status, e) < 0)
+	if (level_count(o, dem, &levels, &w, &h, status, e) < 0)
 		return -1;
 	if (o->plan != NULL)
-		return plan(o, dem, levels, w, status, e);
+		return plan(o, dem, levels, w, h, status, e);
 	if (o->vmaps)
 		return vmaps_only(o, dem, levels, w, vpath, &m, status, e);
 	for (int l = 0; l < levels; l++)

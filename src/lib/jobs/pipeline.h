@@ -49,6 +49,8 @@ typedef struct {
 	                        * DEM: vertex maps of its level and above */
 	int bandplan;          /* --plan: band width in level-0 columns (0:
 	                        * the plan's own choice, -1: no bands) */
+	int fillplan;          /* --plan: the fill's row bands, in rows (0:
+	                        * the plan's own choice, -1: one job) */
 } pipeline_opts;
 
 /* The level-0 columns a band reads past its own on either side so that

@@ -46,6 +46,57 @@ vmaps(FILE *f, const plan_opts *o)
 			fprintf(f, " vmaps/v%d.fqm", l);
 }
 
+/* A part of the fill: dem2fqm -W's pass PASS (filled(5)), its scratch
+ * here beside fill.dem, not in one machine's TMPDIR. */
+static void
+fill_part(FILE *f, const plan_opts *o, const char *pass, int k)
+{
+	fprintf(f, "\tmkdir -p done\n"
+	    "\tTMPDIR=. $(B)/dem2fqm -W fill.dem --fill-pass %s ", pass);
+	if (k >= 0) {
+		int y1 = (k + 1) * o->fillrows;
+		fprintf(f, "--rows %d,%d", k * o->fillrows,
+		    y1 < o->height ? y1 : o->height);
+	} else
+		fprintf(f, "--band-rows %d", o->fillrows);
+	fputs(" $(DEMOPTS) $(DEM)\n\ttouch $@\n\n", f);
+}
+
+/* The DEM converted and its voids filled once (the fill reaches across
+ * it), as one job or in row bands: a void's neighbours along its row
+ * are in its band, and across rows a band needs only each column's
+ * nearest valid samples above and below it, which the join finds. */
+static void
+fill(FILE *f, const plan_opts *o)
+{
+	if (o->nfill == 0) {
+		fputs("done/fill:\n"
+		    "\tmkdir -p done\n"
+		    "\tTMPDIR=. $(B)/dem2fqm -W fill.dem $(DEMOPTS) $(DEM)\n"
+		    "\ttouch $@\n\n", f);
+		return;
+	}
+	for (int pass = 1; pass <= 2; pass++) {
+		fprintf(f, "F%d =", pass);
+		for (int k = 0; k < o->nfill; k++)
+			fprintf(f, " done/f%d-%d", pass, k);
+		fputc('\n', f);
+	}
+	fputc('\n', f);
+	for (int k = 0; k < o->nfill; k++) {
+		fprintf(f, "done/f1-%d:\n", k);
+		fill_part(f, o, "1", k);
+	}
+	fputs("done/fill-join: $(F1)\n", f);
+	fill_part(f, o, "join", -1);
+	for (int k = 0; k < o->nfill; k++) {
+		fprintf(f, "done/f2-%d: done/fill-join\n", k);
+		fill_part(f, o, "2", k);
+	}
+	fputs("done/fill: $(F2)\n", f);
+	fill_part(f, o, "commit", -1);
+}
+
 /* The chain as one job, or as the fill, the bands and the rest. */
 static void
 chain(FILE *f, const plan_opts *o)
@@ -60,13 +111,8 @@ chain(FILE *f, const plan_opts *o)
 	fputs("BANDS =", f);
 	for (int k = 0; k < o->nbands; k++)
 		fprintf(f, " done/b-%d", k);
-	fputs("\n\n# the DEM converted and its voids filled, once: the "
-	    "fill reaches across it;\n# its scratch copy here, beside "
-	    "fill.dem, not in one machine's TMPDIR\n"
-	    "done/fill:\n"
-	    "\tmkdir -p done\n"
-	    "\tTMPDIR=. $(B)/dem2fqm -W fill.dem $(DEMOPTS) $(DEM)\n"
-	    "\ttouch $@\n\n", f);
+	fputs("\n\n", f);
+	fill(f, o);
 	for (int k = 0; k < o->nbands; k++) {
 		int a = k * o->bandw;
 		int b = k == o->nbands - 1 ? o->width : a + o->bandw;
@@ -118,7 +164,8 @@ makefile(FILE *f, const plan_opts *o)
 	    "\tmv $@.tmp $@\n\n"
 	    "# made (and read again) for any goal but the chain's band stages\n"
 	    "# alone, which GNU parallel and Slurm run before it\n"
-	    "ifneq ($(filter-out done/fill done/b-%%,$(or $(MAKECMDGOALS),all)),)\n"
+	    "ifneq ($(filter-out done/fill done/fill-join done/f1-%% "
+	    "done/f2-%% done/b-%%,$(or $(MAKECMDGOALS),all)),)\n"
 	    "-include done/pieces.mk\n"
 	    "endif\n\n"
 	    "done/gather: done/pieces.mk $(PIECES)\n"
@@ -154,6 +201,13 @@ parallel(FILE *f, const plan_opts *o, const char *dir)
 	    "# PARALLEL='--sshloginfile hosts -j 4' for machines that share "
 	    "this file\n# system (same paths).\nset -e\nP=", f);
 	word(f, dir, 0);
+	if (o->nfill > 0)
+		fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" "
+		    ":::: \"$P/bands/fill1\"\n"
+		    "parallel --will-cite --halt now,fail=1 make -C \"$P\" "
+		    "::: done/fill-join\n"
+		    "parallel --will-cite --halt now,fail=1 make -C \"$P\" "
+		    ":::: \"$P/bands/fill2\"", f);
 	if (o->nbands > 0)
 		fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" "
 		    "::: done/fill\n"
@@ -182,10 +236,26 @@ slurm(FILE *f, const plan_opts *o, const char *dir)
 	    "set -e\nP=", f);
 	word(f, dir, 0);
 	fputs("\nif [ \"${1:-}\" != --pieces ]; then\n", f);
-	if (o->nbands > 0)
+	if (o->nfill > 0)
+		fputs("\tn=$(wc -l <\"$P/bands/fill1\")\n"
+		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J fill1 -D \"$P\" "
+		    "--array=1-$n --wrap 'make \"$(sed -n "
+		    "\"${SLURM_ARRAY_TASK_ID}p\" bands/fill1)\"')\n"
+		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J join -D \"$P\" "
+		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
+		    "--wrap 'make done/fill-join')\n"
+		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J fill2 -D \"$P\" "
+		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
+		    "--array=1-$n --wrap 'make \"$(sed -n "
+		    "\"${SLURM_ARRAY_TASK_ID}p\" bands/fill2)\"')\n"
+		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J fill -D \"$P\" "
+		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
+		    "--wrap 'make done/fill')\n", f);
+	else if (o->nbands > 0)
 		fputs("\tf=$(sbatch --parsable $SBATCH_OPTS -J fill -D \"$P\" "
-		    "--wrap 'make done/fill')\n"
-		    "\tn=$(wc -l <\"$P/bands/targets\")\n"
+		    "--wrap 'make done/fill')\n", f);
+	if (o->nbands > 0)
+		fputs("\tn=$(wc -l <\"$P/bands/targets\")\n"
 		    "\tb=$(sbatch --parsable $SBATCH_OPTS -J bands -D \"$P\" "
 		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
 		    "--array=1-$n --wrap 'make \"$(sed -n "
@@ -273,6 +343,21 @@ put_targets(FILE *f, const void *arg)
 		fprintf(f, "done/b-%d\n", k);
 }
 
+/* bands/fill1, fill2: the fill's jobs of pass 1 and 2, a line each. */
+typedef struct {
+	const plan_opts *o;
+	int pass;
+} fillpass;
+
+static void
+put_filltargets(FILE *f, const void *arg)
+{
+	const fillpass *fp = arg;
+
+	for (int k = 0; k < fp->o->nfill; k++)
+		fprintf(f, "done/f%d-%d\n", fp->pass, k);
+}
+
 /* A band list (fqm(5)) of the bands' file name in their directories. */
 typedef struct {
 	const plan_opts *o;
@@ -312,7 +397,15 @@ put_bands(const char *dir, const plan_opts *o, tl_err *e)
 		if (put(sub, list, 0, put_bandlist, &b, e) < 0)
 			return -1;
 	}
-	return put(sub, "targets", 0, put_targets, o, e);
+	if (put(sub, "targets", 0, put_targets, o, e) < 0)
+		return -1;
+	for (int pass = 1; pass <= 2 && o->nfill > 0; pass++) {
+		fillpass fp = { o, pass };
+		snprintf(list, sizeof list, "fill%d", pass);
+		if (put(sub, list, 0, put_filltargets, &fp, e) < 0)
+			return -1;
+	}
+	return 0;
 }
 
 /* The mosaic's files as a list, absolute paths (cwd for relative). */

@@ -32,6 +32,10 @@ typedef struct {
 	 * columns (the last to width) for levels 0 .. band_levels-1, then
 	 * the chain from level band_levels on, from the bands' FQMs */
 	int nbands, bandw, band_levels, width;
+	/* the fill itself in nfill row bands of fillrows rows (0: one job):
+	 * dem2fqm -W's parts (filled(5)): pass 1 per band, the join, pass 2
+	 * per band, the commit */
+	int nfill, fillrows, height;
 } plan_opts;
 
 /* Writes the plan into the directory dir, made atomically (an existing
