@@ -86,7 +86,7 @@ pass_up(fillbuf *F, int bfd, tl_err *e)
 {
 	for (int j = F->io.y1 - 1; j >= F->io.y0; j--) {
 		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
-		    zoff(F, j), "scratch file", e) < 0)
+		    zoff(F, j), F->io.win, e) < 0)
 			return -1;
 		if (bit(F->rowvoid, j) && tl_pwrite(bfd, F->bl, F->w *
 		    sizeof(below), boff(F, j), "scratch file", e) < 0)
@@ -178,10 +178,10 @@ put_row(fillbuf *F, int j, int voids, tl_err *e)
 	if (!F->whole)
 		le_swap32s(F->f, (size_t)F->w);
 	if (tl_pwrite(F->io.out, F->f, F->w * sizeof(float), F->io.zout +
-	    zoff(F, j), "filled rows", e) < 0)
+	    zoff(F, j), F->io.wout, e) < 0)
 		return -1;
 	return voids ? tl_pwrite(F->io.out, F->mask, (size_t)F->w,
-	    F->io.moff + m * F->w, "filled rows", e) : 0;
+	    F->io.moff + m * F->w, F->io.wout, e) : 0;
 }
 
 /* Pass 2, top-down: fill each row with voids, write it and its validity
@@ -191,7 +191,7 @@ pass_down(fillbuf *F, int bfd, tl_err *e)
 {
 	for (int j = F->io.y0; j < F->io.y1; j++) {
 		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
-		    zoff(F, j), "scratch file", e) < 0)
+		    zoff(F, j), F->io.win, e) < 0)
 			return -1;
 		if (bit(F->rowvoid, j)) {
 			if (tl_pread(bfd, F->b, F->w * sizeof(below), boff(F, j),
@@ -257,7 +257,8 @@ int
 dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
 {
 	dem_fill_band b = { fd, fd, 0, 0,
-	    (long long)h * w * (long long)sizeof(float), 0, 0, h, NULL, NULL };
+	    (long long)h * w * (long long)sizeof(float), 0, 0, h, NULL, NULL,
+	    "scratch file", "scratch file" };
 
 	return fill(&b, 1, rowvoid, w, h, e);
 }

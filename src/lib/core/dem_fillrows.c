@@ -512,7 +512,8 @@ fill_band(const part *p, const names *N, tl_err *e)
 {
 	unsigned char *rowvoid = tl_alloc((size_t)p->h / 8 + 1, 1, e);
 	dem_fill_band b = { -1, -1, 0, (long long)p->zoff,
-	    (long long)p->moff, (long long)p->n, p->y0, p->y1, p->v1, p->v2 };
+	    (long long)p->moff, (long long)p->n, p->y0, p->y1, p->v1, p->v2,
+	    N->raw, N->tmp };
 	int r = -1;
 
 	if (rowvoid == NULL)

@@ -171,6 +171,7 @@ typedef struct {
 	long long zin, zout, moff, rank;
 	int y0, y1;
 	const dem_near *above, *below;
+	const char *win, *wout;  /* in and out, for messages */
 } dem_fill_band;
 int dem_fill_rows(const dem_fill_band *b, const unsigned char *rowvoid,
     int w, int h, tl_err *e);
