@@ -1,5 +1,7 @@
 /* dem2fqm - a DEM in, its level-0 fundamental quadric map out: per vertex
  * the area-weighted plane quadrics of its triangles, in its own frame. */
+#include <string.h>
+
 #include "core/cli.h"
 #include "core/fqm0.h"
 #include "core/rowpipe.h"
@@ -9,6 +11,10 @@ static const char usage[] =
     "               [-n name] [-s dx[,dy]] [-W filled] [-w a,b] "
     "[-z compression]\n"
     "               [dem [out]]\n"
+    "       dem2fqm -W filled --fill-pass 1|2 --rows y0,y1 [DEM options] "
+    "dem\n"
+    "       dem2fqm -W filled --fill-pass join|commit --band-rows n\n"
+    "               [DEM options] dem\n"
     "  -I              print the DEM's size, georeferencing, metric, datum "
     "and\n"
     "                  level count from its header; no output. -II also "
@@ -26,6 +32,12 @@ static const char usage[] =
     "  -s dx[,dy]      cell size in metres (overrides the CRS's metric)\n"
     "  -W filled       write dem's samples, voids filled, to the file "
     "filled; no FQM\n"
+    "  --fill-pass p   with -W: one part of a plan's filled DEM made in "
+    "row bands:\n"
+    "                  1 and 2 per band (--rows y0,y1: rows y0 .. y1-1), "
+    "join and\n"
+    "                  commit once (--band-rows n: bands of n rows); "
+    "see filled(5)\n"
     "  -w a,b          only the DEM's columns a .. b-1: a window of the FQM "
     "(a band\n"
     "                  job's; its edge columns lack the cells beyond)\n"
@@ -40,7 +52,14 @@ typedef struct {
 	const char *filled;  /* -F: read from it; -W: write it */
 	int save;            /* -W */
 	const char *in, *out;
+	int pass;            /* --fill-pass: 0 none, or a fill_pass */
+	int rows[2], has_rows; /* --rows */
+	int band;            /* --band-rows, 0 none */
 } options;
+
+/* --fill-pass: the parts of a filled DEM made in row bands */
+enum { PASS_1 = 1, PASS_JOIN, PASS_2, PASS_COMMIT };
+enum { OPT_PASS = 256, OPT_ROWS, OPT_BAND_ROWS };
 
 static int
 convert(const cli *c, const options *o, dem *d, tl_err *e)
@@ -83,6 +102,23 @@ convert(const cli *c, const options *o, dem *d, tl_err *e)
 }
 
 static int
+fill_part(const cli *c, const options *o, tl_err *e)
+{
+	switch (o->pass) {
+	case PASS_1:
+		return dem_fill_pass1(o->in, &c->dem, o->filled, o->rows[0],
+		    o->rows[1], e);
+	case PASS_JOIN:
+		return dem_fill_join(o->in, &c->dem, o->filled, o->band, e);
+	case PASS_2:
+		return dem_fill_pass2(o->in, &c->dem, o->filled, o->rows[0],
+		    o->rows[1], e);
+	default:
+		return dem_fill_commit(o->in, &c->dem, o->filled, o->band, e);
+	}
+}
+
+static int
 work(const cli *c, const options *o, tl_err *e)
 {
 	dem *d;
@@ -90,6 +126,8 @@ work(const cli *c, const options *o, tl_err *e)
 
 	/* -I reads the header only; -II and the conversion every sample;
 	 * -F the header, the samples from the filled DEM */
+	if (o->pass != 0)
+		return fill_part(c, o, e);
 	if (o->info == 1)
 		d = dem_open_info(o->in, &c->dem, e);
 	else if (o->filled != NULL && !o->save)
@@ -108,17 +146,75 @@ work(const cli *c, const options *o, tl_err *e)
 	return r;
 }
 
+/* A long option's value: 0, or the status to exit with. */
+static int
+long_option(const cli *c, int ch, options *o)
+{
+	static const char *const passes[] = { "1", "join", "2", "commit" };
+
+	if (ch == OPT_PASS) {
+		for (int k = 0; k < 4; k++)
+			if (strcmp(optarg, passes[k]) == 0)
+				o->pass = k + 1;
+		if (o->pass == 0)
+			return cli_bad(c, "--fill-pass %s: not 1, join, 2 or "
+			    "commit", optarg);
+	} else if (ch == OPT_ROWS) {
+		if (cli_columns(optarg, o->rows) < 0)
+			return cli_bad(c, "--rows %s: not rows y0,y1 (0 <= y0 < "
+			    "y1)", optarg);
+		o->has_rows = 1;
+	} else if (tl_parse_int(optarg, &o->band) < 0 || o->band < 1) {
+		return cli_bad(c, "--band-rows %s: not a number of rows",
+		    optarg);
+	}
+	return 0;
+}
+
+/* --fill-pass goes with -W, and 1 and 2 with --rows, join and commit
+ * with --band-rows, on a named DEM (the parts read it each). */
+static int
+check_pass(const cli *c, const options *o)
+{
+	int banded = o->pass == PASS_1 || o->pass == PASS_2;
+
+	if (o->pass == 0)
+		return o->has_rows || o->band ? cli_bad(c, "--rows, --band-rows: "
+		    "only with --fill-pass") : 0;
+	if (!o->save)
+		return cli_bad(c, "--fill-pass: only with -W filled");
+	if (banded && (!o->has_rows || o->band))
+		return cli_bad(c, "--fill-pass 1, 2: with --rows y0,y1, "
+		    "not --band-rows");
+	if (!banded && (o->has_rows || !o->band))
+		return cli_bad(c, "--fill-pass join, commit: with --band-rows "
+		    "n, not --rows");
+	if (strcmp(o->in, "-") == 0)
+		return cli_bad(c, "--fill-pass: the DEM must be a named file "
+		    "(every part reads it)");
+	return 0;
+}
+
 int
 main(int argc, char **argv)
 {
-	options o = { 0, { 0, 0 }, 0, NULL, 0, "-", "-" };
+	static const struct option longopts[] = {
+		{ "fill-pass", required_argument, NULL, OPT_PASS },
+		{ "rows", required_argument, NULL, OPT_ROWS },
+		{ "band-rows", required_argument, NULL, OPT_BAND_ROWS },
+		{ NULL, 0, NULL, 0 },
+	};
+	options o = { 0, { 0, 0 }, 0, NULL, 0, "-", "-", 0, { 0, 0 }, 0, 0 };
 	cli c;
 	tl_err e;
 	int ch;
 
 	cli_init(&c, argv, usage, CLI_COMPRESSION | CLI_DEM);
-	while ((ch = cli_next(&c, argc, argv, "F:IW:w:", NULL)) != -1) {
-		if (ch == 'F' || ch == 'W') {
+	while ((ch = cli_next(&c, argc, argv, "F:IW:w:", longopts)) != -1) {
+		if (ch >= OPT_PASS) {
+			if ((ch = long_option(&c, ch, &o)) != 0)
+				return ch;
+		} else if (ch == 'F' || ch == 'W') {
 			if (o.filled != NULL)
 				return cli_bad(&c, "-F, -W: one of them, once");
 			o.filled = optarg, o.save = ch == 'W';
@@ -140,6 +236,8 @@ main(int argc, char **argv)
 			return cli_usage_error(&c);
 		o.in = argc > 0 ? argv[0] : "-";
 	} else if ((ch = cli_operands(&c, argc, argv, &o.in, &o.out)) != 0)
+		return ch;
+	if ((ch = check_pass(&c, &o)) != 0)
 		return ch;
 	return cli_exit(&c, work(&c, &o, &e), &e);
 }

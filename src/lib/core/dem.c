@@ -100,6 +100,8 @@ dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
 		y = L->h - 1 - y;
 	if (L->flip_x)
 		x0 = L->w - x0 - n;
+	if (y < L->cy0 || y >= L->cy1)
+		return 0;
 	/* north-up columns a .. b-1: those of the n kept */
 	a = x0 > L->cx0 ? x0 : L->cx0;
 	b = x0 + n < L->cx1 ? x0 + n : L->cx1;
@@ -168,6 +170,11 @@ dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
 	g->height = L->h = h;
 	if (L->cx1 == 0)
 		L->cx0 = 0, L->cx1 = w;
+	if (L->cy1 == 0)
+		L->cy0 = 0, L->cy1 = h;
+	if (L->cy0 < 0 || L->cy0 >= L->cy1 || L->cy1 > h)
+		return tl_fail(e, "%s: rows %d .. %d outside 0 .. %d",
+		    L->what, L->cy0, L->cy1 - 1, h - 1);
 	if (L->cx0 < 0 || L->cx0 >= L->cx1 || L->cx1 > w)
 		return tl_fail(e, "%s: columns %d .. %d outside 0 .. %d",
 		    L->what, L->cx0, L->cx1 - 1, w - 1);
@@ -183,7 +190,8 @@ dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
 		return -1;
 	if (L->info)
 		return 0;
-	if ((L->fd = tl_scratch(e)) < 0)
+	/* dem_open_rows: the caller's file */
+	if (L->fd < 0 && (L->fd = tl_scratch(e)) < 0)
 		return -1;
 	L->seg = tl_alloc((size_t)w, sizeof(float), e);
 	L->rowvoid = tl_alloc((size_t)h / 8 + 1, 1, e);
@@ -328,10 +336,11 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 	return r;
 }
 
-/* info: the header only; cols (2 ints, or NULL): only those columns */
+/* info: the header only; cols (2 ints, or NULL): only those columns;
+ * rows (2 ints and an fd, or NULL): only those rows, into that file */
 static dem *
 open_dem(const char *path, const dem_opts *o, int info, const int *cols,
-    tl_err *e)
+    const int *rows, tl_err *e)
 {
 	static const dem_opts none;
 	spool sp = { { NULL, NULL, -1 }, "" };
@@ -347,6 +356,14 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 	L.info = info;
 	if (cols != NULL)
 		L.cx0 = cols[0], L.cx1 = cols[1], d->unfilled = 1;
+	if (rows != NULL) {
+		L.cy0 = rows[0], L.cy1 = rows[1], d->unfilled = 1;
+		if ((L.fd = d->fd = fcntl(rows[2], F_DUPFD_CLOEXEC, 0)) < 0) {
+			tl_failsys(e, "%s: dup", path);
+			free(d);
+			return NULL;
+		}
+	}
 	snprintf(d->what, sizeof d->what, "%s", strcmp(path, "-") == 0 ?
 	    "stdin" : path);
 	L.what = d->what;
@@ -370,11 +387,11 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 	d->cx0 = L.cx0, d->cw = L.cx1 - L.cx0;
 	/* a window may be all voids, and is not filled: filling reaches
 	 * across the whole DEM */
-	if (r == 0 && !info && cols == NULL &&
+	if (r == 0 && !info && cols == NULL && rows == NULL &&
 	    L.voids == (long long)L.w * L.h)
 		r = tl_fail(e, "%s: no valid samples (every sample is a void)",
 		    d->what);
-	if (r == 0 && !info && cols == NULL && L.voids > 0)
+	if (r == 0 && !info && cols == NULL && rows == NULL && L.voids > 0)
 		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
 	if (r < 0) {
 		dem_close(d);
@@ -386,20 +403,27 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 dem *
 dem_open(const char *path, const dem_opts *o, tl_err *e)
 {
-	return open_dem(path, o, 0, NULL, e);
+	return open_dem(path, o, 0, NULL, NULL, e);
 }
 
 dem *
 dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
     tl_err *e)
 {
-	return open_dem(path, o, 0, (const int[]){ x0, x1 }, e);
+	return open_dem(path, o, 0, (const int[]){ x0, x1 }, NULL, e);
 }
 
 dem *
 dem_open_info(const char *path, const dem_opts *o, tl_err *e)
 {
-	return open_dem(path, o, 1, NULL, e);
+	return open_dem(path, o, 1, NULL, NULL, e);
+}
+
+dem *
+dem_open_rows(const char *path, const dem_opts *o, int y0, int y1, int fd,
+    tl_err *e)
+{
+	return open_dem(path, o, 0, NULL, (const int[]){ y0, y1, fd }, e);
 }
 
 const georef *

@@ -74,6 +74,25 @@ dem *dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
  * window of a DEM too large to fill per job reads it back with
  * dem_open_filled. */
 int dem_save_filled(dem *d, const char *path, tl_err *e);
+/* dem_save_filled's file made in row bands by several jobs (filled(5),
+ * PARTS), byte for byte the same: pass 1 per band of rows y0 .. y1-1
+ * converts them, unfilled, into filled.raw and writes the band's state
+ * filled.s.Y0; the join, once all pass 1 are done, reads the states of
+ * the bands [k band, (k+1) band) and writes each band's edges
+ * filled.e.Y0 and filled.tmp's header; pass 2 per band (after the
+ * join) fills its rows into filled.tmp and marks it done, filled.d.Y0;
+ * the commit, once every pass 2 is done, checks and renames filled.tmp
+ * to filled and removes the rest. Each part takes the DEM and the same
+ * options o (the parts are checked to match), bands may run at once on
+ * any hosts sharing the directory, and any part may be run again. */
+int dem_fill_pass1(const char *dem_path, const dem_opts *o,
+    const char *filled, int y0, int y1, tl_err *e);
+int dem_fill_join(const char *dem_path, const dem_opts *o,
+    const char *filled, int band, tl_err *e);
+int dem_fill_pass2(const char *dem_path, const dem_opts *o,
+    const char *filled, int y0, int y1, tl_err *e);
+int dem_fill_commit(const char *dem_path, const dem_opts *o,
+    const char *filled, int band, tl_err *e);
 /* The DEM at dem_path (its header only, as dem_open_info reads it, with
  * options o) whose samples are read from the filled DEM file that
  * dem_save_filled wrote for it: dem_read_row and dem_read_span give

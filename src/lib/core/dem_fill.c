@@ -1,5 +1,8 @@
 /* dem_fill.c - void filling for geometry, on the DEM reader's scratch
- * file (float32 rows, NaN for a void), in two streaming passes. */
+ * file (float32 rows, NaN for a void), in two streaming passes; or on a
+ * band of rows given the nearest valid samples beyond it (dem_fill_rows,
+ * for filled DEM files made in bands: dem_fillrows.c), with the same
+ * code, so that both give the same bits. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -7,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/dem_impl.h"
+#include "core/le.h"
 
 static int
 bit(const unsigned char *b, long long i)
@@ -15,13 +19,13 @@ bit(const unsigned char *b, long long i)
 }
 
 /* Nearest valid sample below, per column, for one row with voids. */
-typedef struct {
-	float v;
-	int32_t row; /* -1: none */
-} below;
+typedef dem_near below;
 
 typedef struct {
-	int w, h, fd;               /* fd: the scratch file of dem.c */
+	int w, h;
+	dem_fill_band io;       /* where the rows come from and go */
+	int whole;              /* dem_fill: in place, masks by row number */
+	long long k;            /* the next mask's number */
 	const unsigned char *rowvoid; /* one bit per row: it has voids */
 	float *r, *f, *av;      /* raw row, filled row, nearest valid above */
 	int32_t *arow, *left;   /* its row (-1 none); nearest valid to the left */
@@ -61,10 +65,18 @@ fillbuf_alloc(fillbuf *F, int w, int h, tl_err *e)
 	return 0;
 }
 
+/* Row j's offset from a file's first row. */
 static long long
 zoff(const fillbuf *F, int j)
 {
 	return (long long)j * F->w * (long long)sizeof(float);
+}
+
+/* Row j's "below" records in the scratch file bfd. */
+static long long
+boff(const fillbuf *F, int j)
+{
+	return (long long)(j - F->io.y0) * F->w * (long long)sizeof(below);
 }
 
 /* Pass 1, bottom-up: for every row with voids, store per column the
@@ -72,13 +84,12 @@ zoff(const fillbuf *F, int j)
 static int
 pass_up(fillbuf *F, int bfd, tl_err *e)
 {
-	for (int j = F->h - 1; j >= 0; j--) {
-		if (tl_pread(F->fd, F->r, F->w * sizeof(float), zoff(F, j),
-		    "scratch file", e) < 0)
+	for (int j = F->io.y1 - 1; j >= F->io.y0; j--) {
+		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
+		    zoff(F, j), F->io.win, e) < 0)
 			return -1;
 		if (bit(F->rowvoid, j) && tl_pwrite(bfd, F->bl, F->w *
-		    sizeof(below), (long long)j * F->w * (long long)sizeof(below),
-		    "scratch file", e) < 0)
+		    sizeof(below), boff(F, j), "scratch file", e) < 0)
 			return -1;
 		for (int i = 0; i < F->w; i++)
 			if (!isnan(F->r[i]))
@@ -155,27 +166,43 @@ fill_row(fillbuf *F, int j)
 		fill_row_only(F);
 }
 
-/* Pass 2, top-down: fill each row with voids, overwrite it in place and
- * store its validity mask after the rows. */
+/* Row j, filled in F->f, and its mask: in place in dem.c's scratch
+ * file, its mask by row number; in a filled DEM file little-endian, its
+ * mask by rank. */
+static int
+put_row(fillbuf *F, int j, int voids, tl_err *e)
+{
+	long long m = F->whole ? j : F->k;
+
+	F->k += voids;
+	if (!F->whole)
+		le_swap32s(F->f, (size_t)F->w);
+	if (tl_pwrite(F->io.out, F->f, F->w * sizeof(float), F->io.zout +
+	    zoff(F, j), F->io.wout, e) < 0)
+		return -1;
+	return voids ? tl_pwrite(F->io.out, F->mask, (size_t)F->w,
+	    F->io.moff + m * F->w, F->io.wout, e) : 0;
+}
+
+/* Pass 2, top-down: fill each row with voids, write it and its validity
+ * mask; rows without voids are copied unless filled in place. */
 static int
 pass_down(fillbuf *F, int bfd, tl_err *e)
 {
-	long long moff = (long long)F->h * F->w * (long long)sizeof(float);
-
-	for (int j = 0; j < F->h; j++) {
-		if (tl_pread(F->fd, F->r, F->w * sizeof(float), zoff(F, j),
-		    "scratch file", e) < 0)
+	for (int j = F->io.y0; j < F->io.y1; j++) {
+		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
+		    zoff(F, j), F->io.win, e) < 0)
 			return -1;
 		if (bit(F->rowvoid, j)) {
-			if (tl_pread(bfd, F->b, F->w * sizeof(below),
-			    (long long)j * F->w * (long long)sizeof(below),
+			if (tl_pread(bfd, F->b, F->w * sizeof(below), boff(F, j),
 			    "scratch file", e) < 0)
 				return -1;
 			fill_row(F, j);
-			if (tl_pwrite(F->fd, F->f, F->w * sizeof(float),
-			    zoff(F, j), "scratch file", e) < 0 ||
-			    tl_pwrite(F->fd, F->mask, (size_t)F->w,
-			    moff + (long long)j * F->w, "scratch file", e) < 0)
+			if (put_row(F, j, 1, e) < 0)
+				return -1;
+		} else if (!F->whole) {
+			memcpy(F->f, F->r, F->w * sizeof(float));
+			if (put_row(F, j, 0, e) < 0)
 				return -1;
 		}
 		for (int i = 0; i < F->w; i++)
@@ -197,15 +224,23 @@ pass_down(fillbuf *F, int bfd, tl_err *e)
  * passes: bottom-up records the nearest valid sample below in a scratch
  * file, top-down carries the nearest above in memory. Memory O(width),
  * disk O(width * height); deterministic. */
-int
-dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
+static int
+fill(const dem_fill_band *b, int whole, const unsigned char *rowvoid,
+    int w, int h, tl_err *e)
 {
 	fillbuf F;
 	int bfd, r;
 
 	if (fillbuf_alloc(&F, w, h, e) < 0)
 		return -1;
-	F.fd = fd, F.rowvoid = rowvoid;
+	F.io = *b, F.whole = whole, F.k = b->rank, F.rowvoid = rowvoid;
+	/* the nearest valid samples beyond the rows, for a band */
+	for (int i = 0; i < w; i++) {
+		if (b->above != NULL && b->above[i].row >= 0)
+			F.av[i] = b->above[i].v, F.arow[i] = b->above[i].row;
+		if (b->below != NULL)
+			F.bl[i] = b->below[i];
+	}
 	if ((bfd = tl_scratch(e)) < 0) {
 		fillbuf_free(&F);
 		return -1;
@@ -216,4 +251,26 @@ dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
 	close(bfd);
 	fillbuf_free(&F);
 	return r;
+}
+
+int
+dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
+{
+	dem_fill_band b = { fd, fd, 0, 0,
+	    (long long)h * w * (long long)sizeof(float), 0, 0, h, NULL, NULL,
+	    "scratch file", "scratch file" };
+
+	return fill(&b, 1, rowvoid, w, h, e);
+}
+
+/* A band of rows, filled as dem_fill fills them in the whole DEM: the
+ * whole is the band 0 .. h-1 with nothing beyond it. */
+int
+dem_fill_rows(const dem_fill_band *b, const unsigned char *rowvoid, int w,
+    int h, tl_err *e)
+{
+	if (b->y0 < 0 || b->y0 >= b->y1 || b->y1 > h)
+		return tl_fail(e, "rows %d .. %d: outside 0 .. %d", b->y0,
+		    b->y1 - 1, h - 1);
+	return fill(b, 0, rowvoid, w, h, e);
 }

@@ -232,25 +232,52 @@ write_rows(dem *d, const head *H, int fd, const char *path, tl_err *e)
 	return r;
 }
 
+/* The header and bitmap; H's counts set, its layout and sum made here. */
+static int
+write_head(int fd, const char *path, head *H, const unsigned char *rowvoid,
+    tl_err *e)
+{
+	unsigned char b[FILLED_HEAD];
+
+	layout(H);
+	head_put(b, H);
+	H->sum = head_sum(b, rowvoid, (int)H->h);
+	head_put(b, H);
+	if (tl_pwrite(fd, b, sizeof b, 0, path, e) < 0 ||
+	    tl_pwrite(fd, rowvoid, ((size_t)H->h + 7) / 8, FILLED_HEAD, path,
+	    e) < 0)
+		return -1;
+	return 0;
+}
+
 static int
 write_filled(dem *d, int fd, const char *path, tl_err *e)
 {
 	head H = { FILLED_VERSION, (uint32_t)d->g.width,
 	    (uint32_t)d->g.height, 0, (uint64_t)d->voids, d->print, 0, 0, 0 };
-	unsigned char b[FILLED_HEAD];
 
 	for (int j = 0; j < d->g.height; j++)
 		H.vrows += bit(d->rowvoid, j);
 	layout(&H);
 	if (write_rows(d, &H, fd, path, e) < 0)
 		return -1;
-	head_put(b, &H);
-	H.sum = head_sum(b, d->rowvoid, d->g.height);
-	head_put(b, &H);
-	if (tl_pwrite(fd, b, sizeof b, 0, path, e) < 0 ||
-	    tl_pwrite(fd, d->rowvoid, ((size_t)d->g.height + 7) / 8,
-	    FILLED_HEAD, path, e) < 0)
+	return write_head(fd, path, &H, d->rowvoid, e);
+}
+
+int
+dem_filled_head(int fd, const char *path, int w, int h,
+    const unsigned char *rowvoid, long long voids, uint64_t print,
+    long long *zoff, long long *moff, long long *size, tl_err *e)
+{
+	head H = { FILLED_VERSION, (uint32_t)w, (uint32_t)h, 0,
+	    (uint64_t)voids, print, 0, 0, 0 };
+
+	for (int j = 0; j < h; j++)
+		H.vrows += bit(rowvoid, j);
+	if (write_head(fd, path, &H, rowvoid, e) < 0)
 		return -1;
+	*zoff = (long long)H.zoff, *moff = (long long)H.moff;
+	*size = file_size(&H);
 	return 0;
 }
 

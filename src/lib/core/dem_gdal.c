@@ -388,10 +388,18 @@ read_window(const src *s, dem_load *L, buffers *b, int x0, int y0, int nx,
 static int
 samples(const src *s, dem_load *L, tl_err *e)
 {
-	int ww, wh, x0, x1, flags = GDALGetMaskFlags(s->band), r = 0;
+	int ww, wh, x0, x1, y0, y1, bx, by, r = 0;
+	int flags = GDALGetMaskFlags(s->band);
 	buffers b = { 0 };
 
 	window_size(s, &ww, &wh);
+	/* the source rows of the kept ones (dem_open_rows), from a block's
+	 * first row so that windows stay whole blocks */
+	y0 = L->flip_y ? s->h - L->cy1 : L->cy0;
+	y1 = L->flip_y ? s->h - L->cy0 : L->cy1;
+	GDALGetBlockSize(s->band, &bx, &by);
+	if (!s->vrt && by > 0)
+		y0 -= y0 % by;
 	/* the source columns of the kept ones (dem_open_cols): whole
 	 * blocks of a file, just those of a VRT, which has none */
 	x0 = L->flip_x ? s->w - L->cx1 : L->cx0;
@@ -411,10 +419,10 @@ samples(const src *s, dem_load *L, tl_err *e)
 	b.mask = b.use_mask ? tl_alloc((size_t)ww * wh, 1, e) : NULL;
 	if (b.px == NULL || (b.use_mask && b.mask == NULL))
 		r = -1;
-	for (int y = 0; y < s->h && r == 0; y += wh)
+	for (int y = y0; y < y1 && r == 0; y += wh)
 		for (int x = x0; x < x1 && r == 0; x += ww)
 			r = read_window(s, L, &b, x, y, x1 - x < ww ? x1 - x : ww,
-			    s->h - y < wh ? s->h - y : wh, e);
+			    y1 - y < wh ? y1 - y : wh, e);
 	free(b.px);
 	free(b.mask);
 	return r;

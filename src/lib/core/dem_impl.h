@@ -41,6 +41,8 @@ typedef struct {
 	int cx0, cx1;            /* the columns kept (dem_open_cols), in
 	                          * north-up order; cx1 0: all, until
 	                          * dem_load_begin resolves it */
+	int cy0, cy1;            /* the rows kept (dem_open_rows), north-up;
+	                          * cy1 0: all, until dem_load_begin */
 	uint64_t print;          /* dem_fingerprint, by dem_load_begin */
 } dem_load;
 
@@ -143,6 +145,37 @@ int dem_read_list(dem_load *L, georef *g, const char *path,
 int dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
     const dem_opts *o, tl_err *e);
 
+/* Only rows y0 .. y1-1 of the DEM (north-up), converted unfilled into
+ * fd (a dup of it is kept: the dem's own), row j at j W 4 bytes, NaN
+ * for a void, as dem_open converts them; the source is read only where
+ * its blocks meet those rows. dem_voids and the row bitmap count those
+ * rows only; dem_read_row reads them (unfilled, valid 0 for a void). A
+ * row band's first pass of a filled DEM file (dem_fillrows.c). */
+dem *dem_open_rows(const char *path, const dem_opts *o, int y0, int y1,
+    int fd, tl_err *e);
+
+/* The nearest valid sample in a column beyond a row (row -1: none). */
+typedef struct {
+	float v;
+	int32_t row;
+} dem_near;
+
+/* Rows y0 .. y1-1 to fill: read unfilled from in (row j at zin + j W 4),
+ * written filled to out (row j at zout + j W 4, little-endian) with the
+ * validity masks of its rows with voids at moff + k W, k counting those
+ * rows from rank; every row is written. above and below: per column the
+ * nearest valid sample above y0 and below y1-1 (NULL: none), so that a
+ * band of rows fills exactly as the whole DEM does. */
+typedef struct {
+	int in, out;
+	long long zin, zout, moff, rank;
+	int y0, y1;
+	const dem_near *above, *below;
+	const char *win, *wout;  /* in and out, for messages */
+} dem_fill_band;
+int dem_fill_rows(const dem_fill_band *b, const unsigned char *rowvoid,
+    int w, int h, tl_err *e);
+
 /* Fills the voids of the scratch file fd (w x h float32 rows, NaN for a
  * void; rowvoid marks the rows that have some) and appends a validity
  * mask per such row (dem_fill.c documents the method). */
@@ -159,6 +192,14 @@ int dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e);
  * DEM's header alone. */
 uint64_t dem_fingerprint(const dem_load *L, const georef *g,
     const dem_opts *o);
+
+/* The header and row bitmap of a filled DEM file for a w x h DEM with
+ * voids void samples, rows with voids marked in rowvoid, fingerprint
+ * print, written to fd as dem_save_filled writes them; *zoff, *moff and
+ * *size: where the heights and masks go, and the file's size. */
+int dem_filled_head(int fd, const char *path, int w, int h,
+    const unsigned char *rowvoid, long long voids, uint64_t print,
+    long long *zoff, long long *moff, long long *size, tl_err *e);
 
 /* dem_read_span on a dem whose fd is a filled DEM file: row j, columns
  * x0 .. x0+n-1 (checked by the caller). */
