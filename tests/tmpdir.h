@@ -17,6 +17,19 @@ tmpdir_make(char *dir, size_t n, const char *name)
 	return mkdtemp(dir) != NULL ? 0 : -1;
 }
 
+/* dir/name, in one of 8 buffers used in turn: a call's result lives
+ * through the next 7 calls. */
+static inline const char *
+tmpdir_join(const char *dir, const char *name)
+{
+	static char buf[8][PATH_MAX];
+	static int k;
+
+	k = (k + 1) % 8;
+	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
+	return buf[k];
+}
+
 static void
 tmpdir_done(const char *dir)
 {

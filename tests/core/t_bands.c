@@ -25,12 +25,7 @@ static float whole[H][NCH][W]; /* the raster the bands are cut from */
 static const char *
 tmp(const char *name)
 {
-	static char buf[4][PATH_MAX];
-	static int k;
-
-	k = (k + 1) % 4;
-	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
-	return buf[k];
+	return tmpdir_join(dir, name);
 }
 
 static void
@@ -165,21 +160,7 @@ list_of(const char *name, const char *prefix, int n, const enum form *f)
 static int
 same_attr(const rs_attr *a, const rs_attr *b)
 {
-	if (strcmp(a->name, b->name) != 0 || a->type != b->type)
-		return 0;
-	switch (a->type) {
-	case RS_STRING:
-		return strcmp(a->s, b->s) == 0;
-	case RS_INT:
-		return a->v.i == b->v.i;
-	case RS_V2I:
-		return memcmp(a->v.v2i, b->v.v2i, sizeof a->v.v2i) == 0;
-	case RS_DOUBLE:
-		return memcmp(&a->v.d, &b->v.d, sizeof a->v.d) == 0;
-	case RS_V2D:
-		return memcmp(a->v.v2d, b->v.v2d, sizeof a->v.v2d) == 0;
-	}
-	return 0;
+	return strcmp(a->name, b->name) == 0 && rs_attr_same(a, b);
 }
 
 /* The list's header is the raster's: W wide, fqm:x0 = x0 or absent. */

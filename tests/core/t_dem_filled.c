@@ -24,6 +24,7 @@
 #include "core/dem.h"
 #include "core/georef.h"
 #include "core/raster.h"
+#include "demgrid.h"
 #include "tap.h"
 #include "tmpdir.h"
 
@@ -32,23 +33,13 @@ static char dir[PATH_MAX / 2], data[PATH_MAX / 2 + 32];
 static const char *
 tmp(const char *name)
 {
-	static char buf[8][PATH_MAX];
-	static int k;
-
-	k = (k + 1) % 8;
-	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
-	return buf[k];
+	return tmpdir_join(dir, name);
 }
 
 static const char *
 dpath(const char *name)
 {
-	static char buf[4][PATH_MAX];
-	static int k;
-
-	k = (k + 1) % 4;
-	snprintf(buf[k], sizeof buf[k], "%s/%s", data, name);
-	return buf[k];
+	return tmpdir_join(data, name);
 }
 
 static double
@@ -99,37 +90,7 @@ fsize(const char *path)
 	return stat(path, &st) == 0 ? (long long)st.st_size : -1;
 }
 
-/* --- fixtures ------------------------------------------------------------ */
-
-/* An Esri ASCII grid, nodata -9999: z(i, j), a void where void(i, j). */
-static void
-write_asc(const char *name, int w, int h, double (*z)(int, int),
-    int (*isvoid)(int, int))
-{
-	FILE *f = fopen(tmp(name), "w");
-
-	fprintf(f, "ncols %d\nnrows %d\nxllcorner 1000\nyllcorner 2000\n"
-	    "cellsize 10\nNODATA_value -9999\n", w, h);
-	for (int j = 0; j < h; j++)
-		for (int i = 0; i < w; i++)
-			fprintf(f, "%.4f%c", isvoid(i, j) ? -9999 : z(i, j),
-			    i == w - 1 ? '\n' : ' ');
-	fclose(f);
-}
-
-/* exact in the grid's decimals and in float32 */
-static double z_wave(int i, int j) { return 100 + 0.25 * i + 0.5 * j * j +
-    (i * 7 + j * 3) % 11 * 0.125; }
-/* row 3 and column 4 void across the whole grid, and a corner */
-static int v_cross(int i, int j) { return j == 3 || i == 4 ||
-    (i == 8 && j == 6); }
-/* voids in rows of every 64-row word (the rank table), whole row 70,
- * the last row; the first and last column */
-static int v_tall(int i, int j) { return j == 70 || j == 129 ||
-    (j % 5 == 0 && i == j % 3) || (j == 64 && i == 2) || (j == 63 && i == 0); }
-static int v_none(int i, int j) { return 0; }
-/* only the first and last columns, whole */
-static int v_edges(int i, int j) { return i == 0 || i == 299; }
+/* --- fixtures (demgrid.h's grids) ---------------------------------------- */
 
 /* An EXR (the plugin's way in): row 2 and column 0 NaN. */
 static int
@@ -159,10 +120,10 @@ write_exr(const char *name, tl_err *e)
 static void
 make_fixtures(void)
 {
-	write_asc("cross.asc", 9, 7, z_wave, v_cross);
-	write_asc("tall.asc", 3, 130, z_wave, v_tall);
-	write_asc("none.asc", 11, 5, z_wave, v_none);
-	write_asc("edges.asc", 300, 40, z_wave, v_edges);
+	demgrid_write(tmp("cross.asc"), 9, 7, z_wave, v_cross);
+	demgrid_write(tmp("tall.asc"), 3, 130, z_wave, v_tall);
+	demgrid_write(tmp("none.asc"), 11, 5, z_wave, v_none);
+	demgrid_write(tmp("edges.asc"), 300, 40, z_wave, v_edges);
 }
 
 /* --- comparisons --------------------------------------------------------- */

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "core/dem.h"
+#include "demgrid.h"
 #include "tap.h"
 #include "tmpdir.h"
 
@@ -25,12 +26,7 @@ static char dir[PATH_MAX / 2], data[PATH_MAX / 2 + 32], top[PATH_MAX / 2];
 static const char *
 tmp(const char *name)
 {
-	static char buf[8][PATH_MAX];
-	static int k;
-
-	k = (k + 1) % 8;
-	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
-	return buf[k];
+	return tmpdir_join(dir, name);
 }
 
 /* Files in dir whose name starts with prefix. */
@@ -77,47 +73,16 @@ same_file(const char *a, const char *b)
 	return r;
 }
 
-/* --- fixtures ------------------------------------------------------------ */
-
-static void
-write_asc(const char *name, int w, int h, double (*z)(int, int),
-    int (*isvoid)(int, int))
-{
-	FILE *f = fopen(tmp(name), "w");
-
-	fprintf(f, "ncols %d\nnrows %d\nxllcorner 1000\nyllcorner 2000\n"
-	    "cellsize 10\nNODATA_value -9999\n", w, h);
-	for (int j = 0; j < h; j++)
-		for (int i = 0; i < w; i++)
-			fprintf(f, "%.4f%c", isvoid(i, j) ? -9999 : z(i, j),
-			    i == w - 1 ? '\n' : ' ');
-	fclose(f);
-}
-
-static double z_wave(int i, int j) { return 100 + 0.25 * i + 0.5 * j * j +
-    (i * 7 + j * 3) % 11 * 0.125; }
-/* row 3 and column 4 void across the grid (an orphan where they meet) */
-static int v_cross(int i, int j) { return j == 3 || i == 4 ||
-    (i == 8 && j == 6); }
-static int v_tall(int i, int j) { return j == 70 || j == 129 ||
-    (j % 5 == 0 && i == j % 3) || (j == 64 && i == 2) || (j == 63 && i == 0); }
-static int v_edges(int i, int j) { return i == 0 || i == 299; }
-/* whole rows 7 and 13 (a 7-row band's first and last), whole columns 0,
- * 5 and 19 (orphans where they meet), scattered voids, the last row but
- * one sample */
-static int v_bands(int i, int j) { return j == 7 || j == 13 || i == 0 ||
-    i == 5 || i == 19 || (j % 4 == 1 && i == j * 3 % 20) ||
-    (j == 20 && i != 11); }
-static int v_none(int i, int j) { return 0; }
+/* --- fixtures (demgrid.h's grids) ---------------------------------------- */
 
 static void
 make_fixtures(void)
 {
-	write_asc("cross.asc", 9, 7, z_wave, v_cross);
-	write_asc("tall.asc", 3, 130, z_wave, v_tall);
-	write_asc("edges.asc", 300, 40, z_wave, v_edges);
-	write_asc("bands.asc", 20, 21, z_wave, v_bands);
-	write_asc("none.asc", 11, 5, z_wave, v_none);
+	demgrid_write(tmp("cross.asc"), 9, 7, z_wave, v_cross);
+	demgrid_write(tmp("tall.asc"), 3, 130, z_wave, v_tall);
+	demgrid_write(tmp("edges.asc"), 300, 40, z_wave, v_edges);
+	demgrid_write(tmp("bands.asc"), 20, 21, z_wave, v_bands);
+	demgrid_write(tmp("none.asc"), 11, 5, z_wave, v_none);
 }
 
 /* --- the parts ----------------------------------------------------------- */

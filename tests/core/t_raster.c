@@ -99,21 +99,7 @@ make_header(rs_header *h, int w, int ht, int nch)
 static int
 same_attr(const rs_attr *a, const rs_attr *b)
 {
-	if (strcmp(a->name, b->name) != 0 || a->type != b->type)
-		return 0;
-	switch (a->type) {
-	case RS_STRING:
-		return strcmp(a->s, b->s) == 0;
-	case RS_INT:
-		return a->v.i == b->v.i;
-	case RS_V2I:
-		return memcmp(a->v.v2i, b->v.v2i, sizeof a->v.v2i) == 0;
-	case RS_DOUBLE:
-		return memcmp(&a->v.d, &b->v.d, sizeof a->v.d) == 0;
-	case RS_V2D:
-		return memcmp(a->v.v2d, b->v.v2d, sizeof a->v.v2d) == 0;
-	}
-	return 0;
+	return strcmp(a->name, b->name) == 0 && rs_attr_same(a, b);
 }
 
 /* Same size, channels and attributes (in any order: EXR sorts them). */

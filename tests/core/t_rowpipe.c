@@ -19,12 +19,7 @@ static char dir[PATH_MAX / 2];
 static const char *
 tmp(const char *name)
 {
-	static char buf[4][PATH_MAX];
-	static int k;
-
-	k = (k + 1) % 4;
-	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
-	return buf[k];
+	return tmpdir_join(dir, name);
 }
 
 static int

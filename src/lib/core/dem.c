@@ -25,12 +25,6 @@
 #include "core/outfile.h"
 #include "core/vdatum.h"
 
-static int
-bit(const unsigned char *b, long long i)
-{
-	return b[i >> 3] >> (i & 7) & 1;
-}
-
 /* --- conversion --------------------------------------------------------- */
 
 static double
@@ -124,7 +118,7 @@ dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
 		return -1;
 	if (nv > 0) {
 		L->voids += nv;
-		L->rowvoid[y >> 3] |= 1 << (y & 7);
+		dem_setbit(L->rowvoid, y);
 	}
 	return tl_pwrite(L->fd, L->seg, (size_t)(b - a) * sizeof(float),
 	    ((long long)y * (L->cx1 - L->cx0) + a - L->cx0) *
@@ -468,7 +462,7 @@ dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 		return -1;
 	if (valid == NULL)
 		return 0;
-	if (!bit(d->rowvoid, j)) {
+	if (!dem_bit(d->rowvoid, j)) {
 		memset(valid, 1, (size_t)n);
 		return 0;
 	}

@@ -12,12 +12,6 @@
 #include "core/dem_impl.h"
 #include "core/le.h"
 
-static int
-bit(const unsigned char *b, long long i)
-{
-	return b[i >> 3] >> (i & 7) & 1;
-}
-
 /* Nearest valid sample below, per column, for one row with voids. */
 typedef dem_near below;
 
@@ -88,7 +82,7 @@ pass_up(fillbuf *F, int bfd, tl_err *e)
 		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
 		    zoff(F, j), F->io.win, e) < 0)
 			return -1;
-		if (bit(F->rowvoid, j) && tl_pwrite(bfd, F->bl, F->w *
+		if (dem_bit(F->rowvoid, j) && tl_pwrite(bfd, F->bl, F->w *
 		    sizeof(below), boff(F, j), "scratch file", e) < 0)
 			return -1;
 		for (int i = 0; i < F->w; i++)
@@ -193,7 +187,7 @@ pass_down(fillbuf *F, int bfd, tl_err *e)
 		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
 		    zoff(F, j), F->io.win, e) < 0)
 			return -1;
-		if (bit(F->rowvoid, j)) {
+		if (dem_bit(F->rowvoid, j)) {
 			if (tl_pread(bfd, F->b, F->w * sizeof(below), boff(F, j),
 			    "scratch file", e) < 0)
 				return -1;

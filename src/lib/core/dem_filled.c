@@ -47,12 +47,6 @@ typedef struct {
 	uint64_t voids, print, zoff, moff, sum;
 } head;
 
-static int
-bit(const unsigned char *b, long long i)
-{
-	return b[i >> 3] >> (i & 7) & 1;
-}
-
 /* --- the fingerprint ----------------------------------------------------- */
 
 static uint64_t
@@ -223,7 +217,7 @@ write_rows(dem *d, const head *H, int fd, const char *path, tl_err *e)
 		le_swap32s(z, (size_t)w);
 		r = tl_pwrite(fd, z, (size_t)w * sizeof *z, (long long)H->zoff +
 		    (long long)j * w * (long long)sizeof *z, path, e);
-		if (r == 0 && bit(d->rowvoid, j))
+		if (r == 0 && dem_bit(d->rowvoid, j))
 			r = tl_pwrite(fd, v, (size_t)w, (long long)H->moff +
 			    k++ * w, path, e);
 	}
@@ -257,7 +251,7 @@ write_filled(dem *d, int fd, const char *path, tl_err *e)
 	    (uint32_t)d->g.height, 0, (uint64_t)d->voids, d->print, 0, 0, 0 };
 
 	for (int j = 0; j < d->g.height; j++)
-		H.vrows += bit(d->rowvoid, j);
+		H.vrows += dem_bit(d->rowvoid, j);
 	layout(&H);
 	if (write_rows(d, &H, fd, path, e) < 0)
 		return -1;
@@ -273,7 +267,7 @@ dem_filled_head(int fd, const char *path, int w, int h,
 	    (uint64_t)voids, print, 0, 0, 0 };
 
 	for (int j = 0; j < h; j++)
-		H.vrows += bit(rowvoid, j);
+		H.vrows += dem_bit(rowvoid, j);
 	if (write_head(fd, path, &H, rowvoid, e) < 0)
 		return -1;
 	*zoff = (long long)H.zoff, *moff = (long long)H.moff;
@@ -347,7 +341,7 @@ check_head(int fd, const char *path, long long size, const head *H,
 		return tl_fail(e, "%s: damaged filled DEM file: its header's "
 		    "checksum does not match", path);
 	for (long long j = 0; j < nb * 8; j++)
-		rows += (uint64_t)bit(rowvoid, j);
+		rows += (uint64_t)dem_bit(rowvoid, j);
 	if (L.zoff != H->zoff || L.moff != H->moff || rows != H->vrows ||
 	    H->voids < rows || H->voids > (uint64_t)H->w * H->h)
 		return tl_fail(e, "%s: damaged filled DEM file: inconsistent "
@@ -383,7 +377,7 @@ match(dem *d, const char *path, const head *H, tl_err *e)
 	for (int j = 0; j < d->g.height; j++) {
 		if (j % 64 == 0)
 			f->rank[j / 64] = k;
-		k += bit(d->rowvoid, j);
+		k += dem_bit(d->rowvoid, j);
 	}
 	d->file = f;
 	d->voids = (long long)H->voids;
@@ -466,7 +460,7 @@ dem_file_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 	le_swap32s(z, (size_t)n);
 	if (valid == NULL)
 		return 0;
-	if (!bit(d->rowvoid, j)) {
+	if (!dem_bit(d->rowvoid, j)) {
 		memset(valid, 1, (size_t)n);
 		return 0;
 	}

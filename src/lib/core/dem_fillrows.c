@@ -219,12 +219,6 @@ part_read(part *p, const char *magic, const char *path, tl_err *e)
 	return r;
 }
 
-static int
-bit(const unsigned char *b, long long i)
-{
-	return b[i >> 3] >> (i & 7) & 1;
-}
-
 /* --- pass 1 -------------------------------------------------------------- */
 
 /* Per column the first valid sample of the band, top-down, and the
@@ -278,7 +272,7 @@ state_of(dem *d, int y0, int y1, const char *spath, tl_err *e)
 		return -1;
 	p.n = (uint64_t)d->voids, p.print = d->print;
 	for (int j = y0; j < y1; j++)
-		p.flags[j - y0] = (unsigned char)bit(d->rowvoid, j);
+		p.flags[j - y0] = (unsigned char)dem_bit(d->rowvoid, j);
 	if ((z = tl_alloc((size_t)p.w, sizeof *z, e)) != NULL &&
 	    scan_band(d, &p, z, e) == 0)
 		r = part_write(&p, STATE_MAGIC, spath, e);
@@ -362,7 +356,7 @@ sweep_up(join *J, tl_err *e)
 				J->run[i] = p.v1[i];
 		for (int j = p.y0; j < p.y1; j++)
 			if (p.flags[j - p.y0])
-				J->rowvoid[j >> 3] |= 1 << (j & 7);
+				dem_setbit(J->rowvoid, j);
 		J->voids += (long long)p.n;
 		part_free(&p);
 	}
@@ -520,7 +514,7 @@ fill_band(const part *p, const names *N, tl_err *e)
 		return -1;
 	for (int j = p->y0; j < p->y1; j++)
 		if (p->flags[j - p->y0])
-			rowvoid[j >> 3] |= 1 << (j & 7);
+			dem_setbit(rowvoid, j);
 	if ((b.in = open(N->raw, O_RDONLY | O_CLOEXEC)) < 0)
 		tl_failsys(e, "%s: cannot open (pass 1 has not run?)", N->raw);
 	else if ((b.out = open(N->tmp, O_WRONLY | O_CLOEXEC)) < 0)

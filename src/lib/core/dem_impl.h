@@ -21,6 +21,19 @@
 #define DEM_SAMPLEBYTES 8
 #define DEM_MAXABS 1e6   /* |z| beyond this (metres) is a void */
 
+/* Bit i of a per-row bitmap (which rows have voids), and setting it. */
+static inline int
+dem_bit(const unsigned char *b, long long i)
+{
+	return b[i >> 3] >> (i & 7) & 1;
+}
+
+static inline void
+dem_setbit(unsigned char *b, long long i)
+{
+	b[i >> 3] |= (unsigned char)(1 << (i & 7));
+}
+
 /* Source samples to metres in the scratch file: float32 rows, top row
  * first, NaN for a void. */
 typedef struct {

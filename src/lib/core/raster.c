@@ -104,13 +104,40 @@ rs_need_channel(const rs_header *h, const char *name, const char *what,
 	return i;
 }
 
-static rs_attr *
-find_attr(const rs_header *h, const char *name)
+const rs_attr *
+rs_find_attr(const rs_header *h, const char *name)
 {
 	for (int i = 0; i < h->nattr; i++)
 		if (strcmp(h->attr[i].name, name) == 0)
-			return (rs_attr *)&h->attr[i];
+			return &h->attr[i];
 	return NULL;
+}
+
+/* The setters' way in: the slot is the header's own, writable. */
+static rs_attr *
+find_attr(rs_header *h, const char *name)
+{
+	return (rs_attr *)rs_find_attr(h, name);
+}
+
+int
+rs_attr_same(const rs_attr *a, const rs_attr *b)
+{
+	if (a->type != b->type)
+		return 0;
+	switch (a->type) {
+	case RS_STRING:
+		return strcmp(a->s, b->s) == 0;
+	case RS_INT:
+		return a->v.i == b->v.i;
+	case RS_V2I:
+		return memcmp(a->v.v2i, b->v.v2i, sizeof a->v.v2i) == 0;
+	case RS_DOUBLE:
+		return memcmp(&a->v.d, &b->v.d, sizeof a->v.d) == 0;
+	case RS_V2D:
+		return memcmp(a->v.v2d, b->v.v2d, sizeof a->v.v2d) == 0;
+	}
+	return 0;
 }
 
 /* The slot for name: the existing one (its old string freed) or a new one. */
@@ -218,7 +245,7 @@ rs_unset(rs_header *h, const char *name)
 static const rs_attr *
 typed(const rs_header *h, const char *name, enum rs_type t)
 {
-	const rs_attr *a = find_attr(h, name);
+	const rs_attr *a = rs_find_attr(h, name);
 
 	return a != NULL && a->type == t ? a : NULL;
 }

@@ -69,6 +69,11 @@ int rs_get_double(const rs_header *h, const char *name, double *v);
 const char *rs_get_string(const rs_header *h, const char *name); /* or NULL */
 int rs_get_v2i(const rs_header *h, const char *name, int v[2]);
 int rs_get_v2d(const rs_header *h, const char *name, double v[2]);
+/* The attribute called name, or NULL. */
+const rs_attr *rs_find_attr(const rs_header *h, const char *name);
+/* 1 when a and b hold the same type and value, bit for bit (a NaN equals
+ * the same NaN, -0 is not 0); names are not compared. */
+int rs_attr_same(const rs_attr *a, const rs_attr *b);
 
 /* --- reading ---------------------------------------------------------- */
 

@@ -167,41 +167,11 @@ open_band(const rs_reader *r, const char *p, tl_err *e)
 
 /* --- checks ------------------------------------------------------------- */
 
-static const rs_attr *
-attr(const rs_header *h, const char *name)
-{
-	for (int i = 0; i < h->nattr; i++)
-		if (strcmp(h->attr[i].name, name) == 0)
-			return &h->attr[i];
-	return NULL;
-}
-
-/* Bit for bit: a NaN equals the same NaN, -0 is not 0. */
-static int
-same_value(const rs_attr *a, const rs_attr *b)
-{
-	if (a->type != b->type)
-		return 0;
-	switch (a->type) {
-	case RS_STRING:
-		return strcmp(a->s, b->s) == 0;
-	case RS_INT:
-		return a->v.i == b->v.i;
-	case RS_V2I:
-		return memcmp(a->v.v2i, b->v.v2i, sizeof a->v.v2i) == 0;
-	case RS_DOUBLE:
-		return memcmp(&a->v.d, &b->v.d, sizeof a->v.d) == 0;
-	case RS_V2D:
-		return memcmp(a->v.v2d, b->v.v2d, sizeof a->v.v2d) == 0;
-	}
-	return 0;
-}
-
 /* The band's RS_ATTR_X0, 0 when absent; -1 when not an int >= 0. */
 static int
 x0_of(const rs_header *h, int *x0)
 {
-	const rs_attr *a = attr(h, RS_ATTR_X0);
+	const rs_attr *a = rs_find_attr(h, RS_ATTR_X0);
 
 	*x0 = 0;
 	if (a == NULL)
@@ -244,19 +214,21 @@ same_attrs(const rs_reader *r, const rs_reader *b, const rs_header *h0,
     tl_err *e)
 {
 	for (int i = 0; i < h0->nattr; i++) {
-		const rs_attr *a = &h0->attr[i], *o = attr(&b->h, a->name);
+		const rs_attr *a = &h0->attr[i];
+		const rs_attr *o = rs_find_attr(&b->h, a->name);
 		if (strcmp(a->name, RS_ATTR_X0) == 0)
 			continue;
 		if (o == NULL)
 			return band_fail(r, b, e, "no attribute %s, which the "
 			    "first band has", a->name);
-		if (!same_value(a, o))
+		if (!rs_attr_same(a, o))
 			return band_fail(r, b, e, "attribute %s differs from "
 			    "the first band's", a->name);
 	}
 	for (int i = 0; i < b->h.nattr; i++) {
 		const char *name = b->h.attr[i].name;
-		if (strcmp(name, RS_ATTR_X0) != 0 && attr(h0, name) == NULL)
+		if (strcmp(name, RS_ATTR_X0) != 0 &&
+		    rs_find_attr(h0, name) == NULL)
 			return band_fail(r, b, e, "attribute %s, which the "
 			    "first band lacks", name);
 	}

@@ -13,6 +13,7 @@
 #ifndef TL_PIPELINE_H
 #define TL_PIPELINE_H
 
+#include "core/filter.h"
 #include "core/util.h"
 
 #define PIPELINE_MAXOPTS 32
@@ -55,13 +56,13 @@ typedef struct {
 
 /* The level-0 columns a band reads past its own on either side so that
  * levels 0 .. t come out as the whole DEM's: a window's edge vertex lacks
- * the cells beyond it (1 column wrong), and a filter of radius r <= 2
- * turns z wrong fine columns into ceil((z + r) / 2) coarse ones, so at
- * most 2 columns of every level are wrong, 2 x 2^t at level 0 for level
- * t. One more level-t column of margin; a multiple of 2^t, so that a
- * window starts on every level's grid. t_plan shows a halo of 2^t
- * failing for binomial5. */
-#define pipeline_halo(t) (3L << (t))
+ * the cells beyond it (1 column wrong), and a filter of radius r turns z
+ * wrong fine columns into ceil((z + r) / 2) coarse ones, so at most
+ * max(1, r) columns of every level are wrong, max(1, r) x 2^t at level
+ * 0 for level t (r <= FILTER_MAX_RADIUS). One level-t column more of
+ * margin; a multiple of 2^t, so that a window starts on every level's
+ * grid. t_plan_bands shows a halo of 2^t failing for binomial5. */
+#define pipeline_halo(t) ((long)(FILTER_MAX_RADIUS + 1) << (t))
 
 /* Runs it. 0, or -1 with e holding the failing stage's own message and
  * *status the exit status to give (2 usage, 1 failure, 128+n signal). */

@@ -333,29 +333,21 @@ put_slurm(FILE *f, const void *arg)
 	slurm(f, s->o, s->dir);
 }
 
-/* bands/targets: the band jobs, a line each (GNU parallel, Slurm). */
+/* A list of jobs, a line each, for GNU parallel and Slurm's arrays:
+ * done/PREFIX-0 .. done/PREFIX-(n-1) (bands/targets: the band jobs;
+ * bands/fill1, fill2: the fill's passes). */
+typedef struct {
+	const char *prefix;
+	int n;
+} joblist;
+
 static void
 put_targets(FILE *f, const void *arg)
 {
-	const plan_opts *o = arg;
+	const joblist *j = arg;
 
-	for (int k = 0; k < o->nbands; k++)
-		fprintf(f, "done/b-%d\n", k);
-}
-
-/* bands/fill1, fill2: the fill's jobs of pass 1 and 2, a line each. */
-typedef struct {
-	const plan_opts *o;
-	int pass;
-} fillpass;
-
-static void
-put_filltargets(FILE *f, const void *arg)
-{
-	const fillpass *fp = arg;
-
-	for (int k = 0; k < fp->o->nfill; k++)
-		fprintf(f, "done/f%d-%d\n", fp->pass, k);
+	for (int k = 0; k < j->n; k++)
+		fprintf(f, "done/%s-%d\n", j->prefix, k);
 }
 
 /* A band list (fqm(5)) of the bands' file name in their directories. */
@@ -379,6 +371,8 @@ put_bandlist(FILE *f, const void *arg)
 static int
 put_bands(const char *dir, const plan_opts *o, tl_err *e)
 {
+	joblist bands = { "b", o->nbands }, f1 = { "f1", o->nfill };
+	joblist f2 = { "f2", o->nfill };
 	char sub[4200], name[32], list[48];
 
 	if (o->nbands == 0)
@@ -397,15 +391,9 @@ put_bands(const char *dir, const plan_opts *o, tl_err *e)
 		if (put(sub, list, 0, put_bandlist, &b, e) < 0)
 			return -1;
 	}
-	if (put(sub, "targets", 0, put_targets, o, e) < 0)
-		return -1;
-	for (int pass = 1; pass <= 2 && o->nfill > 0; pass++) {
-		fillpass fp = { o, pass };
-		snprintf(list, sizeof list, "fill%d", pass);
-		if (put(sub, list, 0, put_filltargets, &fp, e) < 0)
-			return -1;
-	}
-	return 0;
+	return put(sub, "targets", 0, put_targets, &bands, e) < 0 ||
+	    (o->nfill > 0 && (put(sub, "fill1", 0, put_targets, &f1, e) < 0 ||
+	    put(sub, "fill2", 0, put_targets, &f2, e) < 0)) ? -1 : 0;
 }
 
 /* The mosaic's files as a list, absolute paths (cwd for relative). */
