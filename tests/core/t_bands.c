@@ -635,6 +635,11 @@ test_paths(void)
 	write_list("other/r.bands", NULL, "../sub/r-0.fqm", abs1, NULL);
 	ok(chdir("/") == 0 && rows_match(tmp("other/r.bands"), 0, &e) == 0,
 	    "a ../ path and an absolute one, from / %s", e.msg);
+	/* a DEM list's rules: blanks around a path, an indented comment */
+	write_list("sub/b.bands", NULL, "  r-0.fqm\t", "   # second", " r-1.exr ",
+	    NULL);
+	ok(rows_match(tmp("sub/b.bands"), 0, &e) == 0, "blanks around paths "
+	    "dropped, an indented # a comment %s", e.msg);
 	if (fchdir(cwd) != 0)
 		perror("fchdir");
 	close(cwd);

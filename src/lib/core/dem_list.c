@@ -59,46 +59,16 @@ slurp(const char *path)
 	return t;
 }
 
-/* The line's entry, blanks around it dropped; NULL for a blank line or
- * a comment. */
-static char *
-entry(char *line)
-{
-	char *end;
-
-	line += strspn(line, " \t\r\f\v");
-	end = line + strlen(line);
-	while (end > line && strchr(" \t\r\f\v", end[-1]) != NULL)
-		*--end = '\0';
-	return *line == '\0' || *line == '#' ? NULL : line;
-}
-
-/* The entry as a path from the current directory. */
-static char *
-resolve(const char *base, const char *ent, tl_err *e)
-{
-	size_t n;
-	char *p;
-
-	if (ent[0] == '/' || strcmp(base, ".") == 0)
-		base = NULL;
-	n = (base != NULL ? strlen(base) + 1 : 0) + strlen(ent) + 1;
-	if ((p = tl_alloc(n, 1, e)) != NULL)
-		snprintf(p, n, "%s%s%s", base != NULL ? base : "",
-		    base != NULL ? "/" : "", ent);
-	return p;
-}
-
 /* One line: its entry resolved, and whether it names a file. */
 static int
 add(entries *l, const char *base, char *line, int lineno, tl_err *e)
 {
 	struct stat st;
-	char *ent = entry(line), *p, **np;
+	char *ent = tl_list_entry(line), *p, **np;
 
 	if (ent == NULL)
 		return 0;
-	if ((p = resolve(base, ent, e)) == NULL)
+	if ((p = tl_list_path(base, ent, e)) == NULL)
 		return -1;
 	if ((np = realloc(l->paths, (size_t)(l->n + 1) * sizeof *np)) == NULL) {
 		free(p);

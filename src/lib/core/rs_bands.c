@@ -103,47 +103,50 @@ fail:
 	return NULL;
 }
 
-/* A line naming a band: neither blank nor a comment. */
+/* Ends the lines in place and points ent[] at the bands' entries
+ * (tl_list_entry: DEM lists' rules); their number, or -1. */
 static int
-is_band(const char *p)
+split(const rs_reader *r, char *s, size_t len, char ***ent, tl_err *e)
 {
-	if (*p == '#')
-		return 0;
-	return p[strspn(p, " \t")] != '\0';
-}
-
-/* Ends the lines in place; the number of bands named. */
-static int
-split(const rs_reader *r, char *s, size_t len, tl_err *e)
-{
-	int n = 0;
+	char *next;
+	int n = 0, lines = 1;
 
 	for (size_t i = 0; i < len; i++)
 		if (s[i] == '\n')
-			s[i] = '\0';
+			s[i] = '\0', lines++;
 	if (strcmp(s, BD_FIRST) != 0)
 		return tl_fail(e, "%s: first line is not \"%s\"", r->name,
 		    BD_FIRST);
-	for (char *p = s + strlen(s) + 1; p < s + len; p += strlen(p) + 1)
-		n += is_band(p);
+	if ((*ent = tl_alloc((size_t)lines, sizeof **ent, e)) == NULL)
+		return -1;
+	for (char *p = s + strlen(s) + 1; p < s + len; p = next) {
+		next = p + strlen(p) + 1; /* before the entry is cut */
+		if (((*ent)[n] = tl_list_entry(p)) != NULL)
+			n++;
+	}
 	if (n == 0)
 		return tl_fail(e, "%s: no bands", r->name);
 	return n;
 }
 
-/* p as written, relative to the list's directory; "-" stays a file. */
+/* p relative to the list's directory; "-" stays a file. */
 static char *
 band_path(const rs_reader *r, const char *p, tl_err *e)
 {
 	const char *slash = strrchr(r->name, '/');
-	int d = *p == '/' || slash == NULL ? 0 : (int)(slash - r->name) + 1;
-	const char *dot = d == 0 && strcmp(p, "-") == 0 ? "./" : "";
-	size_t n = (size_t)d + strlen(p) + 3;
-	char *s = tl_alloc(n, 1, e);
+	char dir[4096];
 
-	if (s != NULL)
-		snprintf(s, n, "%s%.*s%s", dot, d, r->name, p);
-	return s;
+	if (strcmp(p, "-") == 0)
+		p = "./-";
+	if (slash == NULL)
+		return tl_list_path(NULL, p, e);
+	if (slash - r->name >= (long)sizeof dir) {
+		tl_fail(e, "%s: name too long", r->name);
+		return NULL;
+	}
+	/* "" for a list in /: the entry becomes "/entry" */
+	snprintf(dir, sizeof dir, "%.*s", (int)(slash - r->name), r->name);
+	return tl_list_path(dir, p, e);
 }
 
 /* Bands are files: a FIFO or a device could block the open, or feed
@@ -375,7 +378,7 @@ bd_close(rs_reader *r)
 }
 
 static int
-open_bands(rs_reader *r, char *s, size_t len, int n, tl_err *e)
+open_bands(rs_reader *r, char **ent, int n, tl_err *e)
 {
 	struct bands *bd;
 
@@ -384,10 +387,8 @@ open_bands(rs_reader *r, char *s, size_t len, int n, tl_err *e)
 		return -1;
 	r->impl = bd;
 	r->close = bd_close;
-	for (char *p = s + strlen(s) + 1; p < s + len; p += strlen(p) + 1) {
-		if (!is_band(p))
-			continue;
-		if ((bd->b[bd->n].r = open_band(r, p, e)) == NULL)
+	for (int k = 0; k < n; k++) {
+		if ((bd->b[bd->n].r = open_band(r, ent[k], e)) == NULL)
 			return -1;
 		bd->n++;
 	}
@@ -400,7 +401,7 @@ int
 rs_bands_open_read(rs_reader *r, tl_err *e)
 {
 	size_t len;
-	char *s;
+	char *s, **ent = NULL;
 	int n, rv;
 
 	if (!r->ownfd)
@@ -411,7 +412,9 @@ rs_bands_open_read(rs_reader *r, tl_err *e)
 	close(r->fd);
 	r->fd = -1;
 	r->ownfd = 0;
-	rv = (n = split(r, s, len, e)) < 0 ? -1 : open_bands(r, s, len, n, e);
+	rv = (n = split(r, s, len, &ent, e)) < 0 ? -1 :
+	    open_bands(r, ent, n, e);
+	free(ent);
 	free(s);
 	if (rv < 0 || join(r, e) < 0)
 		return -1;

@@ -204,3 +204,30 @@ tl_parse_int(const char *s, int *v)
 	*v = (int)l;
 	return 0;
 }
+
+char *
+tl_list_entry(char *line)
+{
+	char *end;
+
+	line += strspn(line, " \t\r\f\v");
+	end = line + strlen(line);
+	while (end > line && strchr(" \t\r\f\v", end[-1]) != NULL)
+		*--end = '\0';
+	return *line == '\0' || *line == '#' ? NULL : line;
+}
+
+char *
+tl_list_path(const char *dir, const char *ent, tl_err *e)
+{
+	size_t n;
+	char *p;
+
+	if (ent[0] == '/' || (dir != NULL && strcmp(dir, ".") == 0))
+		dir = NULL;
+	n = (dir != NULL ? strlen(dir) + 1 : 0) + strlen(ent) + 1;
+	if ((p = tl_alloc(n, 1, e)) != NULL)
+		snprintf(p, n, "%s%s%s", dir != NULL ? dir : "",
+		    dir != NULL ? "/" : "", ent);
+	return p;
+}

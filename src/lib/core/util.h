@@ -50,4 +50,12 @@ int tl_pwrite(int fd, const void *buf, size_t n, long long off,
 int tl_parse_double(const char *s, double *v);
 int tl_parse_int(const char *s, int *v);
 
+/* Lists of paths (a DEM list, dem2fqm(1); a band list, fqm(5)), one a
+ * line: the line's entry, blanks around it cut in place; NULL for a blank
+ * line or one whose first non-blank character is '#'. */
+char *tl_list_entry(char *line);
+/* An entry as a path from the current directory: relative ones are
+ * relative to dir, the list's directory ("." or NULL: as they are). */
+char *tl_list_path(const char *dir, const char *ent, tl_err *e);
+
 #endif
