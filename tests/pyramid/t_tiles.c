@@ -110,14 +110,125 @@ typedef struct {
 	tl_err e;
 } run;
 
+/* A piece's local errors, the maximum over its parts (tiles_run_part):
+ * level columns lo .. hi-1 of every row of the padded level. */
+typedef struct {
+	const tiles_part *q;
+	int lo, n, next, bad_order;
+	float *acc;
+} merged;
+
+static int
+part_out(void *ctx, int g, float *err, tl_err *e)
+{
+	merged *m = ctx;
+
+	m->bad_order += g != m->next++;
+	for (int i = 0; i < m->n; i++) {
+		float *a = &m->acc[(size_t)g * m->n + i];
+		*a = err[i] > *a ? err[i] : *a;
+	}
+	return 0;
+}
+
+static int
+part_in(void *ctx, int g, float *err, tl_err *e)
+{
+	merged *m = ctx;
+
+	m->bad_order += g != m->next++;
+	memcpy(err, &m->acc[(size_t)g * m->n], (size_t)m->n * sizeof *err);
+	return 0;
+}
+
+/* Piece p's local errors (m->acc, Q rows of level columns lo .. hi-1)
+ * and base errors (base, (b1 - b0) x block rows) as the maxima over its
+ * parts of nrows DEM rows, each reading its own window of the DEM
+ * (dem_open_window) and asking for level rows from its own first one;
+ * the samples counted, summed. Checks the rows given out and read. */
+static int
+parts_merge(const tiles_level *L, const tiles_piece *p, const char *path,
+    int nrows, rows *R, merged *m, double *base, long long *samples,
+    tl_err *e)
+{
+	static const dem_opts none;
+	int Q = pyramid_nblocks(L->size[1]) * BT_CELLS + 1;
+	int nb = (p->b1 - p->b0) * pyramid_nblocks(L->size[1]), r = 0, bad = 0;
+	double *pb = calloc(nb, sizeof *pb);
+	tiles_window win;
+	tiles_part q;
+
+	tiles_piece_window(L, L->m->width, p, &win);
+	tiles_part_window(L, p, 0, 1, &q);
+	memset(m, 0, sizeof *m);
+	m->lo = q.lo, m->n = q.hi - q.lo;
+	m->acc = calloc((size_t)Q * m->n, sizeof *m->acc);
+	*samples = 0;
+	for (int y0 = 0; r == 0 && y0 < L->m->height; y0 += nrows) {
+		int y1 = y0 + nrows < L->m->height ? y0 + nrows :
+		    L->m->height;
+		tiles_stats ps;
+		dem *d;
+		tiles_part_window(L, p, y0, y1, &q);
+		if ((d = dem_open_window(path, &none, (int)win.d0, (int)win.d1,
+		    y0, y1, e)) == NULL) {
+			r = -1;
+			break;
+		}
+		m->q = &q, m->next = q.g0;
+		R->next = q.r0;
+		r = tiles_run_part(L, p, &q, d, part_out, m, pb, &ps, e);
+		dem_close(d);
+		if (m->next != q.g1 || R->next != (q.r1 < L->size[1] ? q.r1 :
+		    L->size[1]))
+			printf("# part %d..%d: errors to row %d of %d, rows read "
+			    "to %d of %d\n", y0, y1, m->next, q.g1, R->next,
+			    q.r1), bad++;
+		for (int k = 0; k < nb; k++)
+			base[k] = pb[k] > base[k] ? pb[k] : base[k];
+		*samples += ps.samples;
+	}
+	free(pb);
+	if (r == 0 && (bad || m->bad_order))
+		r = tl_fail(e, "parts: local errors given out in another "
+		    "order, or rows asked for beyond the part's");
+	return r;
+}
+
+/* Piece p in parts of nrows DEM rows, merged (tiles_run_merged); its
+ * stats to st. */
+static int
+run_parts(const tiles_level *L, const tiles_piece *p, const char *path,
+    int nrows, rows *R, tiles_stats *st, tl_err *e)
+{
+	int Q = pyramid_nblocks(L->size[1]) * BT_CELLS + 1;
+	int nb = (p->b1 - p->b0) * pyramid_nblocks(L->size[1]), r;
+	double *base = calloc(nb, sizeof *base);
+	long long samples;
+	merged m;
+
+	r = parts_merge(L, p, path, nrows, R, &m, base, &samples, e);
+	m.next = 0, R->next = 0;
+	if (r == 0)
+		r = tiles_run_merged(L, p, L->m->width, part_in, &m, base, st,
+		    e);
+	st->samples = samples;
+	if (r == 0 && (m.bad_order || m.next != Q))
+		r = tl_fail(e, "merged: local errors read out of order, or "
+		    "to row %d of %d", m.next, Q);
+	free(m.acc), free(base);
+	return r;
+}
+
 /* Level `level` (w x h, z row-major) of the DEM at path, its columns
  * shared among threads, as a whole or (cols > 0) in pieces of cols block
- * columns, one after another; displaced levels get offsets when jitter;
- * row fail_row and block fail_block (-1: none) fail. */
+ * columns, one after another, (rows > 0) each in parts of that many DEM
+ * rows; displaced levels get offsets when jitter; row fail_row and block
+ * fail_block (-1: none) fail. */
 static void
-run_level_as(run *u, const char *path, int level, int w, int h,
+run_level_in(run *u, const char *path, int level, int w, int h,
     const float *z, int displaced, int fail_row, int fail_block, int threads,
-    int cols, int jitter)
+    int cols, int jitter, int nrows)
 {
 	static const dem_opts none;
 	tiles_level L = { 0 };
@@ -159,7 +270,8 @@ run_level_as(run *u, const char *path, int level, int w, int h,
 	for (int k = 0; k < n && u->r == 0; k++) {
 		tiles_stats st;
 		u->R.next = 0; /* each piece reads every row */
-		u->r = tiles_run_piece(&L, &p[k], d, &st, &u->e);
+		u->r = nrows > 0 ? run_parts(&L, &p[k], path, nrows, &u->R,
+		    &st, &u->e) : tiles_run_piece(&L, &p[k], d, &st, &u->e);
 		u->st.max_e = st.max_e > u->st.max_e ? st.max_e : u->st.max_e;
 		u->st.max_base = st.max_base > u->st.max_base ? st.max_base :
 		    u->st.max_base;
@@ -170,6 +282,15 @@ done:
 	if (d != NULL)
 		dem_close(d);
 	geo_metric_free(&m);
+}
+
+static void
+run_level_as(run *u, const char *path, int level, int w, int h,
+    const float *z, int displaced, int fail_row, int fail_block, int threads,
+    int cols, int jitter)
+{
+	run_level_in(u, path, level, w, h, z, displaced, fail_row, fail_block,
+	    threads, cols, jitter, 0);
 }
 
 static void
@@ -437,9 +558,8 @@ test_scan(void)
  * distinct heights within 128 columns of block edges, where a window too
  * narrow would lose the one spike that sets an E. */
 static void
-test_pieces(int spiky)
+test_pieces(int spiky, int W, int H, int parts_only)
 {
-	int W = 1500, H = 300;
 	float *z = malloc((size_t)W * H * sizeof *z);
 	char path[PATH_MAX];
 
@@ -454,7 +574,8 @@ test_pieces(int spiky)
 				*p = (m <= 3 || m >= 120) && k == 0 ?
 				    1 + rough(i, j, 5) : 0;
 		}
-	if (dem_file(path, sizeof path, spiky ? "spiky" : "wide", W, H,
+	if (dem_file(path, sizeof path, spiky ? "spiky" : W > H ? "wide" :
+	    "tall", W, H,
 	    z) < 0) {
 		ok(0, "wide: the DEM");
 		free(z);
@@ -473,7 +594,8 @@ test_pieces(int spiky)
 			    0, 1);
 			size_t ng = (size_t)u.s.gw * (u.s.by * BT_CELLS + 1);
 			size_t nb = (size_t)u.s.bx * u.s.by;
-			for (int cols = 1; cols <= 5; cols += cols < 2 ? 1 : 3) {
+			for (int cols = 1; !parts_only && cols <= 5;
+			    cols += cols < 2 ? 1 : 3) {
 				run p;
 				int th = cols == 2 ? 3 : 1;
 				run_level_as(&p, path, level, w, h, v, disp, -1,
@@ -495,10 +617,113 @@ test_pieces(int spiky)
 				    cols, th);
 				run_free(&p);
 			}
+			/* parts of rows: a few, odd, and more than a
+			 * ring's worth of level rows */
+			for (int k = 0; k < 3; k++) {
+				/* (tall: a part longer than the rings) */
+				const int nr[] = { 37, 100, H > W ? 700 : 230 };
+				int cols = k == 1 ? 2 : 3, th = k == 2 ? 2 : 1;
+				run p;
+				run_level_in(&p, path, level, w, h, v, disp, -1,
+				    -1, th, cols, 1, nr[k] << level);
+				p.s.bad_border *= th == 1;
+				ok(u.r == 0 && p.r == 0 && blocks_ok(&p) &&
+				    memcmp(u.s.e, p.s.e, ng * sizeof *u.s.e) == 0 &&
+				    memcmp(u.s.z, p.s.z, ng * sizeof *u.s.z) == 0 &&
+				    memcmp(u.s.base, p.s.base, nb * sizeof *u.s.base) == 0 &&
+				    u.st.max_e == p.st.max_e &&
+				    u.st.max_base == p.st.max_base &&
+				    u.st.samples == p.st.samples,
+				    "%s level %d, %s, pieces of %d block columns "
+				    "in parts of %d DEM rows merged, on %d "
+				    "thread(s): E, Z, base errors and stats the "
+				    "whole level's, bit for bit (%s)",
+				    spiky ? "spiky" : "rough", level,
+				    disp ? "displaced" : "1D", cols,
+				    nr[k] << level, th, p.r ? p.e.msg : "ok");
+				run_free(&p);
+			}
 			run_free(&u);
 		}
 		free(v);
 	}
+	free(z);
+}
+
+/* Local errors, before saturation hides most of them: a piece's, merged
+ * from parts of 37, 100 and 700 DEM rows, are those of one part of every
+ * row, bit for bit (rows a part gives out too early, or a part's rows of
+ * centres cut too short, lose maxima that only the merged local errors
+ * show); levels 0 and 1 of a flat level over a tall valley with holes,
+ * 1D and displaced. */
+static void
+test_part_errors(void)
+{
+	static const dem_opts none;
+	int W = 300, H = 1500;
+	float *z = malloc((size_t)W * H * sizeof *z);
+	char path[PATH_MAX];
+	geo_metric gm = { 0 };
+	tl_err e;
+	dem *d = NULL;
+
+	/* a rough valley with holes, rising away from its middle row: a
+	 * diamond on a flat level has its largest local error at its top
+	 * tip above the middle, at its bottom tip below it, where a part's
+	 * first or last rows cut it */
+	for (int j = 0; j < H; j++)
+		for (int i = 0; i < W; i++)
+			z[(size_t)j * W + i] = (i / 7 + j / 5) % 17 == 3 ? NAN :
+			    abs(j - H / 2) + rough(i, j, 21) / 1000;
+	if (dem_file(path, sizeof path, "parts", W, H, z) < 0 ||
+	    (d = dem_open(path, &none, &e)) == NULL ||
+	    geo_metric_init(&gm, dem_georef(d), &e) < 0) {
+		ok(0, "part errors: the DEM");
+		goto done;
+	}
+	for (int level = 0; level <= 1; level++)
+		for (int disp = 0; disp <= 1; disp++) {
+			int w = fqm_level_size(W, level), h = fqm_level_size(H,
+			    level), Q = pyramid_nblocks(h) * BT_CELLS + 1;
+			float *v = malloc((size_t)w * h * sizeof *v);
+			tiles_level L = { 0 };
+			tiles_piece p[8];
+			rows R = { 0 };
+			memset(v, 0, (size_t)w * h * sizeof *v);
+			R.z = v, R.w = w, R.h = h, R.fail_at = -1;
+			R.jitter = disp ? (double)(1 << level) : 0;
+			L.level = level, L.size[0] = w, L.size[1] = h;
+			L.displaced = disp, L.m = &gm, L.threads = 1;
+			L.row = row_fn, L.row_ctx = &R;
+			tiles_pieces(&L, 1, p, 8);
+			/* the second piece: halos on both sides */
+			int nb = pyramid_nblocks(h), same = 1, r;
+			double *b1 = calloc(nb, sizeof *b1), *b2 = calloc(nb,
+			    sizeof *b2);
+			long long s1, s2;
+			merged one, m;
+			r = parts_merge(&L, &p[1], path, H, &R, &one, b1, &s1, &e);
+			for (int k = 0; r == 0 && k < 3; k++) {
+				static const int nr[] = { 37, 100, 700 };
+				memset(b2, 0, nb * sizeof *b2);
+				r = parts_merge(&L, &p[1], path, nr[k] << level,
+				    &R, &m, b2, &s2, &e);
+				same &= r == 0 && memcmp(one.acc, m.acc,
+				    (size_t)Q * m.n * sizeof *m.acc) == 0 &&
+				    memcmp(b1, b2, nb * sizeof *b1) == 0 &&
+				    s1 == s2;
+				free(m.acc);
+			}
+			ok(r == 0 && same, "level %d, %s, a piece's local and "
+			    "base errors and samples from parts of 37, 100 and "
+			    "700 rows: one part's, bit for bit (%s)", level,
+			    disp ? "displaced" : "1D", r ? e.msg : "ok");
+			free(one.acc), free(b1), free(b2), free(v);
+		}
+done:
+	if (d != NULL)
+		dem_close(d);
+	geo_metric_free(&gm);
 	free(z);
 }
 
@@ -513,8 +738,11 @@ main(void)
 	test_plane(300, 200); /* 3x2 blocks, padded */
 	test_plane(257, 257); /* 2x2 blocks, then 1 */
 	test_scan();
-	test_pieces(0);
-	test_pieces(1);
+	test_pieces(0, 1500, 300, 0);
+	test_pieces(1, 1500, 300, 0);
+	/* parts of a level taller than the rings */
+	test_pieces(0, 300, 1500, 1);
+	test_part_errors();
 	tmpdir_done(tmp);
 	return tap_done();
 }

@@ -352,7 +352,8 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 		L.cx0 = cols[0], L.cx1 = cols[1], d->unfilled = 1;
 	if (rows != NULL) {
 		L.cy0 = rows[0], L.cy1 = rows[1], d->unfilled = 1;
-		if ((L.fd = d->fd = fcntl(rows[2], F_DUPFD_CLOEXEC, 0)) < 0) {
+		if (rows[2] >= 0 &&
+		    (L.fd = d->fd = fcntl(rows[2], F_DUPFD_CLOEXEC, 0)) < 0) {
 			tl_failsys(e, "%s: dup", path);
 			free(d);
 			return NULL;
@@ -379,6 +380,7 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 	d->zunit = L.zunit;
 	d->print = L.print;
 	d->cx0 = L.cx0, d->cw = L.cx1 - L.cx0;
+	d->cy0 = L.cy0, d->cy1 = L.cy1;
 	/* a window may be all voids, and is not filled: filling reaches
 	 * across the whole DEM */
 	if (r == 0 && !info && cols == NULL && rows == NULL &&
@@ -405,6 +407,14 @@ dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
     tl_err *e)
 {
 	return open_dem(path, o, 0, (const int[]){ x0, x1 }, NULL, e);
+}
+
+dem *
+dem_open_window(const char *path, const dem_opts *o, int x0, int x1, int y0,
+    int y1, tl_err *e)
+{
+	return open_dem(path, o, 0, (const int[]){ x0, x1 },
+	    (const int[]){ y0, y1, -1 }, e);
 }
 
 dem *
@@ -449,6 +459,9 @@ dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 	if (j < 0 || j >= h)
 		return tl_fail(e, "%s: row %d outside 0 .. %lld", d->what, j,
 		    h - 1);
+	if (d->cy1 > 0 && (j < d->cy0 || j >= d->cy1))
+		return tl_fail(e, "%s: row %d outside the rows read, %d .. %d",
+		    d->what, j, d->cy0, d->cy1 - 1);
 	if (x0 < d->cx0 || n < 0 || x0 + (long long)n > d->cx0 + w)
 		return tl_fail(e, "%s: columns %d .. %lld outside %d .. %lld",
 		    d->what, x0, x0 + (long long)n - 1, d->cx0,

@@ -66,6 +66,12 @@ dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
  * numbers are the whole DEM's; a span outside the window fails. */
 dem *dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
     tl_err *e);
+/* dem_open_cols of rows y0 .. y1-1 only (a part of a piece, which scans
+ * a band of the DEM's rows): the scratch file holds those rows of the
+ * window (the others are holes), the source is read from the block
+ * holding row y0; a span of another row fails. */
+dem *dem_open_window(const char *path, const dem_opts *o, int x0, int x1,
+    int y0, int y1, tl_err *e);
 /* Saves d's converted, void-filled samples and validity (what
  * dem_read_row gives for every row; d from dem_open or dem_open_filled)
  * to path as a filled DEM file (filled(5)), streamed a row at a time,

@@ -67,6 +67,8 @@ struct dem {
 	                          * of a window (cols): its rows, unfilled;
 	                          * or a filled DEM file (file) */
 	int cx0, cw;             /* the columns in fd (all but dem_open_cols) */
+	int cy0, cy1;            /* the rows read (dem_open_rows,
+	                          * dem_open_window), or 0, 0: all */
 	int unfilled;            /* dem_open_cols: NaN marks a void */
 	long long voids;
 	double zunit;            /* metres per height unit of the file */

@@ -24,8 +24,26 @@ dmax(double a, double b)
 	return a > b ? a : b;
 }
 
+/* The first level rows of heights and of local errors still to be read:
+ * the rings' rows below them may be overwritten. A part reads heights
+ * 2 x 64 (+ margin) rows above its batch's first DEM row and gives out
+ * local errors from next_out; blocks read their saturation bands. */
+static int
+keep_v(const state *s)
+{
+	return s->part != NULL ? s->yfirst - 2 * BT_MAXH - 2 :
+	    s->next_bj * BT_CELLS;
+}
+
+static int
+keep_e(const state *s)
+{
+	return s->part != NULL ? s->next_out : s->next_bj * BT_CELLS - REACH;
+}
+
 /* Loads level row r (the next one): a real row, or past the last one a
- * copy of it; columns past the last real one copy its height (padding). */
+ * copy of it; columns past the last real one copy its height (padding).
+ * Its local errors start at 0, or are read (tiles_run_merged). */
 static int
 load_row(state *s, int r, tl_err *e)
 {
@@ -34,10 +52,10 @@ load_row(state *s, int r, tl_err *e)
 	size_t o;
 	long J = (long)r << L->level;
 
-	/* the rows it overwrites are behind every block row still to go */
-	assert(r == s->loaded);
-	assert(r < RINGV || r - RINGV < s->next_bj * BT_CELLS);
-	assert(r < RINGE || r - RINGE < s->next_bj * BT_CELLS - REACH);
+	/* the rows it overwrites are behind every row still to be read */
+	assert(r == s->loaded && r < s->r1);
+	assert(r - RINGV < keep_v(s) || r - RINGV < s->r0);
+	assert(r - RINGE < keep_e(s) || r - RINGE < s->r0);
 	s->loaded++;
 	/* the window's real columns: c0 .. nr-1 (the piece's first block
 	 * column is a real one, so n - 1 >= c0) */
@@ -63,6 +81,9 @@ load_row(state *s, int r, tl_err *e)
 			s->ox[o + i] = s->oy[o + i] = 0;
 	}
 	memset(s->acc + eslot(s, r), 0, (size_t)s->P * sizeof *s->acc);
+	if (s->in != NULL && s->in(s->in_ctx, r, s->acc + eslot(s, r) +
+	    (s->lo - s->c0), e) < 0)
+		return -1;
 	o = (size_t)(r & (RINGV - 1)) * s->nn; /* this row's scales */
 	geo_row_sx(L->m, (double)J, s->sx + o);
 	geo_row_sy(L->m, (double)J, s->sy + o);
@@ -72,8 +93,8 @@ load_row(state *s, int r, tl_err *e)
 static int
 ensure(state *s, int r, tl_err *e)
 {
-	if (r > s->Q - 1)
-		r = s->Q - 1;
+	if (r > s->r1 - 1)
+		r = s->r1 - 1;
 	while (s->loaded <= r)
 		if (load_row(s, s->loaded, e) < 0)
 			return -1;
@@ -541,10 +562,8 @@ strip_init(state *s, strip *t, int lo, int hi, tl_err *e)
 static int
 strips_init(state *s, int n, tl_err *e)
 {
-	int lo = s->b0 * BT_CELLS - REACH, hi = s->b1 * BT_CELLS + REACH + 1;
-	int nb = s->b1 - s->b0;
+	int lo = s->lo, hi = s->hi, nb = s->b1 - s->b0;
 
-	lo = lo > 0 ? lo : 0, hi = hi < s->Pl ? hi : s->Pl;
 	if (n > hi - lo - 1)
 		n = hi - lo - 1;
 	if (n < 1)
@@ -562,17 +581,46 @@ strips_init(state *s, int n, tl_err *e)
 	return 0;
 }
 
-static int
-state_init(state *s, const tiles_level *L, const tiles_piece *pc, dem *d,
-    tl_err *e)
+/* The centres whose local errors saturating piece p reads: its block
+ * columns and REACH either side. */
+static void
+centres(const tiles_level *L, const tiles_piece *p, int *lo, int *hi)
 {
-	const georef *g = dem_georef(d);
+	int Pl = pyramid_nblocks(L->size[0]) * BT_CELLS + 1;
+
+	*lo = p->b0 * BT_CELLS - REACH, *hi = p->b1 * BT_CELLS + REACH + 1;
+	*lo = *lo > 0 ? *lo : 0, *hi = *hi < Pl ? *hi : Pl;
+}
+
+/* The rows a run reads: a part's, or every one. */
+static void
+state_rows(state *s, const tiles_part *q)
+{
+	if (q != NULL) {
+		s->lo = q->lo, s->hi = q->hi;
+		s->y0 = q->y0, s->y1 = q->y1;
+		s->r0 = q->r0, s->r1 = q->r1;
+		s->next_out = q->g0;
+	} else {
+		centres(s->L, &(tiles_piece){ s->b0, s->b1 }, &s->lo, &s->hi);
+		s->y0 = 0, s->y1 = s->d != NULL ? dem_georef(s->d)->height : 0;
+		s->r0 = 0, s->r1 = s->Q;
+	}
+	s->loaded = s->r0;
+}
+
+/* A run of piece pc: scanning d (all its rows, or part q's), or with d
+ * NULL reading its local errors; w0 is the DEM's width. */
+static int
+state_init(state *s, const tiles_level *L, const tiles_piece *pc, int w0,
+    dem *d, const tiles_part *q, tl_err *e)
+{
 	tiles_window win;
 	size_t ring;
 
 	memset(s, 0, sizeof *s);
 	s->L = L, s->d = d;
-	s->W0 = g->width;
+	s->W0 = w0;
 	s->bx = pyramid_nblocks(L->size[0]);
 	s->by = pyramid_nblocks(L->size[1]);
 	s->Pl = s->bx * BT_CELLS + 1, s->Q = s->by * BT_CELLS + 1;
@@ -581,6 +629,7 @@ state_init(state *s, const tiles_level *L, const tiles_piece *pc, dem *d,
 	s->b0 = pc->b0, s->b1 = pc->b1;
 	s->c0 = win.c0, s->cend = win.c1, s->P = win.c1 - win.c0;
 	s->d0 = win.d0, s->dend = win.d1;
+	state_rows(s, q);
 	/* QEM-3D offsets stay within half a cell (fqmsolve(1)) */
 	s->margin = L->displaced ? 0.5 + 1e-6 : EPS;
 	s->scan = !L->displaced && s->step <= SCAN_MAXSTEP;
@@ -598,18 +647,22 @@ state_init(state *s, const tiles_level *L, const tiles_piece *pc, dem *d,
 	}
 	s->sx = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sx, e);
 	s->sy = tl_alloc((size_t)RINGV * s->nn, sizeof *s->sy, e);
-	s->band = tl_alloc((size_t)BAND * s->P, sizeof *s->band, e);
-	s->dz = tl_alloc(s->dend - s->d0, sizeof *s->dz, e);
-	s->dv = tl_alloc(s->dend - s->d0, 1, e);
+	if (q == NULL) /* a part saturates nothing */
+		s->band = tl_alloc((size_t)BAND * s->P, sizeof *s->band, e);
+	if (d != NULL) {
+		s->dz = tl_alloc(s->dend - s->d0, sizeof *s->dz, e);
+		s->dv = tl_alloc(s->dend - s->d0, 1, e);
+		s->dd = tl_alloc((size_t)BATCH * (s->dend - s->d0 + 1),
+		    sizeof *s->dd, e);
+	}
 	if (L->displaced) {
 		s->ox = tl_alloc(ring, sizeof *s->ox, e);
 		s->oy = tl_alloc(ring, sizeof *s->oy, e);
 	}
-	if (!s->z || !s->acc || !s->sx || !s->sy || !s->band ||
+	if (!s->z || !s->acc || !s->sx || !s->sy || (q == NULL && !s->band) ||
 	    (L->displaced && s->nn > 1 && (!s->nk || !s->nu)) ||
-	    !s->dz || !s->dv || (L->displaced && (!s->ox || !s->oy)) ||
-	    (s->dd = tl_alloc((size_t)BATCH * (s->dend - s->d0 + 1),
-	    sizeof *s->dd, e)) == NULL ||
+	    (d != NULL && (!s->dz || !s->dv || !s->dd)) ||
+	    (L->displaced && (!s->ox || !s->oy)) ||
 	    strips_init(s, L->threads, e) < 0) {
 		state_free(s);
 		return -1;
@@ -718,35 +771,65 @@ read_batch(state *s, int J0, int J1, tl_err *e)
 	return 0;
 }
 
-/* Every DEM row scanned, in batches, each block row handed out once no
- * later row can change it. */
+/* The block rows not yet handed out: every level row loaded (a merged
+ * piece's local errors read as they are), each block row once its
+ * saturation band is. */
+static int
+run_blocks(state *s, crew *c, tl_err *e)
+{
+	while (s->next_bj < s->by) {
+		if (ensure(s, s->next_bj * BT_CELLS + BT_CELLS + REACH, e) < 0 ||
+		    emit_row(s, c, s->next_bj++, e) < 0)
+			return -1;
+	}
+	return 0;
+}
+
+/* A part's local errors of the rows no later DEM row can reach (below
+ * level row `below`), given out. A DEM row at level row y reaches the
+ * centres from y - 64 - margin (less than 65) on. */
+static int
+give_out(state *s, int below, tl_err *e)
+{
+	const tiles_part *q = s->part;
+
+	for (; s->next_out < q->g1 && s->next_out < below; s->next_out++)
+		if (s->out(s->out_ctx, s->next_out, s->acc + eslot(s,
+		    s->next_out) + (q->lo - s->c0), e) < 0)
+			return -1;
+	return 0;
+}
+
+/* Every DEM row scanned (a part's), in batches, each block row handed
+ * out once no later row can change it (a part's local errors likewise). */
 static int
 run_rows(state *s, crew *c, tl_progress *pr, tl_err *e)
 {
-	int H = dem_georef(s->d)->height;
-
-	for (int J0 = 0; J0 < H; J0 += BATCH) {
-		int J1 = J0 + BATCH < H ? J0 + BATCH : H;
+	for (int J0 = s->y0; J0 < s->y1; J0 += BATCH) {
+		int J1 = J0 + BATCH < s->y1 ? J0 + BATCH : s->y1;
 		double y = (J1 - 1) / s->step;
+		s->yfirst = (int)(J0 / s->step);
 		/* diamond vertices reach 2 x 64 rows (+ margin) below */
 		if (ensure(s, (int)y + 2 * BT_MAXH + 2, e) < 0 ||
 		    read_batch(s, J0, J1, e) < 0)
 			return -1;
 		c->task = SCAN, c->J0 = J0, c->J1 = J1;
 		run_shares(s, c);
-		while (s->next_bj < s->by && ready(s, s->next_bj, y))
+		if (s->part != NULL &&
+		    give_out(s, (int)floor(J1 / s->step) - BT_MAXH - 1, e) < 0)
+			return -1;
+		while (s->part == NULL && s->next_bj < s->by &&
+		    ready(s, s->next_bj, y))
 			if (emit_row(s, c, s->next_bj++, e) < 0)
 				return -1;
-		tl_progress_step(pr, J1);
+		tl_progress_step(pr, J1 - s->y0);
 		if (s->L->progress != NULL)
 			s->L->progress(s->L->progress_ctx, J1 - J0);
 	}
-	if (ensure(s, s->Q - 1, e) < 0)
-		return -1;
-	while (s->next_bj < s->by)
-		if (emit_row(s, c, s->next_bj++, e) < 0)
-			return -1;
-	return 0;
+	if (s->part != NULL)
+		return ensure(s, s->part->g1 - 1, e) < 0 ? -1 :
+		    give_out(s, s->part->g1, e);
+	return run_blocks(s, c, e);
 }
 
 /* How far past its blocks a piece's window reaches. Saturating a block
@@ -802,33 +885,108 @@ tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e)
 	return tiles_run_piece(L, &all, d, st, e);
 }
 
+void
+tiles_part_window(const tiles_level *L, const tiles_piece *p, int y0,
+    int y1, tiles_part *q)
+{
+	int Q = pyramid_nblocks(L->size[1]) * BT_CELLS + 1;
+	long S = 1L << L->level;
+
+	assert(y0 >= 0 && y0 < y1);
+	q->y0 = y0, q->y1 = y1;
+	centres(L, p, &q->lo, &q->hi);
+	/* a DEM row at level row y reaches centres y - 64 - margin ..
+	 * y + 64 + margin (margin < 1), their vertices 64 rows further */
+	q->g0 = (int)(y0 / S) - BT_MAXH - 1;
+	q->g1 = (int)((y1 - 1) / S) + BT_MAXH + 2;
+	q->g0 = q->g0 > 0 ? q->g0 : 0, q->g1 = q->g1 < Q ? q->g1 : Q;
+	q->r0 = q->g0 - BT_MAXH, q->r1 = q->g1 + BT_MAXH;
+	q->r0 = q->r0 > 0 ? q->r0 : 0, q->r1 = q->r1 < Q ? q->r1 : Q;
+}
+
+/* A run set up by state_init, on a pool of its shares' threads. */
+static int
+run(state *s, tiles_stats *st, tl_err *e)
+{
+	const tiles_level *L = s->L;
+	tl_progress pr;
+	crew c = { 0 };
+	int r;
+
+	s->st = st;
+	c.s = s;
+	if ((c.pool = tl_pool_new(s->nstrip, e)) == NULL)
+		return -1;
+	tl_progress_start(&pr, L->label ? L->label : "", s->y1 - s->y0);
+	if (L->label == NULL)
+		pr.on = 0;
+	r = s->d != NULL ? run_rows(s, &c, &pr, e) : run_blocks(s, &c, e);
+	if (r == 0)
+		tl_progress_end(&pr);
+	tl_pool_free(c.pool);
+	return r;
+}
+
 int
 tiles_run_piece(const tiles_level *L, const tiles_piece *pc, dem *d,
     tiles_stats *st, tl_err *e)
 {
-	tl_progress pr;
-	crew c = { 0 };
 	state s;
 	int r;
 
 	assert(L->threads <= TILES_MAXTHREADS);
 	memset(st, 0, sizeof *st);
-	if (state_init(&s, L, pc, d, e) < 0)
+	if (state_init(&s, L, pc, dem_georef(d)->width, d, NULL, e) < 0)
 		return -1;
-	s.st = st;
-	c.s = &s;
-	if ((c.pool = tl_pool_new(s.nstrip, e)) == NULL) {
-		state_free(&s);
+	r = run(&s, st, e);
+	state_free(&s);
+	return r;
+}
+
+int
+tiles_run_part(const tiles_level *L, const tiles_piece *pc,
+    const tiles_part *q, dem *d, tiles_err_fn out, void *ctx, double *base,
+    tiles_stats *st, tl_err *e)
+{
+	size_t nb;
+	state s;
+	int r;
+
+	assert(L->threads <= TILES_MAXTHREADS);
+	assert(q->y1 <= dem_georef(d)->height);
+	memset(st, 0, sizeof *st);
+	if (state_init(&s, L, pc, dem_georef(d)->width, d, q, e) < 0)
 		return -1;
+	s.part = q, s.out = out, s.out_ctx = ctx;
+	r = run(&s, st, e);
+	/* the shares' base errors, merged (a maximum: any order) */
+	nb = (size_t)(s.b1 - s.b0) * s.by;
+	for (size_t i = 0; r == 0 && i < nb; i++) {
+		base[i] = 0;
+		for (int k = 0; k < s.nstrip; k++)
+			base[i] = dmax(base[i], s.strips[k].base[i]);
 	}
-	tl_progress_start(&pr, L->label ? L->label : "",
-	    dem_georef(d)->height);
-	if (L->label == NULL)
-		pr.on = 0;
-	r = run_rows(&s, &c, &pr, e);
-	if (r == 0)
-		tl_progress_end(&pr);
-	tl_pool_free(c.pool);
+	state_free(&s);
+	return r;
+}
+
+int
+tiles_run_merged(const tiles_level *L, const tiles_piece *pc, int w0,
+    tiles_err_fn in, void *ctx, const double *base, tiles_stats *st,
+    tl_err *e)
+{
+	state s;
+	int r;
+
+	assert(L->threads <= TILES_MAXTHREADS);
+	memset(st, 0, sizeof *st);
+	if (state_init(&s, L, pc, w0, NULL, NULL, e) < 0)
+		return -1;
+	s.in = in, s.in_ctx = ctx;
+	/* the parts' base errors, as the first share's */
+	memcpy(s.strips[0].base, base, (size_t)(s.b1 - s.b0) * s.by *
+	    sizeof *base);
+	r = run(&s, st, e);
 	state_free(&s);
 	return r;
 }

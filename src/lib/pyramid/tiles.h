@@ -42,7 +42,8 @@
 /* Columns c0 .. c0+n-1 of the level's real row r (r < size[1]) of
  * heights and, displaced, the X and Y offsets in metres (x, y NULL for
  * 1D levels), n entries each. Rows are asked for in order, once each,
- * always the same columns: a piece's window, or the whole row. */
+ * always the same columns: a piece's window, or the whole row; from row
+ * 0, or a part's first row r0. */
 typedef int (*tiles_row_fn)(void *ctx, int r, int c0, int n, float *z,
     float *x, float *y, tl_err *e);
 /* A finished block; the callee writes it (b is reused afterwards). With
@@ -107,5 +108,43 @@ int tiles_pieces(const tiles_level *L, int cols, tiles_piece *p, int max);
  * samples counted are those of its own DEM columns). */
 int tiles_run_piece(const tiles_level *L, const tiles_piece *p, dem *d,
     tiles_stats *st, tl_err *e);
+
+/* A piece also runs in parts, so that no job scans more than a bound of
+ * DEM samples however coarse the level: a part scans the piece's DEM
+ * columns in the DEM rows [y0, y1) only and gives out, instead of
+ * blocks, the local errors those rows raise at the centres the piece's
+ * saturation reads (level columns [lo, hi) of level rows [g0, g1): every
+ * centre a diamond of those rows has) and the piece's blocks' base
+ * errors. Each is a maximum over the part's samples, so the maximum over
+ * parts whose rows partition the DEM's is what the whole piece measures,
+ * bit for bit; tiles_run_merged then saturates and hands out the blocks.
+ * A part reads level rows [r0, r1) of the vertex map: its diamonds'
+ * vertices. */
+typedef struct {
+	int y0, y1;
+	int g0, g1;
+	int lo, hi;
+	int r0, r1;
+} tiles_part;
+
+void tiles_part_window(const tiles_level *L, const tiles_piece *p, int y0,
+    int y1, tiles_part *q);
+/* Local errors of level row g, level columns [lo, hi): a part's given out
+ * (rows g0 .. g1-1 in order), or a piece's read back (rows 0 .. all of
+ * the padded level, blocks x 128 + 1, in order; zero where no part
+ * reaches). */
+typedef int (*tiles_err_fn)(void *ctx, int g, float *err, tl_err *e);
+/* Part q of piece p: its local errors to out, its blocks' base errors to
+ * base ((b1 - b0) x block rows, a block row after another), the samples
+ * of its own columns and rows to st->samples. */
+int tiles_run_part(const tiles_level *L, const tiles_piece *p,
+    const tiles_part *q, dem *d, tiles_err_fn out, void *ctx, double *base,
+    tiles_stats *st, tl_err *e);
+/* Piece p from its parts' local errors (in) and base errors (maxima over
+ * the parts, laid out as tiles_run_part's): its blocks to L->block, its
+ * stats but samples to st; w0 is the DEM's width. */
+int tiles_run_merged(const tiles_level *L, const tiles_piece *p, int w0,
+    tiles_err_fn in, void *ctx, const double *base, tiles_stats *st,
+    tl_err *e);
 
 #endif

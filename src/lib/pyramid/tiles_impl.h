@@ -78,6 +78,19 @@ struct state {
 	                     * them, c0 a multiple of 128 (saturation's
 	                     * parities) */
 	long d0, dend;      /* its DEM columns: d0 .. dend-1, d0 = c0 x step */
+	int lo, hi;         /* the centres whose local errors it saturates */
+	int y0, y1;         /* the DEM rows it scans (a part's, or all) */
+	int r0, r1;         /* the level rows it may load (likewise) */
+	/* a part (tiles_run_part): local errors given out, rows g0 .. g1-1,
+	 * next_out the next; no blocks */
+	const tiles_part *part;
+	tiles_err_fn out;
+	void *out_ctx;
+	int next_out;
+	int yfirst;         /* the level row of the batch's first DEM row */
+	/* a piece from its parts (tiles_run_merged): local errors read */
+	tiles_err_fn in;
+	void *in_ctx;
 	double step;        /* 2^level: level-0 samples per level cell */
 	double margin;      /* how far a displaced vertex may stray */
 	float *z, *ox, *oy; /* RINGV x P: heights, offsets in metres */
@@ -133,7 +146,7 @@ base_at(const strip *t, int cj, int ci)
 static inline size_t
 slot(const state *s, int gj)
 {
-	assert(gj >= 0 && gj < s->loaded && gj >= s->loaded - RINGV);
+	assert(gj >= s->r0 && gj < s->loaded && gj >= s->loaded - RINGV);
 	return (size_t)(gj & (RINGV - 1)) * s->P;
 }
 
@@ -141,7 +154,7 @@ slot(const state *s, int gj)
 static inline size_t
 eslot(const state *s, int gj)
 {
-	assert(gj >= 0 && gj < s->loaded && gj >= s->loaded - RINGE);
+	assert(gj >= s->r0 && gj < s->loaded && gj >= s->loaded - RINGE);
 	return (size_t)(gj % RINGE) * s->P;
 }
 
