@@ -10,15 +10,20 @@
 #include "pyramid/pack.h"
 
 static const char usage[] =
-    "[-flq] [-D datum] [-e encoding] [-g work | -p piece] [-H datum]\n"
-    "                [-j jobs] [-N nodata] [-n name] [-s dx[,dy]]\n"
+    "[-flq] [-b samples] [-D datum] [-e encoding] [-g work | -p piece]\n"
+    "                [-H datum] [-j jobs] [-N nodata] [-n name] [-s dx[,dy]]\n"
     "                dem dir level0 [level1 ...]\n"
+    "  -b samples      with -l and -p: a piece whose DEM window holds more\n"
+    "                  samples is made in parts of rows (default 2^30; 0:\n"
+    "                  never)\n"
     "  -f              replace dir even if it is not a pyramid\n"
     "  -g work         gather: the pieces made in work become dir\n"
     "  -j jobs         threads (default: the CPUs)\n"
-    "  -l              list the pieces, level:b0:b1 a line (dir unused)\n"
+    "  -l              list the pieces, level:b0:b1 a line, each after its\n"
+    "                  parts, level:b0:b1:y0:y1 (dir unused)\n"
     "  -p piece        make one piece, level:b0:b1 (its block columns\n"
-    "                  b0..b1-1), in dir taken as a work directory\n"
+    "                  b0..b1-1), or one part, level:b0:b1:y0:y1 (its DEM\n"
+    "                  rows y0..y1-1), in dir taken as a work directory\n"
     "  -q              no report on stderr\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
     "  dem             the original DEM (errors are measured against it);\n"
@@ -48,7 +53,7 @@ operands(const cli *c, pack_args *a, int argc, char **argv)
 /* What to make: the whole pyramid, one piece, or the pyramid from the
  * pieces in a work directory. */
 typedef struct {
-	int piece, level, b0, b1, list;
+	int piece, level, b0, b1, y0, y1, list;
 	const char *gather;
 	int quiet;
 } mode;
@@ -60,7 +65,8 @@ pack(const cli *c, const pack_args *a, const mode *md, tl_err *e)
 	int r = -1;
 
 	if (md->piece)
-		return pack_piece(a, md->level, md->b0, md->b1, e);
+		return pack_piece(a, md->level, md->b0, md->b1, md->y0, md->y1,
+		    e);
 	if (md->list)
 		return pack_list(a, stdout, e);
 	if ((lev = tl_alloc(a->nlevels, sizeof *lev, e)) == NULL)
@@ -77,9 +83,14 @@ static int
 parse_piece(const char *s, mode *md)
 {
 	char end;
+	int n = sscanf(s, "%d:%d:%d:%d:%d%c", &md->level, &md->b0, &md->b1,
+	    &md->y0, &md->y1, &end);
 
-	if (sscanf(s, "%d:%d:%d%c", &md->level, &md->b0, &md->b1, &end) != 3 ||
-	    md->level < 0 || md->b0 < 0 || md->b1 <= md->b0)
+	if (n == 3)
+		md->y0 = md->y1 = 0;
+	else if (n != 5 || md->y0 < 0 || md->y1 <= md->y0)
+		return -1;
+	if (md->level < 0 || md->b0 < 0 || md->b1 <= md->b0)
 		return -1;
 	md->piece = 1;
 	return 0;
@@ -97,8 +108,15 @@ main(int argc, char **argv)
 
 	cli_init(&c, argv, usage, CLI_DEM);
 	a.jobs = ncpu < 1 ? 1 : ncpu > PACK_MAXJOBS ? PACK_MAXJOBS : (int)ncpu;
-	while ((ch = cli_next(&c, argc, argv, "fg:j:lp:q", NULL)) != -1) {
+	a.part_samples = 1LL << 30;
+	while ((ch = cli_next(&c, argc, argv, "b:fg:j:lp:q", NULL)) != -1) {
 		switch (ch) {
+		case 'b':
+			if (tl_parse_ll(optarg, &a.part_samples) < 0 ||
+			    a.part_samples < 0)
+				return cli_bad(&c, "-b %s: expected a number "
+				    ">= 0", optarg);
+			break;
 		case 'f':
 			a.force = 1;
 			break;
@@ -107,8 +125,9 @@ main(int argc, char **argv)
 			break;
 		case 'p':
 			if (parse_piece(optarg, &md) < 0)
-				return cli_bad(&c, "-p %s: expected level:b0:b1, "
-				    "0 <= b0 < b1", optarg);
+				return cli_bad(&c, "-p %s: expected level:b0:b1 "
+				    "or level:b0:b1:y0:y1, 0 <= b0 < b1, 0 <= "
+				    "y0 < y1", optarg);
 			break;
 		case 'j':
 			if (tl_parse_int(optarg, &a.jobs) < 0 || a.jobs < 1)

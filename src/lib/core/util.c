@@ -205,6 +205,20 @@ tl_parse_int(const char *s, int *v)
 	return 0;
 }
 
+int
+tl_parse_ll(const char *s, long long *v)
+{
+	char *end;
+	long long l;
+
+	errno = 0;
+	l = strtoll(s, &end, 10);
+	if (end == s || *end != '\0' || errno != 0)
+		return -1;
+	*v = l;
+	return 0;
+}
+
 char *
 tl_list_entry(char *line)
 {

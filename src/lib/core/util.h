@@ -49,6 +49,7 @@ int tl_pwrite(int fd, const void *buf, size_t n, long long off,
 /* Parse a whole decimal number; -1 when s is not one. */
 int tl_parse_double(const char *s, double *v);
 int tl_parse_int(const char *s, int *v);
+int tl_parse_ll(const char *s, long long *v);
 
 /* Lists of paths (a DEM list, dem2fqm(1); a band list, fqm(5)), one a
  * line: the line's entry, blanks around it cut in place; NULL for a blank

@@ -25,6 +25,9 @@ typedef struct {
 	int nlevels;
 	int jobs;             /* threads, 1 .. PACK_MAXJOBS: a piece each */
 	int force;            /* replace dir even if it is not a pyramid */
+	/* pack_piece, pack_list: a piece whose DEM window holds more DEM
+	 * samples runs in parts of rows (0: never) */
+	long long part_samples;
 	const char *prog;     /* names the progress line, or NULL: none */
 } pack_args;
 
@@ -51,11 +54,22 @@ int pack_run(const pack_args *a, pack_level *out, tl_err *e);
  * pack_run's. The result is pack_run's, byte for byte. A killed piece
  * leaves no half-written file (its temporaries are swept by the next
  * run of a piece there) and no record: it is simply run again. */
-int pack_piece(const pack_args *a, int l, int b0, int b1, tl_err *e);
+int pack_piece(const pack_args *a, int l, int b0, int b1, int y0, int y1,
+    tl_err *e);
 int pack_gather(const pack_args *a, const char *dir, pack_level *out,
     tl_err *e);
 /* The pieces, "level:b0:b1" a line, level 0 first (from the DEM's header
- * and the vertex maps' headers: nothing is computed). */
+ * and the vertex maps' headers: nothing is computed), each after its
+ * parts if it has any, "level:b0:b1:y0:y1".
+ *
+ * A piece whose DEM window holds more than a->part_samples samples is
+ * made in parts: pack_piece with y1 > 0 makes the part of DEM rows
+ * [y0, y1) (tiles_run_part): its local errors and a record of its base
+ * errors and samples under work/.parts; then pack_piece with y1 0 makes
+ * the piece from them (tiles_run_merged), byte for byte as whole. So no
+ * job scans more than part_samples DEM samples (and a row), however
+ * coarse its level. A part, like a piece, leaves no half-written file
+ * and writes its record last. */
 int pack_list(const pack_args *a, FILE *f, tl_err *e);
 
 /* One line per level: "prog: level l: WxH vertices, BXxBY blocks, 1D,
