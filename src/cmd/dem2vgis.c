@@ -27,6 +27,9 @@ static const char usage[] =
     "  --band-width n  with -P: chain jobs of n level-0 columns (0: one "
     "job)\n"
     "  --fill-rows n   with -P: the fill in jobs of n rows (0: one job)\n"
+    "  --part-samples n  with -P: tilepack -b n, a piece's jobs scan at "
+    "most\n"
+    "                  about n DEM samples each (0: pieces whole)\n"
     "  --band a,b --band-levels t [--fill file]  with -M: a plan's band "
     "job, levels\n"
     "                  0 .. t-1 of columns a .. b-1, and level t's FQM\n"
@@ -60,7 +63,7 @@ static const char dem_letters[] = "DeHNs";
 static const char *const flags[] = { "-D", "-e", "-H", "-N", "-s" };
 
 enum { OPT_BAND = 256, OPT_BAND_LEVELS, OPT_BAND_WIDTH, OPT_FILL, OPT_FROM,
-    OPT_FILL_ROWS };
+    OPT_FILL_ROWS, OPT_PART_SAMPLES };
 
 /* The options of a plan's band jobs (dem2vgis(1), section PLANS). */
 static int
@@ -89,6 +92,11 @@ parse_band(cli *c, int ch, pipeline_opts *o)
 			    optarg);
 		o->fillplan = o->fillplan == 0 ? -1 : o->fillplan;
 		return 0;
+	case OPT_PART_SAMPLES:
+		if (tl_parse_ll(optarg, &o->partplan) < 0 || o->partplan < 0)
+			return cli_bad(c, "--part-samples %s: not a sample "
+			    "count", optarg);
+		return 0;
 	case OPT_FILL:
 		o->fill = optarg;
 		return 0;
@@ -110,6 +118,7 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 		{ "fill", required_argument, NULL, OPT_FILL },
 		{ "fill-rows", required_argument, NULL, OPT_FILL_ROWS },
 		{ "from", required_argument, NULL, OPT_FROM },
+		{ "part-samples", required_argument, NULL, OPT_PART_SAMPLES },
 		{ NULL, 0, NULL, 0 },
 	};
 	int ch, j;
@@ -151,7 +160,8 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 int
 main(int argc, char **argv)
 {
-	pipeline_opts o = { .mode = "qem1d", .kernel = "binomial" };
+	pipeline_opts o = { .mode = "qem1d", .kernel = "binomial",
+	    .partplan = -1 };
 	char self[PATH_MAX];
 	cli c;
 	tl_err e;

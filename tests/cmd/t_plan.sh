@@ -12,10 +12,17 @@ ok $? "a 2200x400 crop of N48W125"
 # no temporary: nothing like ".NAME.XXXXXX" under DIR
 no_tmp() { [ "$(find "$1" -name '.*.??????' | wc -l)" -eq 0 ]; }
 
-for m in "" -3; do
+# (3D again with pieces in parts of rows, tilepack -b: the parts are
+# jobs before their pieces)
+for m in "" -3 "-3 --part-samples 300000"; do
 	name=1d; [ "$m" = -3 ] && name=3d
+	case $m in *part*) name=3d-parts ;; esac
 	# shellcheck disable=SC2086
-	dem2vgis -q $m "$T/dem.tif" "$T/ref-$name"
+	if [ $name = 3d-parts ]; then
+		cp -R "$T/ref-3d" "$T/ref-$name"
+	else
+		dem2vgis -q $m "$T/dem.tif" "$T/ref-$name"
+	fi
 	ok $? "$name: dem2vgis in one run"
 	# shellcheck disable=SC2086
 	dem2vgis $m --plan "$T/plan-$name" "$T/dem.tif" "$T/out-$name" &&
@@ -25,7 +32,10 @@ for m in "" -3; do
 	    diff -r "$T/ref-$name" "$T/out-$name" >/dev/null
 	ok $? "$name: make -j2: the pyramid dem2vgis makes, byte for byte"
 	n=$(wc -l <"$T/plan-$name/done/targets")
-	[ "$n" -ge 2 ]; ok $? "$name: $n pieces, each a job"
+	q=$(wc -l <"$T/plan-$name/done/parts")
+	[ "$n" -ge 2 ] && case $name in *parts) [ "$q" -ge 2 ] ;;
+	    *) [ "$q" -eq 0 ] ;; esac
+	ok $? "$name: $n pieces and $q parts of pieces, each a job"
 	make -s -C "$T/plan-$name" >"$T/make2.log" 2>&1 && [ ! -s "$T/make2.log" ]
 	ok $? "$name: make again: nothing to do"
 done
@@ -35,16 +45,16 @@ done
 # anywhere. N48W125 whole: its pieces take seconds.
 big N48W125 || {
 dem2vgis -q "$DATA/N48W125.hgt" "$T/ref-k"
-dem2vgis --plan "$T/plan-k" "$DATA/N48W125.hgt" "$T/out-k"
+dem2vgis --plan "$T/plan-k" --part-samples 3000000 "$DATA/N48W125.hgt" "$T/out-k"
 setsid make -s -C "$T/plan-k" -j2 >/dev/null 2>&1 & mk=$!
 i=0	# until a piece has started (it makes work/)
 while [ $i -lt 1200 ] && [ ! -e "$T/plan-k/work" ]; do sleep 0.05; i=$((i + 1)); done
 sleep 0.2
 /bin/kill -KILL -- -"$mk" 2>/dev/null; wait "$mk" 2>/dev/null
-made=$(ls "$T/plan-k/done" | grep -c '^p-')
-all=$(wc -l <"$T/plan-k/done/targets")
+made=$(ls "$T/plan-k/done" | grep -c '^[pq]-')
+all=$(cat "$T/plan-k/done/parts" "$T/plan-k/done/targets" | wc -l)
 [ ! -e "$T/out-k" ] && [ "$made" -lt "$all" ]
-ok $? "killed while the pieces ran ($made of $all made): no pyramid yet"
+ok $? "killed while the pieces and their parts ran ($made of $all made): no pyramid yet"
 make -s -C "$T/plan-k" -j2 >/dev/null 2>&1 &&
     diff -r "$T/ref-k" "$T/out-k" >/dev/null
 ok $? "run again: it finishes, the pyramid byte for byte"
@@ -53,10 +63,12 @@ ok $? "no temporary left in the plan or the pyramid"
 }
 
 if command -v parallel >/dev/null; then
-	dem2vgis --plan "$T/plan-p" "$T/dem.tif" "$T/out-p"
+	dem2vgis --plan "$T/plan-p" --part-samples 300000 "$T/dem.tif" \
+	    "$T/out-p"
 	PARALLEL=-j2 sh "$T/plan-p/parallel.sh" >/dev/null 2>&1 &&
-	    diff -r "$T/ref-1d" "$T/out-p" >/dev/null
-	ok $? "GNU parallel (local, -j2): the pyramid byte for byte"
+	    diff -r "$T/ref-1d" "$T/out-p" >/dev/null &&
+	    [ "$(wc -l <"$T/plan-p/done/parts")" -ge 2 ]
+	ok $? "GNU parallel (local, -j2), pieces in parts: the pyramid byte for byte"
 else
 	ok 0 "GNU parallel # SKIP not installed"
 fi

@@ -91,15 +91,19 @@ cp "$T/dem.tif" "$T/gone.tif"
 SBATCH_OPTS='-p test -t 5' PATH=$T/bin:$PATH sh "$T/plan-f/slurm.sh" \
     >/dev/null 2>&1 && diff -r "$T/ref" "$T/out-f" >/dev/null
 ok $? "dry run, submitted again with the DEM back: the pyramid byte for byte"
-dem2vgis --band-width 512 --fill-rows 150 --plan "$T/plan-db" "$T/dem.tif" "$T/out-db"
+# (and pieces in parts: tilepack -b)
+dem2vgis --band-width 512 --fill-rows 150 --part-samples 200000 \
+    --plan "$T/plan-db" "$T/dem.tif" "$T/out-db"
 nb=$(wc -l <"$T/plan-db/bands/targets")
 rm -f "$T/bin/jobs" "$T/bin/failed"
 SBATCH_OPTS='' PATH=$T/bin:$PATH sh "$T/plan-db/slurm.sh" >"$T/dry.out" 2>&1 &&
     diff -r "$T/ref" "$T/out-db" >/dev/null
 ok $? "dry run of a plan in $nb bands: the pyramid byte for byte"
 j=$(awk '{ print $2, ($3 == "-" ? "-" : "dep"), $4 }' "$T/bin/jobs" | tr '\n' ';')
-[ "$j" = "fill1 - 3;join dep -;fill2 dep 3;fill dep -;bands dep $nb;chain dep -;submit dep -;pieces - $(wc -l <"$T/plan-db/done/targets");gather dep -;" ]
-ok $? "dry run in bands: the fill's passes (arrays of 3, join, commit), bands (array 1-$nb), chain, submit, pieces, gather ($j)"
+nq=$(wc -l <"$T/plan-db/done/parts")
+[ "$j" = "fill1 - 3;join dep -;fill2 dep 3;fill dep -;bands dep $nb;chain dep -;submit dep -;parts - $nq;pieces dep $(wc -l <"$T/plan-db/done/targets");gather dep -;" ] &&
+    [ "$nq" -ge 10 ]
+ok $? "dry run in bands: the fill's passes (arrays of 3, join, commit), bands (array 1-$nb), chain, submit, $nq parts, pieces after them, gather ($j)"
 
 # --- a real cluster of one node ----------------------------------------
 why=
@@ -282,19 +286,22 @@ bad=$((bad + s))
 
 # the chain in column bands: the fill, the bands as an array after it,
 # the rest of the chain after them
-dem2vgis --band-width 512 --fill-rows 150 --plan "$T/plan-b" "$T/dem.tif" "$T/out-b"
+dem2vgis --band-width 512 --fill-rows 150 --part-samples 200000 \
+    --plan "$T/plan-b" "$T/dem.tif" "$T/out-b"
 nb=$(wc -l <"$T/plan-b/bands/targets")
 SBATCH_OPTS='' sh "$T/plan-b/slurm.sh" >"$T/sbb.out" 2>&1
 ok $? "slurm.sh of a plan in $nb bands submits"
 drained 300; ok $? "the queue drained"
 diff -r "$T/ref" "$T/out-b" >/dev/null
 ok $? "Slurm, in bands: the pyramid byte for byte"
+nq=$(wc -l <"$T/plan-b/done/parts")
 scontrol -o show job >"$T/jobs" 2>&1
 [ "$(st fill1)" = "3 COMPLETED" ] && [ "$(st join)" = "1 COMPLETED" ] &&
     [ "$(st fill2)" = "3 COMPLETED" ] &&
     [ "$(st fill)" = "1 COMPLETED" ] && [ "$(st bands)" = "$nb COMPLETED" ] &&
-    [ "$(st chain)" = "$(printf '2 COMPLETED\n1 FAILED')" ]
-s=$?; ok $s "the fill's arrays of 3 and its join and commit, an array of $nb bands, the chain: all completed"
+    [ "$(st chain)" = "$(printf '2 COMPLETED\n1 FAILED')" ] &&
+    [ "$(st parts)" = "$nq COMPLETED" ]
+s=$?; ok $s "the fill's arrays of 3 and its join and commit, an array of $nb bands, the chain, an array of $nq parts of pieces: all completed"
 [ $s -eq 0 ] || sed 's/^/#   /' "$T/jobs"
 
 stop

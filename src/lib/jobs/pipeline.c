@@ -511,7 +511,8 @@ plan(const pipeline_opts *o, const char *dem, int levels, int w, int h,
 {
 	const char *chain[PIPELINE_MAXOPTS + 8], *dopt[PIPELINE_MAXOPTS + 2];
 	char adem[PATHMAX], aout[PATHMAX], abin[PATHMAX];
-	plan_opts p = { .prog = o->prog, .levels = levels, .force = o->force };
+	plan_opts p = { .prog = o->prog, .levels = levels, .force = o->force,
+	    .part_samples = o->partplan };
 	int nc = 0, nd = 0;
 
 	if (strcmp(o->mode, "qem3d") == 0)

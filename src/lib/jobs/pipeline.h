@@ -52,6 +52,8 @@ typedef struct {
 	                        * the plan's own choice, -1: no bands) */
 	int fillplan;          /* --plan: the fill's row bands, in rows (0:
 	                        * the plan's own choice, -1: one job) */
+	long long partplan;    /* --plan: tilepack -b, DEM samples a job
+	                        * scans at most (-1: tilepack's default) */
 } pipeline_opts;
 
 /* The level-0 columns a band reads past its own on either side so that

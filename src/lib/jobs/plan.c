@@ -134,9 +134,11 @@ makefile(FILE *f, const plan_opts *o)
 	    "# Run: make -C THIS-DIRECTORY -j N, and again after a failure "
 	    "or a kill:\n# it goes on where it stopped. The jobs: "
 	    "done/chain (the quadric chain,\n# every level's vertex map into "
-	    "vmaps/), done/p-L-B0-B1 (tilepack -p: one\n# piece into work/), "
-	    "done/gather (tilepack -g: work/ becomes the pyramid).\n",
-	    o->prog, o->out, o->dem);
+	    "vmaps/), done/p-L-B0-B1 (tilepack -p: one\n# piece into work/; "
+	    "a piece whose window of the DEM holds more samples than\n"
+	    "# tilepack -b allows after its parts done/q-L-B0-B1-Y0-Y1, each "
+	    "scanning DEM\n# rows Y0..Y1-1), done/gather (tilepack -g: work/ "
+	    "becomes the pyramid).\n", o->prog, o->out, o->dem);
 	if (o->nbands > 0)
 		fprintf(f, "# The chain is split into %d column bands: done/fill "
 		    "(the DEM, its voids\n# filled), done/b-K (levels 0..%d "
@@ -153,14 +155,17 @@ makefile(FILE *f, const plan_opts *o)
 	words(f, o->demopt, o->ndemopt, 1);
 	fputs("\nCHAINOPTS =", f);
 	words(f, o->chainopt, o->nchainopt, 1);
+	fputs("\nPARTOPTS =", f);
+	if (o->part_samples >= 0)
+		fprintf(f, " -b %lld", o->part_samples);
 	vmaps(f, o);
 	fputs("\n\nall: done/gather\n\n", f);
 	chain(f, o);
 	fprintf(f, "# the pieces, known once the vertex maps are: a rule each\n"
 	    "done/pieces.mk: done/chain\n"
-	    "\t$(B)/tilepack -l $(DEMOPTS) $(DEM) - $(V) >done/pieces.tmp\n"
-	    "\tsed 's/:/-/g; s|^|done/p-|' done/pieces.tmp >done/targets\n"
-	    "\tsh mkpieces done/pieces.tmp >$@.tmp\n"
+	    "\t$(B)/tilepack -l $(PARTOPTS) $(DEMOPTS) $(DEM) - $(V) "
+	    ">done/pieces.tmp\n"
+	    "\tsh mkpieces done/pieces.tmp done/parts done/targets >$@.tmp\n"
 	    "\tmv $@.tmp $@\n\n"
 	    "# made (and read again) for any goal but the chain's band stages\n"
 	    "# alone, which GNU parallel and Slurm run before it\n"
@@ -177,17 +182,32 @@ static void
 mkpieces(FILE *f)
 {
 	fputs("#!/bin/sh\n"
-	    "# mkpieces LIST: the Makefile's rules for the pieces (tilepack "
-	    "-l's lines)\n"
-	    "printf 'PIECES ='\n"
-	    "while read -r p; do printf ' done/p-%s' \"$(echo \"$p\" | tr : -)\"; "
-	    "done <\"$1\"\n"
-	    "echo\n"
-	    "while read -r p; do\n"
-	    "\tt=done/p-$(echo \"$p\" | tr : -)\n"
-	    "\tprintf '%s: done/chain\\n\\t$(B)/tilepack -j 1 -p %s "
-	    "$(DEMOPTS) $(DEM) work $(V)\\n\\ttouch $@\\n' \"$t\" \"$p\"\n"
-	    "done <\"$1\"\n", f);
+	    "# mkpieces LIST PARTS PIECES: the Makefile's rules for the jobs of\n"
+	    "# tilepack -l's lines (level:b0:b1 a piece, level:b0:b1:y0:y1 a part of\n"
+	    "# one, before it); the parts' targets into PARTS, the pieces' into\n"
+	    "# PIECES, a line each\n"
+	    ": >\"$2\"\n"
+	    ": >\"$3\"\n"
+	    "tr : - <\"$1\" | awk -v parts=\"$2\" -v pieces=\"$3\" '\n"
+	    "BEGIN { FS = \"-\" }\n"
+	    "NF == 5 {\n"
+	    "\tq = \"done/q-\" $0\n"
+	    "\tprint q >parts\n"
+	    "\tdeps[$1 \"-\" $2 \"-\" $3] = deps[$1 \"-\" $2 \"-\" $3] \" \" q\n"
+	    "\tprintf \"%s: done/chain\\n\\t$(B)/tilepack -j 1 $(PARTOPTS) -p \" \\\n"
+	    "\t    \"%s:%s:%s:%s:%s $(DEMOPTS) $(DEM) work $(V)\\n\\ttouch $@\\n\", \\\n"
+	    "\t    q, $1, $2, $3, $4, $5\n"
+	    "}\n"
+	    "NF == 3 {\n"
+	    "\tp = \"done/p-\" $0\n"
+	    "\tprint p >pieces\n"
+	    "\tlist = list \" \" p\n"
+	    "\tprintf \"%s: done/chain%s\\n\\t$(B)/tilepack -j 1 $(PARTOPTS) -p \" \\\n"
+	    "\t    \"%s:%s:%s $(DEMOPTS) $(DEM) work $(V)\\n\\ttouch $@\\n\", \\\n"
+	    "\t    p, deps[$0], $1, $2, $3\n"
+	    "}\n"
+	    "END { print \"PIECES =\" list }\n"
+	    "'\n", f);
 }
 
 static void
@@ -195,7 +215,8 @@ parallel(FILE *f, const plan_opts *o, const char *dir)
 {
 	fputs("#!/bin/sh\n"
 	    "# GNU parallel, stage by stage: the chain (the fill, the bands, "
-	    "the rest, when\n# split), the pieces, the gather. Each job is "
+	    "the rest, when\n# split), the pieces' parts, the pieces, the "
+	    "gather. Each job is "
 	    "a make target of this directory,\n# so a run again skips what "
 	    "is done. Its options come from PARALLEL, e.g.\n"
 	    "# PARALLEL='--sshloginfile hosts -j 4' for machines that share "
@@ -214,6 +235,7 @@ parallel(FILE *f, const plan_opts *o, const char *dir)
 		    "parallel --will-cite --halt now,fail=1 make -C \"$P\" "
 		    ":::: \"$P/bands/targets\"", f);
 	fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" ::: done/pieces.mk\n"
+	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" :::: \"$P/done/parts\"\n"
 	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" :::: \"$P/done/targets\"\n"
 	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" ::: done/gather\n", f);
 }
@@ -227,9 +249,9 @@ slurm(FILE *f, const plan_opts *o, const char *dir)
 	 * not left pending for ever. */
 	fputs("#!/bin/sh\n"
 	    "# Slurm: the chain (split: the fill, the bands as an array, the "
-	    "rest), then a\n# job submitting the pieces as an array and the "
-	    "gather after them (the pieces\n# are known once the chain has "
-	    "run). Each job is a make target of this\n# directory: "
+	    "rest), then a\n# job submitting the pieces' parts and the pieces "
+	    "as arrays and the gather\n# after them (they are known once the "
+	    "chain has run). Each job is a make target of this\n# directory: "
 	    "submitted again, it skips what is done. A failed job cancels\n"
 	    "# those after it. sbatch options (partition, account, time) come "
 	    "from\n# SBATCH_OPTS.\n"
@@ -270,8 +292,15 @@ slurm(FILE *f, const plan_opts *o, const char *dir)
 	    "--dependency=afterok:$c --kill-on-invalid-dep=yes "
 	    "--wrap 'sh slurm.sh --pieces'\n"
 	    "\texit 0\nfi\n"
+	    "d=\nn=$(wc -l <\"$P/done/parts\")\n"
+	    "if [ \"$n\" -gt 0 ]; then\n"
+	    "\tq=$(sbatch --parsable $SBATCH_OPTS -J parts -D \"$P\" "
+	    "--array=1-$n --wrap 'make \"$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" "
+	    "done/parts)\"')\n"
+	    "\td=\"--dependency=afterok:$q --kill-on-invalid-dep=yes\"\n"
+	    "fi\n"
 	    "n=$(wc -l <\"$P/done/targets\")\n"
-	    "a=$(sbatch --parsable $SBATCH_OPTS -J pieces -D \"$P\" "
+	    "a=$(sbatch --parsable $SBATCH_OPTS $d -J pieces -D \"$P\" "
 	    "--array=1-$n --wrap 'make \"$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" "
 	    "done/targets)\"')\n"
 	    "sbatch --parsable $SBATCH_OPTS -J gather -D \"$P\" "

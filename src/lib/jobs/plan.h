@@ -36,6 +36,9 @@ typedef struct {
 	 * dem2fqm -W's parts (filled(5)): pass 1 per band, the join, pass 2
 	 * per band, the commit */
 	int nfill, fillrows, height;
+	/* tilepack -b: pieces in parts of at most this many DEM samples (-1:
+	 * tilepack's own bound) */
+	long long part_samples;
 } plan_opts;
 
 /* Writes the plan into the directory dir, made atomically (an existing
