@@ -260,12 +260,13 @@ for c in qem1d qem3d flip; do
 	    [ -z "$(ls "$T/pw-$c/0" 2>/dev/null)" ]; do
 		sleep 0.02; i=$((i + 1))
 	done
-	if kill -9 $kp 2>/dev/null; then
-		wait $kp 2>/dev/null
+	# killed, not ended first: a child that has just exited can still
+	# be signalled, its status tells
+	kill -9 $kp 2>/dev/null; wait $kp 2>/dev/null
+	if [ $? -eq 137 ]; then
 		[ ! -e "$T/pw-$c/.pieces/$(echo "$first" | tr : -)" ]
 		ok $? "$c: a piece killed in the middle leaves no record"
 	else
-		wait $kp 2>/dev/null
 		ok 0 "# SKIP $c: the piece ended before it could be killed"
 	fi
 	# {} as the placeholder: a capital P may be in $T (mktemp's letters)
@@ -298,4 +299,135 @@ fails "-p 0:0:3, not one of level 0's pieces" 1 "^tilepack: piece 0:0:3: not one
 # shellcheck disable=SC2086
 fails "-g and -p together" 2 "^tilepack: -g, -l and -p: one at most" \
     tilepack -g "$T/pw-miss" -p 0:0:14 "$d" "$T/x" $vl
+# --- pieces in parts of DEM rows (-b): each part its own process ---------
+# With -b, a piece whose DEM window holds more samples is made in parts of
+# DEM rows: -l lists them just before it, they run first (in any order),
+# then the piece from them. On the vertex maps above; -b such that every
+# level is cut, level 0 too.
+parts_of() { grep -E '^[0-9]+:[0-9]+:[0-9]+:[0-9]+:[0-9]+$'; }
+for c in qem1d qem3d flip; do
+	case $c in
+	qem1d) d=$DATA/N48W125.hgt b=3000000 ;;
+	qem3d) d=$T/wide.tif b=200000 ;;
+	*) d=$T/flip.tif b=200000 ;;
+	esac
+	vl=$(levels "$T/pv-$c") w=$T/qw-$c
+	# shellcheck disable=SC2086
+	jobs=$(tilepack -l -b $b "$d" - $vl)
+	parts=$(echo "$jobs" | parts_of)
+	np=$(echo "$parts" | grep -c .)
+	nl=$(echo "$parts" | cut -d: -f1 | sort -u | wc -l)
+	n0=$(echo "$parts" | grep -c '^0:')
+	[ "$np" -ge 20 ] && [ "$nl" -ge 4 ] && [ "$n0" -ge 4 ]
+	ok $? "$c, -b $b: $np parts, on $nl levels, $n0 on level 0"
+	# the pieces are those listed without -b; a piece's parts come just
+	# before it, at least 2, its rows 0..H-1 in order in bands of nearly
+	# equal height; a level's only piece spans the DEM's width: it is in
+	# ceil(W x H / b) parts
+	wh=$(dem2fqm -I "$d" | awk '$1 == "size" { print $2, $3 }')
+	bad=$(echo "$jobs" | awk -F: -v W="${wh% *}" -v H="${wh#* }" -v b=$b '
+	NF == 5 {
+		if (n == 0) { L = $1; B0 = $2; B1 = $3; y = 0; lo = H; hi = 0 }
+		if ($1 != L || $2 != B0 || $3 != B1 || $4 != y)
+			print "part " $0 " out of place"
+		y = $5; h = $5 - $4; lo = h < lo ? h : lo; hi = h > hi ? h : hi
+		n++; next
+	}
+	{
+		if (n > 0 && ($1 != L || $2 != B0 || $3 != B1 || y != H ||
+		    n < 2 || hi - lo > 1))
+			print "piece " $0 ": " n " parts, rows to " y ", " lo ".." hi
+		k[NR] = n > 0 ? n : 1; lev[NR] = $1; cnt[$1]++; n = 0
+	}
+	END {
+		if (n > 0) print "parts after the last piece"
+		want = int((W * H + b - 1) / b)
+		for (i in lev)
+			if (cnt[lev[i]] == 1 && k[i] != want)
+				print "level " lev[i] ": " k[i] " parts, not " want
+	}' | head -3)
+	# shellcheck disable=SC2086
+	[ -z "$bad" ] &&
+	    [ "$(echo "$jobs" | grep -vE '(:.*){4}')" = "$(tilepack -l "$d" - $vl)" ]
+	ok $? "$c: each piece after its parts, rows cut as the rule says${bad:+ ($bad)}"
+	# a part killed (SIGKILL) once its local errors' temporary is there,
+	# polled without a fork: a part takes tenths of a second
+	# shellcheck disable=SC2046
+	set -- $(echo "$parts" | head -n 1 | tr : ' ')
+	# shellcheck disable=SC2086
+	tilepack -b $b -j 1 -p "$1:$2:$3:$4:$5" "$d" "$w" $vl & kp=$!
+	rec=$w/.parts/$1-$2-$3-$4 i=0
+	while [ $i -lt 1000000 ] && [ ! -e "$rec" ] && kill -0 $kp 2>/dev/null; do
+		set -- "$w"/.parts/.*.exr.??????
+		[ -e "$1" ] && break
+		i=$((i + 1))
+	done
+	kill -9 $kp 2>/dev/null; wait $kp 2>/dev/null
+	if [ $? -eq 137 ]; then
+		[ ! -e "$rec" ]
+		ok $? "$c: a part killed in the middle leaves no record ($(find "$w" -name '.*.??????' | wc -l) temporary left)"
+	else
+		ok 0 "# SKIP $c: the part ended before it could be killed"
+	fi
+	# shellcheck disable=SC2086
+	echo "$parts" | sort -r |
+	    xargs -P 2 -I {} tilepack -b $b -j 1 -p {} "$d" "$w" $vl 2>"$T/xargs.err"
+	st=$?; [ $st -eq 0 ] || sed 's/^/#   /' "$T/xargs.err"
+	ok $st "$c: every part, two processes at a time, the killed one again"
+	# the piece of a part whose record is missing: refused, no record
+	# shellcheck disable=SC2046
+	set -- $(echo "$parts" | sed -n 2p | tr : ' ')
+	rm -f "$w/.parts/$1-$2-$3-$4"
+	# shellcheck disable=SC2086
+	fails "$c: piece $1:$2:$3 without its part $4:$5's record: refused" 1 \
+	    "^tilepack: .*/qw-$c: piece $1:$2:$3: its part of DEM rows $4\.\.$(($5 - 1)) not made$" \
+	    tilepack -b $b -j 1 -p "$1:$2:$3" "$d" "$w" $vl
+	[ ! -e "$w/.pieces/$1-$2-$3" ]; ok $? "... and leaves no record of the piece"
+	# shellcheck disable=SC2086
+	tilepack -b $b -j 1 -p "$1:$2:$3:$4:$5" "$d" "$w" $vl &&
+	    echo "$jobs" | grep -vE '(:.*){4}' | sort -r |
+	    xargs -P 2 -I {} tilepack -b $b -j 1 -p {} "$d" "$w" $vl 2>"$T/xargs.err"
+	st=$?; [ $st -eq 0 ] || sed 's/^/#   /' "$T/xargs.err"
+	ok $st "$c: that part again, then every piece from its parts"
+	half=$(find "$w" -name '.*.??????' | wc -l)
+	[ "$half" -eq 0 ]; ok $? "$c: no temporary left in the work directory ($half)"
+	# shellcheck disable=SC2086
+	tilepack -q -g "$w" "$d" "$T/qout-$c" $vl &&
+	    diff -r "$T/pref-$c" "$T/qout-$c" >/dev/null
+	ok $? "$c: gathered from parts, the pyramid is tilepack's, byte for byte"
+	[ ! -e "$w" ]; ok $? "$c: the work directory became the pyramid"
+	rm -rf "$T/qout-$c"
+done
+# Parts refused: rows not of the cut, a piece made whole, a piece not of
+# the cut, malformed; nothing made.
+d=$T/flip.tif b=200000 vl=$(levels "$T/pv-flip") w=$T/qw-bad
+# shellcheck disable=SC2086
+jobs=$(tilepack -l -b $b "$d" - $vl)
+# shellcheck disable=SC2046
+set -- $(echo "$jobs" | parts_of | head -n 1 | tr : ' ')
+n=$(echo "$jobs" | grep -c "^$1:$2:$3:")
+# shellcheck disable=SC2086
+fails "-p $1:$2:$3:$4:$(($5 + 1)), rows not of the cut: refused" 1 \
+    "^tilepack: part $1:$2:$3:$4:$(($5 + 1)): not one of the piece's $n parts$" \
+    tilepack -b $b -p "$1:$2:$3:$4:$(($5 + 1))" "$d" "$w" $vl
+for o in "-b 0" "-b 1000000000" ""; do
+	# shellcheck disable=SC2086
+	fails "-p $1:$2:$3:$4:$5 ${o:-(default -b)}: the piece is made whole" 1 \
+	    "^tilepack: part $1:$2:$3:$4:$5: not one of the piece's 1 parts \(it is made whole: -b sets how many samples a part holds\)$" \
+	    tilepack $o -p "$1:$2:$3:$4:$5" "$d" "$w" $vl
+done
+n=$(echo "$jobs" | grep -cE '^0:[0-9]+:[0-9]+$')
+# shellcheck disable=SC2086
+fails "-p 0:0:3:0:100, a part of no piece: refused" 1 \
+    "^tilepack: piece 0:0:3: not one of level 0's $n pieces$" \
+    tilepack -b $b -p 0:0:3:0:100 "$d" "$w" $vl
+for p in 0:0:14:5 "$1:$2:$3:$4:$4" "$1:$2:$3:$4:"; do
+	# shellcheck disable=SC2086
+	fails "-p $p: a usage error" 2 "^tilepack: -p $p: expected level:b0:b1 or level:b0:b1:y0:y1" \
+	    tilepack -b $b -p "$p" "$d" "$w" $vl
+done
+# shellcheck disable=SC2086
+fails "-b -3: a usage error" 2 "^tilepack: -b -3: expected a number >= 0" \
+    tilepack -b -3 -l "$d" - $vl
+[ ! -e "$w" ]; ok $? "refused parts leave no work directory"
 done_testing
