@@ -105,6 +105,28 @@ nq=$(wc -l <"$T/plan-db/done/parts")
     [ "$nq" -ge 10 ]
 ok $? "dry run in bands: the fill's passes (arrays of 3, join, commit), bands (array 1-$nb), chain, submit, $nq parts, pieces after them, gather ($j)"
 
+# arrays of at most TL_SLURM_ARRAY tasks (Slurm's MaxArraySize): several
+# arrays a stage, the next stage after all of them
+dem2vgis --band-width 512 --fill-rows 150 --part-samples 200000 \
+    --plan "$T/plan-dc" "$T/dem.tif" "$T/out-dc"
+rm -f "$T/bin/jobs" "$T/bin/failed"
+TL_SLURM_ARRAY=4 SBATCH_OPTS='' PATH=$T/bin:$PATH sh "$T/plan-dc/slurm.sh" \
+    >"$T/dry.out" 2>&1 && diff -r "$T/ref" "$T/out-dc" >/dev/null
+ok $? "dry run, arrays of at most 4 tasks: the pyramid byte for byte"
+# per array stage: arrays, tasks, the largest array; the pieces' arrays
+# wait for every parts' array
+awk '{ n[$2]++; t[$2] += $4; if ($4 > m[$2]) m[$2] = $4 }
+    END { split("fill1 fill2 bands parts pieces", s, " ")
+    for (i = 1; i <= 5; i++) printf "%s %d %d %d;", s[i], n[s[i]], t[s[i]], m[s[i]] }' \
+    "$T/bin/jobs" >"$T/arrays"
+nq=$(wc -l <"$T/plan-dc/done/parts") np=$(wc -l <"$T/plan-dc/done/targets")
+nb=$(wc -l <"$T/plan-dc/bands/targets")
+want="fill1 1 3 3;fill2 1 3 3;bands 2 $nb 4;parts $(((nq + 3) / 4)) $nq 4;pieces $(((np + 3) / 4)) $np 4;"
+qids=$(awk '$2 == "parts" { printf "%s%s", s, $1; s = ":" }' "$T/bin/jobs")
+pdeps=$(awk '$2 == "pieces" { print $3 }' "$T/bin/jobs" | sort -u)
+[ "$(cat "$T/arrays")" = "$want" ] && [ "$pdeps" = "$qids" ]
+ok $? "dry run, arrays of at most 4: $(cat "$T/arrays") each pieces' array after every parts' array ($pdeps)"
+
 # --- a real cluster of one node ----------------------------------------
 why=
 if [ "$(id -u)" -ne 0 ]; then

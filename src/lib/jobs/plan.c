@@ -248,64 +248,56 @@ slurm(FILE *f, const plan_opts *o, const char *dir)
 	 * whose dependency failed is cancelled (--kill-on-invalid-dep),
 	 * not left pending for ever. */
 	fputs("#!/bin/sh\n"
-	    "# Slurm: the chain (split: the fill, the bands as an array, the "
-	    "rest), then a\n# job submitting the pieces' parts and the pieces "
-	    "as arrays and the gather\n# after them (they are known once the "
-	    "chain has run). Each job is a make target of this\n# directory: "
-	    "submitted again, it skips what is done. A failed job cancels\n"
-	    "# those after it. sbatch options (partition, account, time) come "
-	    "from\n# SBATCH_OPTS.\n"
-	    "set -e\nP=", f);
+	    "# Slurm: the chain (split: the fill, the bands as an array, the rest),\n"
+	    "# then a job submitting the pieces' parts and the pieces as arrays and\n"
+	    "# the gather after them (they are known once the chain has run). Each\n"
+	    "# job is a make target of this directory: submitted again, it skips what\n"
+	    "# is done. A failed job cancels those after it. sbatch options\n"
+	    "# (partition, account, time) come from SBATCH_OPTS; arrays have at most\n"
+	    "# TL_SLURM_ARRAY tasks (default 1000: Slurm's default MaxArraySize is\n"
+	    "# 1001), more make several.\n"
+	    "set -e\n", f);
+	fputs("P=", f);
 	word(f, dir, 0);
-	fputs("\nif [ \"${1:-}\" != --pieces ]; then\n", f);
+	fputs("\n"
+	    "# job NAME DEP CMD: a job running CMD (a line of sh) in the plan after\n"
+	    "# the jobs DEP (ids a:b:..., or none); prints its id\n"
+	    "job() {\n"
+	    "\tsbatch --parsable $SBATCH_OPTS -J \"$1\" -D \"$P\" \\\n"
+	    "\t    ${2:+--dependency=afterok:$2 --kill-on-invalid-dep=yes} --wrap \"$3\"\n"
+	    "}\n"
+	    "# array NAME DEP LIST: the make targets of LIST (a line each) as job\n"
+	    "# arrays after the jobs DEP; prints their ids joined by ':'\n"
+	    "array() {\n"
+	    "\tn=$(wc -l <\"$P/$3\") m=${TL_SLURM_ARRAY:-1000} o=0 ids=\n"
+	    "\twhile [ \"$o\" -lt \"$n\" ]; do\n"
+	    "\t\tk=$((n - o < m ? n - o : m))\n"
+	    "\t\tid=$(sbatch --parsable $SBATCH_OPTS -J \"$1\" -D \"$P\" \\\n"
+	    "\t\t    ${2:+--dependency=afterok:$2 --kill-on-invalid-dep=yes} \\\n"
+	    "\t\t    --array=1-$k --wrap \\\n"
+	    "\t\t    \"make \\\"\\$(sed -n \\$((SLURM_ARRAY_TASK_ID + $o))p $3)\\\"\")\n"
+	    "\t\tids=${ids:+$ids:}$id o=$((o + k))\n"
+	    "\tdone\n"
+	    "\techo \"$ids\"\n"
+	    "}\n"
+	    "if [ \"${1:-}\" != --pieces ]; then\n", f);
 	if (o->nfill > 0)
-		fputs("\tn=$(wc -l <\"$P/bands/fill1\")\n"
-		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J fill1 -D \"$P\" "
-		    "--array=1-$n --wrap 'make \"$(sed -n "
-		    "\"${SLURM_ARRAY_TASK_ID}p\" bands/fill1)\"')\n"
-		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J join -D \"$P\" "
-		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
-		    "--wrap 'make done/fill-join')\n"
-		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J fill2 -D \"$P\" "
-		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
-		    "--array=1-$n --wrap 'make \"$(sed -n "
-		    "\"${SLURM_ARRAY_TASK_ID}p\" bands/fill2)\"')\n"
-		    "\tf=$(sbatch --parsable $SBATCH_OPTS -J fill -D \"$P\" "
-		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
-		    "--wrap 'make done/fill')\n", f);
+		fputs("\tf=$(array fill1 \"\" bands/fill1)\n"
+		    "\tf=$(job join \"$f\" 'make done/fill-join')\n"
+		    "\tf=$(array fill2 \"$f\" bands/fill2)\n"
+		    "\tf=$(job fill \"$f\" 'make done/fill')\n", f);
 	else if (o->nbands > 0)
-		fputs("\tf=$(sbatch --parsable $SBATCH_OPTS -J fill -D \"$P\" "
-		    "--wrap 'make done/fill')\n", f);
-	if (o->nbands > 0)
-		fputs("\tn=$(wc -l <\"$P/bands/targets\")\n"
-		    "\tb=$(sbatch --parsable $SBATCH_OPTS -J bands -D \"$P\" "
-		    "--dependency=afterok:$f --kill-on-invalid-dep=yes "
-		    "--array=1-$n --wrap 'make \"$(sed -n "
-		    "\"${SLURM_ARRAY_TASK_ID}p\" bands/targets)\"')\n"
-		    "\tc=$(sbatch --parsable $SBATCH_OPTS -J chain -D \"$P\" "
-		    "--dependency=afterok:$b --kill-on-invalid-dep=yes "
-		    "--wrap 'make done/pieces.mk')\n", f);
-	else
-		fputs("\tc=$(sbatch --parsable $SBATCH_OPTS -J chain -D \"$P\" "
-		    "--wrap 'make done/pieces.mk')\n", f);
-	fputs("\tsbatch --parsable $SBATCH_OPTS -J submit -D \"$P\" "
-	    "--dependency=afterok:$c --kill-on-invalid-dep=yes "
-	    "--wrap 'sh slurm.sh --pieces'\n"
-	    "\texit 0\nfi\n"
-	    "d=\nn=$(wc -l <\"$P/done/parts\")\n"
-	    "if [ \"$n\" -gt 0 ]; then\n"
-	    "\tq=$(sbatch --parsable $SBATCH_OPTS -J parts -D \"$P\" "
-	    "--array=1-$n --wrap 'make \"$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" "
-	    "done/parts)\"')\n"
-	    "\td=\"--dependency=afterok:$q --kill-on-invalid-dep=yes\"\n"
+		fputs("\tf=$(job fill \"\" 'make done/fill')\n", f);
+	fputs(o->nbands > 0 ?
+	    "\tb=$(array bands \"$f\" bands/targets)\n"
+	    "\tc=$(job chain \"$b\" 'make done/pieces.mk')\n" :
+	    "\tc=$(job chain \"\" 'make done/pieces.mk')\n", f);
+	fputs("\tjob submit \"$c\" 'sh slurm.sh --pieces'\n"
+	    "\texit 0\n"
 	    "fi\n"
-	    "n=$(wc -l <\"$P/done/targets\")\n"
-	    "a=$(sbatch --parsable $SBATCH_OPTS $d -J pieces -D \"$P\" "
-	    "--array=1-$n --wrap 'make \"$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" "
-	    "done/targets)\"')\n"
-	    "sbatch --parsable $SBATCH_OPTS -J gather -D \"$P\" "
-	    "--dependency=afterok:$a --kill-on-invalid-dep=yes "
-	    "--wrap 'make done/gather'\n", f);
+	    "q=$(array parts \"\" done/parts)\n"
+	    "a=$(array pieces \"$q\" done/targets)\n"
+	    "job gather \"$a\" 'make done/gather'\n", f);
 }
 
 /* File name in dir, written by fn, executable or not. */

@@ -1,5 +1,5 @@
 /* pack.c - a DEM's pyramid from its levels' vertex maps (see pack.h). */
-#include "pyramid/pack.h"
+#include "pyramid/pack_impl.h"
 
 #include <assert.h>
 #include <errno.h>
@@ -65,15 +65,6 @@ pack_check_dir(const char *dir, int force, tl_err *e)
 
 /* --- one level ---------------------------------------------------------- */
 
-/* The vertex map being read, for the row callback. */
-typedef struct {
-	rs_reader *r;
-	const rs_header *h;
-	const char *name;
-	int cz, cx, cy; /* channels Z, X, Y (X, Y -1 on 1D levels) */
-	float *row;     /* the span asked for, every channel */
-	int next;       /* the next row to read */
-} vmap;
 
 /* Columns c0 .. c0+n-1 of row r: of a vertex map on file only those
  * bytes (a piece reads its window, not the level), checked for NaN. */
@@ -104,8 +95,8 @@ read_row(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
 }
 
 /* Opens level l's vertex map and checks it against the DEM. */
-static int
-vmap_open(vmap *v, const char *path, int l, const georef *g, tl_err *e)
+int
+pk_vmap_open(vmap *v, const char *path, int l, const georef *g, tl_err *e)
 {
 	const char *name = tl_name(path, 0);
 	fqm_info fi;
@@ -126,19 +117,13 @@ vmap_open(vmap *v, const char *path, int l, const georef *g, tl_err *e)
 	return 0;
 }
 
-static void
-vmap_close(vmap *v)
+void
+pk_vmap_close(vmap *v)
 {
 	rs_close(v->r);
 	free(v->row);
 }
 
-/* Where finished blocks go, and what the index learns from them. */
-typedef struct {
-	const char *dir;
-	const rs_header *attrs; /* the vertex map's fqm:* and geo:* */
-	pyramid_level *L;
-} sink;
 
 static int
 write_block(void *ctx, const pyramid_block *b, tl_err *e)
@@ -154,23 +139,10 @@ write_block(void *ctx, const pyramid_block *b, tl_err *e)
 	return pyramid_block_write(path, b, k->attrs, e);
 }
 
-/* What every level reads. */
-typedef struct {
-	const pack_args *a;
-	dem *d;
-	const char *tmp; /* the directory being built */
-	pyramid_index *ix;
-	const geo_metric *m;
-	pack_level *out;
-	int fifo;           /* a level comes through a FIFO: read once */
-	pthread_mutex_t mu; /* the stats in out, the progress */
-	tl_progress pr;
-	long long done;     /* DEM samples scanned (all pieces, all levels) */
-} work;
 
 /* The index's entry for a level, from its vertex map's header. */
-static int
-level_entry(pyramid_level *pl, int l, const vmap *v, tl_err *e)
+int
+pk_level_entry(pyramid_level *pl, int l, const vmap *v, tl_err *e)
 {
 	const char *s;
 
@@ -191,7 +163,7 @@ level_begin(work *w, int l, const vmap *v, tl_err *e)
 {
 	char path[4096];
 
-	if (level_entry(&w->ix->lev[l], l, v, e) < 0)
+	if (pk_level_entry(&w->ix->lev[l], l, v, e) < 0)
 		return -1;
 	snprintf(path, sizeof path, "%s/%d", w->tmp, l);
 	if (mkdir(path, 0777) != 0)
@@ -206,10 +178,10 @@ levels_begin(work *w, tl_err *e)
 {
 	for (int l = 0; !w->fifo && l < w->a->nlevels; l++) {
 		vmap v;
-		int r = vmap_open(&v, w->a->levels[l], l, dem_georef(w->d), e);
+		int r = pk_vmap_open(&v, w->a->levels[l], l, dem_georef(w->d), e);
 		if (r == 0)
 			r = level_begin(w, l, &v, e);
-		vmap_close(&v);
+		pk_vmap_close(&v);
 		if (r < 0)
 			return -1;
 	}
@@ -234,8 +206,8 @@ on_rows(void *ctx, int rows)
 	pthread_mutex_unlock(&m->w->mu);
 }
 
-static void
-merge_stats(work *w, int l, const tiles_stats *st)
+void
+pk_merge_stats(work *w, int l, const tiles_stats *st)
 {
 	tiles_stats *o = &w->out[l].st;
 
@@ -250,8 +222,8 @@ merge_stats(work *w, int l, const tiles_stats *st)
  * level (p NULL): its own reader of the level's vertex map (pieces read
  * it independently), its blocks written into the directory being built. */
 /* Level l over its open vertex map v, its blocks into k. */
-static void
-level_setup(work *w, int l, vmap *v, sink *k, int threads, tiles_level *L)
+void
+pk_level_setup(work *w, int l, vmap *v, sink *k, int threads, tiles_level *L)
 {
 	k->dir = w->tmp, k->attrs = v->h, k->L = &w->ix->lev[l];
 	memset(L, 0, sizeof *L);
@@ -264,8 +236,8 @@ level_setup(work *w, int l, vmap *v, sink *k, int threads, tiles_level *L)
 	L->threads = threads;
 }
 
-static int
-run_piece(work *w, int l, const tiles_piece *p, int threads, tl_err *e)
+int
+pk_run_piece(work *w, int l, const tiles_piece *p, int threads, tl_err *e)
 {
 	const georef *g = dem_georef(w->d);
 	tiles_level L;
@@ -275,10 +247,10 @@ run_piece(work *w, int l, const tiles_piece *p, int threads, tl_err *e)
 	sink k;
 	int r = -1;
 
-	if (vmap_open(&v, w->a->levels[l], l, g, e) < 0 ||
+	if (pk_vmap_open(&v, w->a->levels[l], l, g, e) < 0 ||
 	    (p == NULL && level_begin(w, l, &v, e) < 0))
 		goto done;
-	level_setup(w, l, &v, &k, threads, &L);
+	pk_level_setup(w, l, &v, &k, threads, &L);
 	mt.w = w, mt.width = g->width;
 	if (p != NULL) {
 		tiles_window win;
@@ -289,9 +261,9 @@ run_piece(work *w, int l, const tiles_piece *p, int threads, tl_err *e)
 	r = p != NULL ? tiles_run_piece(&L, p, w->d, &st, e) :
 	    tiles_run(&L, w->d, &st, e);
 	if (r == 0)
-		merge_stats(w, l, &st);
+		pk_merge_stats(w, l, &st);
 done:
-	vmap_close(&v);
+	pk_vmap_close(&v);
 	return r;
 }
 
@@ -328,7 +300,7 @@ worker(void *arg)
 		pthread_mutex_unlock(&w->mu);
 		if (k < 0)
 			return NULL;
-		if (run_piece(w, q->job[k].l, q->job[k].whole ? NULL :
+		if (pk_run_piece(w, q->job[k].l, q->job[k].whole ? NULL :
 		    &q->job[k].p, q->threads, &e) < 0) {
 			pthread_mutex_lock(&w->mu);
 			if (k < q->failed)
@@ -366,7 +338,7 @@ run_queue(queue *q, int workers, tl_err *e)
 #define PIECE_BLOCKS(displaced) ((displaced) ? 12 : 16)
 
 /* Level pl's pieces, as every mode cuts them (threads, -l, -p, -g): how
- * many, and (level_cut) the pieces themselves, allocated. */
+ * many, and (pk_level_cut) the pieces themselves, allocated. */
 static int
 level_npieces(const pyramid_level *pl, tiles_piece *p, int max)
 {
@@ -376,8 +348,8 @@ level_npieces(const pyramid_level *pl, tiles_piece *p, int max)
 	return tiles_pieces(&L, PIECE_BLOCKS(pl->displaced), p, max);
 }
 
-static tiles_piece *
-level_cut(const pyramid_level *pl, int *n, tl_err *e)
+tiles_piece *
+pk_level_cut(const pyramid_level *pl, int *n, tl_err *e)
 {
 	tiles_piece *p;
 
@@ -427,7 +399,7 @@ run_levels(work *w, tl_err *e)
 			total += (long long)g->height * g->width;
 			continue;
 		}
-		if ((p = level_cut(&w->ix->lev[l], &m, e)) == NULL) {
+		if ((p = pk_level_cut(&w->ix->lev[l], &m, e)) == NULL) {
 			free(q.job);
 			return -1;
 		}
@@ -452,8 +424,8 @@ run_levels(work *w, tl_err *e)
 	return r;
 }
 
-static void
-report_levels(const pyramid_index *ix, pack_level *out)
+void
+pk_report_levels(const pyramid_index *ix, pack_level *out)
 {
 	for (int l = 0; l < ix->nlevels; l++) {
 		const pyramid_level *pl = &ix->lev[l];
@@ -496,7 +468,7 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 	    pack_check_count(ix.nlevels, ix.size0[0], ix.size0[1], e) < 0 ||
 	    pyramid_index_write(dir.tmp, &ix, e) < 0)
 		goto done;
-	report_levels(&ix, out);
+	pk_report_levels(&ix, out);
 	r = tl_outdir_commit(&dir, e);
 done:
 	if (r < 0)
@@ -518,607 +490,3 @@ pack_report(FILE *f, const char *prog, const pack_level *L, int n)
 		    L[l].st.max_e, L[l].st.max_base);
 }
 
-/* --- a pyramid in separate processes -------------------------------------- */
-
-/* Where a work directory keeps its finished pieces' records. */
-#define PIECES ".pieces"
-
-static int
-mkdir_ok(const char *path, tl_err *e)
-{
-	return mkdir(path, 0777) == 0 || errno == EEXIST ? 0 :
-	    tl_failsys(e, "%s", path);
-}
-
-/* Level l's index entry from its vertex map, checked against the DEM. */
-static int
-level_read(work *w, int l, tl_err *e)
-{
-	vmap v;
-	int r = vmap_open(&v, w->a->levels[l], l, dem_georef(w->d), e);
-
-	if (r == 0)
-		r = level_entry(&w->ix->lev[l], l, &v, e);
-	vmap_close(&v);
-	return r;
-}
-
-/* 1 when (b0, b1) is one of level pl's pieces, -1 out of memory. */
-static int
-is_piece(const pyramid_level *pl, int b0, int b1, int *n, tl_err *e)
-{
-	tiles_piece *p = level_cut(pl, n, e);
-	int r = 0;
-
-	if (p == NULL)
-		return -1;
-	for (int k = 0; k < *n; k++)
-		r |= p[k].b0 == b0 && p[k].b1 == b1;
-	free(p);
-	return r;
-}
-
-static void
-record_path(char *buf, size_t n, const char *dir, int l, int b0, int b1)
-{
-	snprintf(buf, n, "%s/" PIECES "/%d-%d-%d", dir, l, b0, b1);
-}
-
-/* The piece's record, written last: its blocks' index entries and its
- * stats, exact (%.17g). */
-static int
-record_write(const work *w, int l, int b0, int b1, tl_err *e)
-{
-	const pyramid_level *pl = &w->ix->lev[l];
-	const tiles_stats *st = &w->out[l].st;
-	char path[4096];
-	tl_outfile o;
-	FILE *f;
-
-	record_path(path, sizeof path, w->tmp, l, b0, b1);
-	if (tl_out_begin(&o, path, e) < 0)
-		return -1;
-	if ((f = fdopen(dup(o.fd), "w")) == NULL) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
-	fprintf(f, "piece %d %d %d\nstats %.17g %.17g %lld\n", l, b0, b1,
-	    st->max_e, st->max_base, st->samples);
-	for (int bj = 0; bj < pl->blocks[1]; bj++)
-		for (int bi = b0; bi < b1; bi++) {
-			size_t i = (size_t)bj * pl->blocks[0] + bi;
-			fprintf(f, "%d %d %.17g %.17g %.17g %.17g\n", bi, bj,
-			    pl->zmin[i], pl->zmax[i], pl->base[i], pl->emax[i]);
-		}
-	if (fclose(f) != 0) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
-	return tl_out_commit(&o, e);
-}
-
-/* Reads piece (l, b0, b1)'s record from work into the index and stats. */
-static int
-record_read(work *w, const char *dir, int l, int b0, int b1, tl_err *e)
-{
-	pyramid_level *pl = &w->ix->lev[l];
-	tiles_stats st = { 0 };
-	char path[4096];
-	int rl, r0, r1, n = 0;
-	FILE *f;
-
-	record_path(path, sizeof path, dir, l, b0, b1);
-	if ((f = fopen(path, "r")) == NULL)
-		return errno == ENOENT ? tl_fail(e, "%s: level %d, block "
-		    "columns %d..%d: piece not made", dir, l, b0, b1 - 1) :
-		    tl_failsys(e, "%s", path);
-	if (fscanf(f, "piece %d %d %d stats %lf %lf %lld", &rl, &r0, &r1,
-	    &st.max_e, &st.max_base, &st.samples) != 6 || rl != l ||
-	    r0 != b0 || r1 != b1)
-		goto bad;
-	for (;;) {
-		double z0, z1, b, em;
-		int bi, bj, k = fscanf(f, "%d %d %lf %lf %lf %lf", &bi, &bj, &z0,
-		    &z1, &b, &em);
-		if (k == EOF)
-			break;
-		if (k != 6 || bi < b0 || bi >= b1 || bj < 0 ||
-		    bj >= pl->blocks[1])
-			goto bad;
-		size_t i = (size_t)bj * pl->blocks[0] + bi;
-		pl->zmin[i] = z0, pl->zmax[i] = z1, pl->base[i] = b;
-		pl->emax[i] = em;
-		n++;
-	}
-	if (n != (b1 - b0) * pl->blocks[1])
-		goto bad;
-	fclose(f);
-	merge_stats(w, l, &st);
-	return 0;
-bad:
-	fclose(f);
-	return tl_fail(e, "%s: not a record of piece %d:%d:%d", path, l, b0,
-	    b1);
-}
-
-/* --- pieces in parts of rows ---------------------------------------------- */
-
-/* Where a work directory keeps its parts: each part's local errors
- * (L-B0-B1-Y0.exr), then its record (L-B0-B1-Y0). */
-#define PARTS ".parts"
-
-/* How many parts piece p of level pl runs in: enough row bands of
- * nearly equal height that none holds more than a->part_samples DEM
- * samples of the piece's window (and a row more), at most a band a row;
- * 1, the piece whole, when it holds no more or part_samples is 0. */
-static int
-piece_nparts(const work *w, const pyramid_level *pl, const tiles_piece *p)
-{
-	const georef *g = &w->ix->geo;
-	tiles_level L = { .level = pl->level };
-	long long n, bound = w->a->part_samples;
-	tiles_window win;
-
-	if (bound <= 0)
-		return 1;
-	L.size[0] = pl->size[0];
-	tiles_piece_window(&L, g->width, p, &win);
-	n = ((long long)(win.d1 - win.d0) * g->height + bound - 1) / bound;
-	return n < 1 ? 1 : n > g->height ? g->height : (int)n;
-}
-
-/* Part k of n: DEM rows [y0, y1). */
-static void
-part_rows(int height, int n, int k, int *y0, int *y1)
-{
-	*y0 = (int)((long long)height * k / n);
-	*y1 = (int)((long long)height * (k + 1) / n);
-}
-
-static void
-part_path(char *buf, size_t n, const char *dir, int l, const tiles_piece *p,
-    int y0, const char *ext)
-{
-	snprintf(buf, n, "%s/" PARTS "/%d-%d-%d-%d%s", dir, l, p->b0, p->b1, y0,
-	    ext);
-}
-
-/* The local errors of a part, into its EXR. */
-static int
-part_out(void *ctx, int g, float *err, tl_err *e)
-{
-	(void)g;
-	return rs_write_row(ctx, err, e);
-}
-
-/* The part's record, written last: its rows, its samples, its blocks'
- * base errors (%.17g: exact). */
-static int
-part_record(const char *path, int l, const tiles_piece *p, int y0, int y1,
-    const double *base, int by, long long samples, tl_err *e)
-{
-	tl_outfile o;
-	FILE *f;
-
-	if (tl_out_begin(&o, path, e) < 0)
-		return -1;
-	if ((f = fdopen(dup(o.fd), "w")) == NULL) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
-	fprintf(f, "part %d %d %d %d %d\nsamples %lld\n", l, p->b0, p->b1, y0,
-	    y1, samples);
-	for (int bj = 0; bj < by; bj++)
-		for (int bi = p->b0; bi < p->b1; bi++)
-			fprintf(f, "%d %d %.17g\n", bi, bj,
-			    base[(size_t)bj * (p->b1 - p->b0) + bi - p->b0]);
-	if (fclose(f) != 0) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
-	return tl_out_commit(&o, e);
-}
-
-/* Reads part (l, p, y0, y1)'s record: its base errors raised into base,
- * its samples added to *samples. */
-static int
-part_read(const char *dir, int l, const tiles_piece *p, int y0, int y1,
-    double *base, int by, long long *samples, tl_err *e)
-{
-	char path[4096];
-	int rl, r0, r1, ry0, ry1, n = 0, nb = p->b1 - p->b0;
-	long long k;
-	FILE *f;
-
-	part_path(path, sizeof path, dir, l, p, y0, "");
-	if ((f = fopen(path, "r")) == NULL)
-		return errno == ENOENT ? tl_fail(e, "%s: piece %d:%d:%d: its "
-		    "part of DEM rows %d..%d not made", dir, l, p->b0, p->b1,
-		    y0, y1 - 1) : tl_failsys(e, "%s", path);
-	if (fscanf(f, "part %d %d %d %d %d samples %lld", &rl, &r0, &r1, &ry0,
-	    &ry1, &k) != 6 || rl != l || r0 != p->b0 || r1 != p->b1 ||
-	    ry0 != y0 || ry1 != y1)
-		goto bad;
-	for (;;) {
-		int bi, bj, m = 0;
-		double b;
-		if ((m = fscanf(f, "%d %d %lf", &bi, &bj, &b)) == EOF)
-			break;
-		if (m != 3 || bi < p->b0 || bi >= p->b1 || bj < 0 || bj >= by)
-			goto bad;
-		double *o = &base[(size_t)bj * nb + bi - p->b0];
-		*o = b > *o ? b : *o;
-		n++;
-	}
-	if (n != nb * by)
-		goto bad;
-	fclose(f);
-	*samples += k;
-	return 0;
-bad:
-	fclose(f);
-	return tl_fail(e, "%s: not a record of part %d:%d:%d:%d:%d", path, l,
-	    p->b0, p->b1, y0, y1);
-}
-
-/* Part (y0, y1) of piece p of level l: the DEM's window of its rows, the
- * vertex map from the part's first row, its local errors into an EXR
- * (channel E, level columns lo.., rows g0..), then its record. */
-static int
-run_part(work *w, int l, const tiles_piece *p, int y0, int y1, tl_err *e)
-{
-	const georef *g = dem_georef(w->d);
-	char exr[4096], rec[4096];
-	int by = pyramid_nblocks(w->ix->lev[l].size[1]), r = -1;
-	double *base = tl_alloc((size_t)(p->b1 - p->b0) * by, sizeof *base, e);
-	rs_writer *out = NULL;
-	tiles_level L;
-	tiles_window win;
-	tiles_part q;
-	tiles_stats st;
-	rs_header h;
-	dem *d = NULL;
-	vmap v = { 0 };
-	sink k;
-
-	rs_header_init(&h, 1, 1);
-	if (base == NULL || vmap_open(&v, w->a->levels[l], l, g, e) < 0)
-		goto done;
-	level_setup(w, l, &v, &k, w->a->jobs, &L);
-	tiles_piece_window(&L, g->width, p, &win);
-	tiles_part_window(&L, p, y0, y1, &q);
-	rs_header_init(&h, q.hi - q.lo, q.g1 - q.g0);
-	part_path(exr, sizeof exr, w->tmp, l, p, y0, ".exr");
-	part_path(rec, sizeof rec, w->tmp, l, p, y0, "");
-	if ((d = dem_open_window(w->a->dem_path, &w->a->dem, (int)win.d0,
-	    (int)win.d1, y0, y1, e)) == NULL ||
-	    rs_add_channel(&h, "E", e) < 0 ||
-	    rs_set_int(&h, RS_ATTR_X0, q.lo, e) < 0 ||
-	    (out = rs_create(exr, &h, RS_ZIP, e)) == NULL)
-		goto done;
-	if (tiles_run_part(&L, p, &q, d, part_out, out, base, &st, e) < 0)
-		goto done;
-	r = rs_finish(out, e);
-	out = NULL;
-	if (r == 0)
-		r = part_record(rec, l, p, y0, y1, base, by, st.samples, e);
-done:
-	rs_abort(out);
-	rs_header_free(&h);
-	dem_close(d);
-	vmap_close(&v);
-	free(base);
-	return r;
-}
-
-/* A piece's parts' local errors, read back: each part's EXR opened when
- * its first row is reached, closed after its last (parts come in order
- * of rows, overlapping by about 130 level rows), the maximum taken. */
-typedef struct {
-	const char *dir;
-	int l;
-	const tiles_piece *p;
-	int n;             /* parts */
-	tiles_part *q;     /* their windows */
-	rs_reader **r;
-	int first;         /* parts before it are done with */
-	float *row;
-} merge;
-
-static int
-merge_open(merge *m, int k, tl_err *e)
-{
-	const rs_header *h;
-	char path[4096];
-	int x0;
-
-	part_path(path, sizeof path, m->dir, m->l, m->p, m->q[k].y0, ".exr");
-	if ((m->r[k] = rs_open(path, e)) == NULL)
-		return -1;
-	h = rs_header_of(m->r[k]);
-	if (h->width != m->q[k].hi - m->q[k].lo ||
-	    h->height != m->q[k].g1 - m->q[k].g0 || h->nch != 1 ||
-	    rs_get_int(h, RS_ATTR_X0, &x0) < 0 || x0 != m->q[k].lo)
-		return tl_fail(e, "%s: not the local errors of part %d:%d:%d:"
-		    "%d:%d", path, m->l, m->p->b0, m->p->b1, m->q[k].y0,
-		    m->q[k].y1);
-	return 0;
-}
-
-static int
-merge_row(void *ctx, int g, float *err, tl_err *e)
-{
-	merge *m = ctx;
-	int n = m->q[0].hi - m->q[0].lo;
-
-	memset(err, 0, (size_t)n * sizeof *err);
-	for (; m->first < m->n && m->q[m->first].g1 <= g; m->first++) {
-		rs_close(m->r[m->first]);
-		m->r[m->first] = NULL;
-	}
-	for (int k = m->first; k < m->n && m->q[k].g0 <= g; k++) {
-		if ((m->r[k] == NULL && merge_open(m, k, e) < 0) ||
-		    rs_read_row(m->r[k], m->row, e) < 0)
-			return -1;
-		for (int i = 0; i < n; i++)
-			err[i] = m->row[i] > err[i] ? m->row[i] : err[i];
-	}
-	return 0;
-}
-
-/* Piece p of level l from its n parts in the work directory: their
- * records' base errors and samples, their local errors merged as the
- * piece's blocks are made. */
-static int
-run_merged(work *w, int l, const tiles_piece *p, int n, tl_err *e)
-{
-	const georef *g = dem_georef(w->d);
-	int by = pyramid_nblocks(w->ix->lev[l].size[1]), r = -1;
-	double *base = tl_alloc((size_t)(p->b1 - p->b0) * by, sizeof *base, e);
-	merge m = { w->tmp, l, p, n, NULL, NULL, 0, NULL };
-	long long samples = 0;
-	tiles_level L;
-	tiles_stats st;
-	vmap v = { 0 };
-	sink k;
-
-	m.q = tl_alloc(n, sizeof *m.q, e);
-	m.r = tl_alloc(n, sizeof *m.r, e);
-	if (base == NULL || m.q == NULL || m.r == NULL ||
-	    vmap_open(&v, w->a->levels[l], l, g, e) < 0)
-		goto done;
-	level_setup(w, l, &v, &k, w->a->jobs, &L);
-	for (int i = 0; i < n; i++) {
-		int y0, y1;
-		part_rows(g->height, n, i, &y0, &y1);
-		tiles_part_window(&L, p, y0, y1, &m.q[i]);
-		if (part_read(w->tmp, l, p, y0, y1, base, by, &samples, e) < 0)
-			goto done;
-	}
-	if ((m.row = tl_alloc(m.q[0].hi - m.q[0].lo, sizeof *m.row,
-	    e)) == NULL ||
-	    tiles_run_merged(&L, p, g->width, merge_row, &m, base, &st, e) < 0)
-		goto done;
-	st.samples = samples;
-	merge_stats(w, l, &st);
-	r = 0;
-done:
-	for (int i = 0; m.r != NULL && i < n; i++)
-		rs_close(m.r[i]);
-	vmap_close(&v);
-	free(m.q), free(m.r), free(m.row), free(base);
-	return r;
-}
-
-/* What -p, -g and -l share: the DEM's header, the index's levels from
- * the vertex maps' headers. */
-static int
-work_open(work *w, pyramid_index *ix, geo_metric *m, const pack_args *a,
-    pack_level *out, tl_err *e)
-{
-	memset(w, 0, sizeof *w);
-	w->a = a, w->ix = ix, w->m = m, w->out = out;
-	w->mu = (pthread_mutex_t)PTHREAD_MUTEX_INITIALIZER;
-	memset(out, 0, (size_t)a->nlevels * sizeof *out);
-	if ((w->d = dem_open_info(a->dem_path, &a->dem, e)) == NULL)
-		return -1;
-	ix->version = VGIS_VERSION;
-	ix->geo = *dem_georef(w->d);
-	ix->size0[0] = ix->geo.width, ix->size0[1] = ix->geo.height;
-	ix->nlevels = a->nlevels;
-	if ((ix->lev = tl_alloc(a->nlevels, sizeof *ix->lev, e)) == NULL ||
-	    geo_metric_init(m, &ix->geo, e) < 0)
-		return -1;
-	for (int l = 0; l < a->nlevels; l++)
-		if (level_read(w, l, e) < 0)
-			return -1;
-	return pack_check_count(ix->nlevels, ix->size0[0], ix->size0[1], e);
-}
-
-static void
-work_close(work *w, pyramid_index *ix, geo_metric *m)
-{
-	dem_close(w->d);
-	geo_metric_free(m);
-	pyramid_index_free(ix);
-}
-
-/* The DEM of a piece in a process of its own: only the columns its
- * window scans, so that a job's disk and time do not grow with the
- * DEM's width (the header, opened by work_open, is replaced). */
-static int
-open_window(work *w, int l, const tiles_piece *p, tl_err *e)
-{
-	tiles_level L = { .level = l };
-	tiles_window win;
-	dem *d;
-
-	L.size[0] = w->ix->lev[l].size[0];
-	tiles_piece_window(&L, dem_georef(w->d)->width, p, &win);
-	if ((d = dem_open_cols(w->a->dem_path, &w->a->dem, (int)win.d0,
-	    (int)win.d1, e)) == NULL)
-		return -1;
-	dem_close(w->d);
-	w->d = d;
-	return 0;
-}
-
-/* The work directory's subdirectory name, made if missing, what killed
- * runs left there swept. */
-static int
-work_subdir(const char *dir, const char *name, tl_err *e)
-{
-	char path[4096];
-
-	snprintf(path, sizeof path, "%s/%s", dir, name);
-	if (mkdir_ok(path, e) < 0)
-		return -1;
-	tl_out_sweep_dir(path);
-	return 0;
-}
-
-/* Which job (l, b0, b1) with rows (y0, y1) is (y1 0: the piece): one
- * of pack_list's, checked. Returns the piece's parts, 1 when whole. */
-static int
-job_check(work *w, int l, const tiles_piece *p, int y0, int y1, tl_err *e)
-{
-	int k, n, np;
-
-	if ((k = is_piece(&w->ix->lev[l], p->b0, p->b1, &n, e)) <= 0)
-		return k == 0 ? tl_fail(e, "piece %d:%d:%d: not one of level "
-		    "%d's %d pieces", l, p->b0, p->b1, l, n) : -1;
-	np = piece_nparts(w, &w->ix->lev[l], p);
-	if (y1 == 0)
-		return np;
-	for (k = 0; np > 1 && k < np; k++) {
-		int a, b;
-		part_rows(w->ix->geo.height, np, k, &a, &b);
-		if (a == y0 && b == y1)
-			return np;
-	}
-	return tl_fail(e, "part %d:%d:%d:%d:%d: not one of the piece's %d "
-	    "parts%s", l, p->b0, p->b1, y0, y1, np, np == 1 ?
-	    " (it is made whole: -b sets how many samples a part holds)" : "");
-}
-
-int
-pack_piece(const pack_args *a, int l, int b0, int b1, int y0, int y1,
-    tl_err *e)
-{
-	pack_level *out = tl_alloc(a->nlevels, sizeof *out, e);
-	tiles_piece p = { b0, b1 };
-	pyramid_index ix = { 0 };
-	geo_metric m = { 0 };
-	work w = { 0 };
-	int r = -1, np;
-	char sub[16];
-
-	if (out == NULL)
-		return -1;
-	if (l < 0 || l >= a->nlevels) {
-		tl_fail(e, "piece %d:%d:%d: no level %d (levels 0..%d)", l, b0,
-		    b1, l, a->nlevels - 1);
-		goto done;
-	}
-	if (work_open(&w, &ix, &m, a, out, e) < 0 ||
-	    (np = job_check(&w, l, &p, y0, y1, e)) < 0)
-		goto done;
-	w.tmp = a->dir;
-	if (mkdir_ok(a->dir, e) < 0)
-		goto done;
-	if (y1 > 0) { /* a part: its errors, then its record */
-		r = work_subdir(a->dir, PARTS, e) < 0 ? -1 :
-		    run_part(&w, l, &p, y0, y1, e);
-		goto done;
-	}
-	snprintf(sub, sizeof sub, "%d", l);
-	if (work_subdir(a->dir, sub, e) < 0 ||
-	    work_subdir(a->dir, PIECES, e) < 0)
-		goto done;
-	/* whole: only the columns its window scans, so that a job's disk
-	 * and time do not grow with the DEM's width */
-	if (np > 1 ? run_merged(&w, l, &p, np, e) == 0 :
-	    open_window(&w, l, &p, e) == 0 &&
-	    run_piece(&w, l, &p, a->jobs, e) == 0)
-		r = record_write(&w, l, b0, b1, e);
-done:
-	if (w.a != NULL)
-		work_close(&w, &ix, &m);
-	free(out);
-	return r;
-}
-
-int
-pack_gather(const pack_args *a, const char *dir, pack_level *out, tl_err *e)
-{
-	pyramid_index ix = { 0 };
-	geo_metric m = { 0 };
-	char path[4096];
-	work w = { 0 };
-	int r = -1;
-
-	if (pack_check_dir(a->dir, a->force, e) < 0 ||
-	    work_open(&w, &ix, &m, a, out, e) < 0)
-		goto done;
-	for (int l = 0; l < a->nlevels; l++) {
-		tiles_piece *p;
-		int n;
-		if ((p = level_cut(&ix.lev[l], &n, e)) == NULL)
-			goto done;
-		for (int k = 0; k < n; k++)
-			if (record_read(&w, dir, l, p[k].b0, p[k].b1, e) < 0) {
-				free(p);
-				goto done;
-			}
-		free(p);
-	}
-	snprintf(path, sizeof path, "%s/" PIECES, dir);
-	tl_rmtree(path);
-	snprintf(path, sizeof path, "%s/" PARTS, dir);
-	tl_rmtree(path);
-	if (pyramid_index_write(dir, &ix, e) < 0 ||
-	    tl_dir_install(dir, a->dir, e) < 0)
-		goto done;
-	report_levels(&ix, out);
-	r = 0;
-done:
-	if (w.a != NULL)
-		work_close(&w, &ix, &m);
-	return r;
-}
-
-int
-pack_list(const pack_args *a, FILE *f, tl_err *e)
-{
-	pack_level *out = tl_alloc(a->nlevels, sizeof *out, e);
-	pyramid_index ix = { 0 };
-	geo_metric m = { 0 };
-	work w = { 0 };
-	int r = -1;
-
-	if (out == NULL || work_open(&w, &ix, &m, a, out, e) < 0)
-		goto done;
-	for (int l = 0; l < a->nlevels; l++) {
-		tiles_piece *p;
-		int n;
-		if ((p = level_cut(&ix.lev[l], &n, e)) == NULL)
-			goto done;
-		for (int k = 0; k < n; k++) {
-			int np = piece_nparts(&w, &ix.lev[l], &p[k]);
-			for (int i = 0; np > 1 && i < np; i++) {
-				int y0, y1;
-				part_rows(ix.geo.height, np, i, &y0, &y1);
-				fprintf(f, "%d:%d:%d:%d:%d\n", l, p[k].b0,
-				    p[k].b1, y0, y1);
-			}
-			fprintf(f, "%d:%d:%d\n", l, p[k].b0, p[k].b1);
-		}
-		free(p);
-	}
-	r = fflush(f) == 0 ? 0 : tl_failsys(e, "stdout");
-done:
-	if (w.a != NULL)
-		work_close(&w, &ix, &m);
-	free(out);
-	return r;
-}
