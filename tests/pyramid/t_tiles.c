@@ -327,6 +327,22 @@ blocks_ok(const run *u)
 	    !u->R.bad_order && !u->R.bad_cols && u->R.next == u->R.h;
 }
 
+/* Run p made the blocks of run u, a whole level, bit for bit: E, Z,
+ * base errors and stats, every block once and rows read in order. */
+static int
+same_level(const run *u, const run *p)
+{
+	size_t ng = (size_t)u->s.gw * (u->s.by * BT_CELLS + 1);
+	size_t nb = (size_t)u->s.bx * u->s.by;
+
+	return u->r == 0 && p->r == 0 && blocks_ok(p) &&
+	    memcmp(u->s.e, p->s.e, ng * sizeof *u->s.e) == 0 &&
+	    memcmp(u->s.z, p->s.z, ng * sizeof *u->s.z) == 0 &&
+	    memcmp(u->s.base, p->s.base, nb * sizeof *u->s.base) == 0 &&
+	    u->st.max_e == p->st.max_e && u->st.max_base == p->st.max_base &&
+	    u->st.samples == p->st.samples;
+}
+
 /* A DEM of w x h samples from z, as a TIFF in tmp. */
 static int
 dem_file(char *path, size_t n, const char *name, int w, int h,
@@ -592,8 +608,6 @@ test_pieces(int spiky, int W, int H, int parts_only)
 			run u;
 			run_level_as(&u, path, level, w, h, v, disp, -1, -1, 1,
 			    0, 1);
-			size_t ng = (size_t)u.s.gw * (u.s.by * BT_CELLS + 1);
-			size_t nb = (size_t)u.s.bx * u.s.by;
 			for (int cols = 1; !parts_only && cols <= 5;
 			    cols += cols < 2 ? 1 : 3) {
 				run p;
@@ -603,12 +617,7 @@ test_pieces(int spiky, int W, int H, int parts_only)
 				/* (blocks of a row on threads come in any
 				 * order: the border check needs them in order) */
 				p.s.bad_border *= th == 1;
-				ok(u.r == 0 && p.r == 0 && blocks_ok(&p) &&
-				    memcmp(u.s.e, p.s.e, ng * sizeof *u.s.e) == 0 &&
-				    memcmp(u.s.z, p.s.z, ng * sizeof *u.s.z) == 0 &&
-				    memcmp(u.s.base, p.s.base, nb * sizeof *u.s.base) == 0 &&
-				    u.st.max_e == p.st.max_e &&
-				    u.st.samples == p.st.samples,
+				ok(same_level(&u, &p),
 				    "%s level %d (%d blocks wide), %s, in pieces "
 				    "of %d block columns on %d thread(s): E, Z, "
 				    "base errors and samples the whole level's, "
@@ -627,13 +636,7 @@ test_pieces(int spiky, int W, int H, int parts_only)
 				run_level_in(&p, path, level, w, h, v, disp, -1,
 				    -1, th, cols, 1, nr[k] << level);
 				p.s.bad_border *= th == 1;
-				ok(u.r == 0 && p.r == 0 && blocks_ok(&p) &&
-				    memcmp(u.s.e, p.s.e, ng * sizeof *u.s.e) == 0 &&
-				    memcmp(u.s.z, p.s.z, ng * sizeof *u.s.z) == 0 &&
-				    memcmp(u.s.base, p.s.base, nb * sizeof *u.s.base) == 0 &&
-				    u.st.max_e == p.st.max_e &&
-				    u.st.max_base == p.st.max_base &&
-				    u.st.samples == p.st.samples,
+				ok(same_level(&u, &p),
 				    "%s level %d, %s, pieces of %d block columns "
 				    "in parts of %d DEM rows merged, on %d "
 				    "thread(s): E, Z, base errors and stats the "
