@@ -32,7 +32,8 @@
  * Z and offsets and of 640 rows of local errors, the saturation band
  * (385 rows), 32 DEM rows as doubles and, displaced, 8 rows of positions
  * per scale and thread; plus one whole row of the level from the row
- * callback. */
+ * callback. A part holds the same but the saturation band; a piece from
+ * its parts the same but the DEM rows. */
 #ifndef TL_TILES_H
 #define TL_TILES_H
 
