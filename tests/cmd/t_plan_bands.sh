@@ -94,7 +94,7 @@ if command -v parallel >/dev/null; then
 else
 	ok 0 "GNU parallel # SKIP not installed"
 fi
-sh -n "$T/plan-flip/slurm.sh" && grep -q 'J bands' "$T/plan-flip/slurm.sh"
+sh -n "$T/plan-flip/slurm.sh" && grep -q '^	b=$(array bands ' "$T/plan-flip/slurm.sh"
 ok $? "the Slurm script parses (sh -n) and has the band array"
 
 # The halo is needed: level 3's FQM of columns 64 .. 127 (level-0 columns
