@@ -4,12 +4,14 @@
 #ifndef T_TMPDIR_H
 #define T_TMPDIR_H
 
+#include <dirent.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* dir: room for PATH_MAX - 64 bytes, "$TMPDIR/name.XXXXXX" made. */
-static int
+static inline int
 tmpdir_make(char *dir, size_t n, const char *name)
 {
 	snprintf(dir, n, "%s/%s.XXXXXX",
@@ -30,7 +32,27 @@ tmpdir_join(const char *dir, const char *name)
 	return buf[k];
 }
 
-static void
+/* Entries of directory d whose name starts with prefix (a temporary:
+ * ".NAME."), or, prefix "", every one but . and ..; -1 when d cannot be
+ * read. */
+static inline int
+tmpdir_entries(const char *d, const char *prefix)
+{
+	DIR *D = opendir(d);
+	struct dirent *de;
+	int n = 0;
+
+	if (D == NULL)
+		return -1;
+	while ((de = readdir(D)) != NULL)
+		n += prefix[0] != '\0' ? strncmp(de->d_name, prefix,
+		    strlen(prefix)) == 0 : strcmp(de->d_name, ".") != 0 &&
+		    strcmp(de->d_name, "..") != 0;
+	closedir(D);
+	return n;
+}
+
+static inline void
 tmpdir_done(const char *dir)
 {
 	char cmd[PATH_MAX + 16];

@@ -71,15 +71,7 @@ gdal_tools(void)
 static int
 entries(const char *prefix)
 {
-	DIR *D = opendir(dir);
-	struct dirent *de;
-	int n = 0;
-
-	while (D != NULL && (de = readdir(D)) != NULL)
-		n += strncmp(de->d_name, prefix, strlen(prefix)) == 0;
-	if (D != NULL)
-		closedir(D);
-	return n;
+	return tmpdir_entries(dir, prefix);
 }
 
 static long long

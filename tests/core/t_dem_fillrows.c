@@ -29,19 +29,11 @@ tmp(const char *name)
 	return tmpdir_join(dir, name);
 }
 
-/* Files in dir whose name starts with prefix. */
+/* Files in dir whose name starts with prefix (temporaries: ".NAME."). */
 static int
 entries(const char *prefix)
 {
-	DIR *D = opendir(dir);
-	struct dirent *de;
-	int n = 0;
-
-	while (D != NULL && (de = readdir(D)) != NULL)
-		n += strncmp(de->d_name, prefix, strlen(prefix)) == 0;
-	if (D != NULL)
-		closedir(D);
-	return n;
+	return tmpdir_entries(dir, prefix);
 }
 
 /* The whole file, its size in *n; NULL if none. */

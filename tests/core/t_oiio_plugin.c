@@ -6,6 +6,7 @@
  * BUILD/tl_oiio.so for this program's BUILD/tests/core/t_oiio_plugin. */
 #include "core/oiio_plugin.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 #include <limits.h>
 #include <stdio.h>
@@ -19,12 +20,7 @@ static char dir[PATH_MAX / 2], so[PATH_MAX];
 static const char *
 tmp(const char *name)
 {
-	static char buf[4][PATH_MAX];
-	static int k;
-
-	k = (k + 1) % 4;
-	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
-	return buf[k];
+	return tmpdir_join(dir, name);
 }
 
 /* The build directory: this program's path up to "/tests/". */

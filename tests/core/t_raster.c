@@ -2,6 +2,7 @@
  * pipes, damage and truncation reported, clean aborts, bounded memory. */
 #include "core/raster.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -19,6 +20,13 @@
 #include <unistd.h>
 
 static char dir[PATH_MAX / 2];
+
+/* Entries of d but . and .. (tmpdir.h). */
+static int
+entries(const char *d)
+{
+	return tmpdir_entries(d, "");
+}
 
 static const char *
 tmp(const char *name)
@@ -337,21 +345,6 @@ append(const char *path, const char *text)
 
 	fputs(text, f);
 	fclose(f);
-}
-
-static int
-entries(const char *path)
-{
-	DIR *d = opendir(path);
-	struct dirent *de;
-	int n = 0;
-
-	if (d == NULL)
-		return -1;
-	while ((de = readdir(d)) != NULL)
-		n += strcmp(de->d_name, ".") != 0 && strcmp(de->d_name, "..") != 0;
-	closedir(d);
-	return n;
 }
 
 /* --- tests ------------------------------------------------------------ */

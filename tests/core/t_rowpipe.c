@@ -22,18 +22,11 @@ tmp(const char *name)
 	return tmpdir_join(dir, name);
 }
 
+/* Entries of dir but . and .. */
 static int
 entries(void)
 {
-	DIR *D = opendir(dir);
-	struct dirent *de;
-	int n = 0;
-
-	while ((de = readdir(D)) != NULL)
-		n += de->d_name[0] != '.' || (strcmp(de->d_name, ".") != 0 &&
-		    strcmp(de->d_name, "..") != 0);
-	closedir(D);
-	return n;
+	return tmpdir_entries(dir, "");
 }
 
 typedef struct {

@@ -8,6 +8,7 @@
 #include "core/outfile.h"
 #include "core/util.h"
 #include "tap.h"
+#include "tmpdir.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -35,32 +36,17 @@ __asan_default_options(void)
 	return "allocator_may_return_null=1";
 }
 
-static const char *
-tmp(const char *name)
-{
-	static char buf[4][PATH_MAX];
-	static int k;
-
-	k = (k + 1) % 4;
-	snprintf(buf[k], sizeof buf[k], "%s/%s", dir, name);
-	return buf[k];
-}
-
-/* Entries of d other than . and .., or -1. */
+/* Entries of d but . and .. (tmpdir.h). */
 static int
 entries(const char *d)
 {
-	DIR *D = opendir(d);
-	struct dirent *de;
-	int n = 0;
+	return tmpdir_entries(d, "");
+}
 
-	if (D == NULL)
-		return -1;
-	while ((de = readdir(D)) != NULL)
-		n += strcmp(de->d_name, ".") != 0 &&
-		    strcmp(de->d_name, "..") != 0;
-	closedir(D);
-	return n;
+static const char *
+tmp(const char *name)
+{
+	return tmpdir_join(dir, name);
 }
 
 static int
