@@ -65,7 +65,6 @@ pack_check_dir(const char *dir, int force, tl_err *e)
 
 /* --- one level ---------------------------------------------------------- */
 
-
 /* Columns c0 .. c0+n-1 of row r: of a vertex map on file only those
  * bytes (a piece reads its window, not the level), checked for NaN. */
 static int
@@ -124,7 +123,6 @@ pk_vmap_close(vmap *v)
 	free(v->row);
 }
 
-
 static int
 write_block(void *ctx, const pyramid_block *b, tl_err *e)
 {
@@ -138,7 +136,6 @@ write_block(void *ctx, const pyramid_block *b, tl_err *e)
 	k->L->base[i] = b->base, k->L->emax[i] = b->emax;
 	return pyramid_block_write(path, b, k->attrs, e);
 }
-
 
 /* The index's entry for a level, from its vertex map's header. */
 int
@@ -359,6 +356,15 @@ pk_level_cut(const pyramid_level *pl, int *n, tl_err *e)
 	return p;
 }
 
+void
+pk_window(const work *w, int l, const tiles_piece *p, tiles_window *win)
+{
+	tiles_level L = { .level = l };
+
+	L.size[0] = w->ix->lev[l].size[0];
+	tiles_piece_window(&L, w->ix->geo.width, p, win);
+}
+
 /* Whether some level comes through a FIFO (or stdin): a pipeline
  * feeding several must have them all read at once. */
 static int
@@ -391,7 +397,6 @@ run_levels(work *w, tl_err *e)
 	if ((q.job = tl_alloc(n, sizeof *q.job, e)) == NULL)
 		return -1;
 	for (int l = 0; l < nl; l++) {
-		tiles_level L = { .level = l };
 		tiles_piece *p;
 		int m;
 		if (w->fifo) {
@@ -403,11 +408,10 @@ run_levels(work *w, tl_err *e)
 			free(q.job);
 			return -1;
 		}
-		L.size[0] = w->ix->lev[l].size[0];
 		for (int k = 0; k < m; k++) {
 			tiles_window win;
 			q.job[q.n++] = (job){ .l = l, .p = p[k] };
-			tiles_piece_window(&L, g->width, &p[k], &win);
+			pk_window(w, l, &p[k], &win);
 			total += (long long)g->height * (win.d1 - win.d0);
 		}
 		free(p);

@@ -6,6 +6,7 @@
 
 #include <pthread.h>
 
+#include "core/outfile.h"
 #include "core/progress.h"
 #include "core/raster.h"
 #include "pyramid/pack.h"
@@ -66,11 +67,19 @@ void pk_merge_stats(work *w, int l, const tiles_stats *st);
 void pk_report_levels(const pyramid_index *ix, pack_level *out);
 /* Level pl's pieces, as every mode cuts them, allocated; *n of them. */
 tiles_piece *pk_level_cut(const pyramid_level *pl, int *n, tl_err *e);
+/* What piece p of level l reads (tiles_piece_window). */
+void pk_window(const work *w, int l, const tiles_piece *p, tiles_window *win);
+
+/* pack_jobs.c: a text record of a job at path, written last and
+ * atomically: pk_record_open's stream, then pk_record_close (which
+ * commits it, or removes it on a write error). */
+FILE *pk_record_open(tl_outfile *o, const char *path, tl_err *e);
+int pk_record_close(tl_outfile *o, FILE *f, tl_err *e);
 
 /* pack_parts.c: how many parts piece p of level pl runs in (1: whole),
  * under w->a->part_samples; part k's DEM rows [y0, y1); a part made into
  * w->tmp/.parts; a piece made from its n parts there. */
-int pk_nparts(const work *w, const pyramid_level *pl, const tiles_piece *p);
+int pk_nparts(const work *w, int l, const tiles_piece *p);
 void pk_part_rows(int height, int n, int k, int *y0, int *y1);
 int pk_run_part(work *w, int l, const tiles_piece *p, int y0, int y1,
     tl_err *e);

@@ -52,6 +52,30 @@ record_path(char *buf, size_t n, const char *dir, int l, int b0, int b1)
 	snprintf(buf, n, "%s/" PIECES "/%d-%d-%d", dir, l, b0, b1);
 }
 
+FILE *
+pk_record_open(tl_outfile *o, const char *path, tl_err *e)
+{
+	FILE *f;
+
+	if (tl_out_begin(o, path, e) < 0)
+		return NULL;
+	if ((f = fdopen(dup(o->fd), "w")) == NULL) {
+		tl_out_abort(o);
+		tl_failsys(e, "%s", path);
+	}
+	return f;
+}
+
+int
+pk_record_close(tl_outfile *o, FILE *f, tl_err *e)
+{
+	if (fclose(f) != 0) {
+		tl_out_abort(o);
+		return tl_failsys(e, "%s", o->path);
+	}
+	return tl_out_commit(o, e);
+}
+
 /* The piece's record, written last: its blocks' index entries and its
  * stats, exact (%.17g). */
 static int
@@ -64,12 +88,8 @@ record_write(const work *w, int l, int b0, int b1, tl_err *e)
 	FILE *f;
 
 	record_path(path, sizeof path, w->tmp, l, b0, b1);
-	if (tl_out_begin(&o, path, e) < 0)
+	if ((f = pk_record_open(&o, path, e)) == NULL)
 		return -1;
-	if ((f = fdopen(dup(o.fd), "w")) == NULL) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
 	fprintf(f, "piece %d %d %d\nstats %.17g %.17g %lld\n", l, b0, b1,
 	    st->max_e, st->max_base, st->samples);
 	for (int bj = 0; bj < pl->blocks[1]; bj++)
@@ -78,18 +98,17 @@ record_write(const work *w, int l, int b0, int b1, tl_err *e)
 			fprintf(f, "%d %d %.17g %.17g %.17g %.17g\n", bi, bj,
 			    pl->zmin[i], pl->zmax[i], pl->base[i], pl->emax[i]);
 		}
-	if (fclose(f) != 0) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
-	return tl_out_commit(&o, e);
+	return pk_record_close(&o, f, e);
 }
 
-/* Reads piece (l, b0, b1)'s record from work into the index and stats. */
+/* Reads piece p of level l's record from the work directory dir into
+ * the index and stats. */
 static int
-record_read(work *w, const char *dir, int l, int b0, int b1, tl_err *e)
+record_read(work *w, int l, const tiles_piece *p, void *ctx, tl_err *e)
 {
 	pyramid_level *pl = &w->ix->lev[l];
+	const char *dir = ctx;
+	int b0 = p->b0, b1 = p->b1;
 	tiles_stats st = { 0 };
 	char path[4096];
 	int rl, r0, r1, n = 0;
@@ -168,12 +187,10 @@ work_close(work *w, pyramid_index *ix, geo_metric *m)
 static int
 open_window(work *w, int l, const tiles_piece *p, tl_err *e)
 {
-	tiles_level L = { .level = l };
 	tiles_window win;
 	dem *d;
 
-	L.size[0] = w->ix->lev[l].size[0];
-	tiles_piece_window(&L, dem_georef(w->d)->width, p, &win);
+	pk_window(w, l, p, &win);
 	if ((d = dem_open_cols(w->a->dem_path, &w->a->dem, (int)win.d0,
 	    (int)win.d1, e)) == NULL)
 		return -1;
@@ -196,6 +213,25 @@ work_subdir(const char *dir, const char *name, tl_err *e)
 	return 0;
 }
 
+/* fn on every piece of every level, level 0 first, until one fails. */
+static int
+each_piece(work *w, int (*fn)(work *, int, const tiles_piece *, void *,
+    tl_err *), void *ctx, tl_err *e)
+{
+	for (int l = 0; l < w->a->nlevels; l++) {
+		tiles_piece *p;
+		int n, r = 0;
+		if ((p = pk_level_cut(&w->ix->lev[l], &n, e)) == NULL)
+			return -1;
+		for (int k = 0; r == 0 && k < n; k++)
+			r = fn(w, l, &p[k], ctx, e);
+		free(p);
+		if (r < 0)
+			return -1;
+	}
+	return 0;
+}
+
 /* Which job (l, b0, b1) with rows (y0, y1) is (y1 0: the piece): one
  * of pack_list's, checked. Returns the piece's parts, 1 when whole. */
 static int
@@ -206,7 +242,7 @@ job_check(work *w, int l, const tiles_piece *p, int y0, int y1, tl_err *e)
 	if ((k = is_piece(&w->ix->lev[l], p->b0, p->b1, &n, e)) <= 0)
 		return k == 0 ? tl_fail(e, "piece %d:%d:%d: not one of level "
 		    "%d's %d pieces", l, p->b0, p->b1, l, n) : -1;
-	np = pk_nparts(w, &w->ix->lev[l], p);
+	np = pk_nparts(w, l, p);
 	if (y1 == 0)
 		return np;
 	for (k = 0; np > 1 && k < np; k++) {
@@ -277,20 +313,9 @@ pack_gather(const pack_args *a, const char *dir, pack_level *out, tl_err *e)
 	int r = -1;
 
 	if (pack_check_dir(a->dir, a->force, e) < 0 ||
-	    work_open(&w, &ix, &m, a, out, e) < 0)
+	    work_open(&w, &ix, &m, a, out, e) < 0 ||
+	    each_piece(&w, record_read, (void *)dir, e) < 0)
 		goto done;
-	for (int l = 0; l < a->nlevels; l++) {
-		tiles_piece *p;
-		int n;
-		if ((p = pk_level_cut(&ix.lev[l], &n, e)) == NULL)
-			goto done;
-		for (int k = 0; k < n; k++)
-			if (record_read(&w, dir, l, p[k].b0, p[k].b1, e) < 0) {
-				free(p);
-				goto done;
-			}
-		free(p);
-	}
 	snprintf(path, sizeof path, "%s/" PIECES, dir);
 	tl_rmtree(path);
 	snprintf(path, sizeof path, "%s/" PARTS, dir);
@@ -306,6 +331,21 @@ done:
 	return r;
 }
 
+/* A piece's line for -l, after its parts' lines. */
+static int
+list_piece(work *w, int l, const tiles_piece *p, void *f, tl_err *e)
+{
+	int np = pk_nparts(w, l, p);
+
+	for (int i = 0; np > 1 && i < np; i++) {
+		int y0, y1;
+		pk_part_rows(w->ix->geo.height, np, i, &y0, &y1);
+		fprintf(f, "%d:%d:%d:%d:%d\n", l, p->b0, p->b1, y0, y1);
+	}
+	fprintf(f, "%d:%d:%d\n", l, p->b0, p->b1);
+	return 0;
+}
+
 int
 pack_list(const pack_args *a, FILE *f, tl_err *e)
 {
@@ -315,25 +355,9 @@ pack_list(const pack_args *a, FILE *f, tl_err *e)
 	work w = { 0 };
 	int r = -1;
 
-	if (out == NULL || work_open(&w, &ix, &m, a, out, e) < 0)
+	if (out == NULL || work_open(&w, &ix, &m, a, out, e) < 0 ||
+	    each_piece(&w, list_piece, f, e) < 0)
 		goto done;
-	for (int l = 0; l < a->nlevels; l++) {
-		tiles_piece *p;
-		int n;
-		if ((p = pk_level_cut(&ix.lev[l], &n, e)) == NULL)
-			goto done;
-		for (int k = 0; k < n; k++) {
-			int np = pk_nparts(&w, &ix.lev[l], &p[k]);
-			for (int i = 0; np > 1 && i < np; i++) {
-				int y0, y1;
-				pk_part_rows(ix.geo.height, np, i, &y0, &y1);
-				fprintf(f, "%d:%d:%d:%d:%d\n", l, p[k].b0,
-				    p[k].b1, y0, y1);
-			}
-			fprintf(f, "%d:%d:%d\n", l, p[k].b0, p[k].b1);
-		}
-		free(p);
-	}
 	r = fflush(f) == 0 ? 0 : tl_failsys(e, "stdout");
 done:
 	if (w.a != NULL)

@@ -15,17 +15,15 @@
  * samples of the piece's window (and a row more), at most a band a row;
  * 1, the piece whole, when it holds no more or part_samples is 0. */
 int
-pk_nparts(const work *w, const pyramid_level *pl, const tiles_piece *p)
+pk_nparts(const work *w, int l, const tiles_piece *p)
 {
 	const georef *g = &w->ix->geo;
-	tiles_level L = { .level = pl->level };
 	long long n, bound = w->a->part_samples;
 	tiles_window win;
 
 	if (bound <= 0)
 		return 1;
-	L.size[0] = pl->size[0];
-	tiles_piece_window(&L, g->width, p, &win);
+	pk_window(w, l, p, &win);
 	n = ((long long)(win.d1 - win.d0) * g->height + bound - 1) / bound;
 	return n < 1 ? 1 : n > g->height ? g->height : (int)n;
 }
@@ -63,23 +61,15 @@ part_record(const char *path, int l, const tiles_piece *p, int y0, int y1,
 	tl_outfile o;
 	FILE *f;
 
-	if (tl_out_begin(&o, path, e) < 0)
+	if ((f = pk_record_open(&o, path, e)) == NULL)
 		return -1;
-	if ((f = fdopen(dup(o.fd), "w")) == NULL) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
 	fprintf(f, "part %d %d %d %d %d\nsamples %lld\n", l, p->b0, p->b1, y0,
 	    y1, samples);
 	for (int bj = 0; bj < by; bj++)
 		for (int bi = p->b0; bi < p->b1; bi++)
 			fprintf(f, "%d %d %.17g\n", bi, bj,
 			    base[(size_t)bj * (p->b1 - p->b0) + bi - p->b0]);
-	if (fclose(f) != 0) {
-		tl_out_abort(&o);
-		return tl_failsys(e, "%s", path);
-	}
-	return tl_out_commit(&o, e);
+	return pk_record_close(&o, f, e);
 }
 
 /* Reads part (l, p, y0, y1)'s record: its base errors raised into base,
