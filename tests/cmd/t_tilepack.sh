@@ -231,6 +231,17 @@ vmaps() {
 }
 # levels DIR: the vertex maps' paths in order
 levels() { ls "$1"/v* | sort -t v -k 2 -n | tr '\n' ' '; }
+# gathered WORK OUT REF LABEL: no temporary left in the work directory,
+# tilepack -g (of $d and $vl) makes OUT of it, byte for byte REF, and
+# the work directory became OUT
+gathered() {
+	half=$(find "$1" -name '.*.??????' | wc -l)
+	[ "$half" -eq 0 ]; ok $? "$4: no temporary left in the work directory ($half)"
+	# shellcheck disable=SC2086
+	tilepack -q -g "$1" "$d" "$2" $vl && diff -r "$3" "$2" >/dev/null
+	ok $? "$4: the gathered pyramid is tilepack's, byte for byte (index included)"
+	[ ! -e "$1" ]; ok $? "$4: the work directory became the pyramid"
+}
 gdal_translate -q -srcwin 1800 3000 1700 500 "$DATA/N48W125.hgt" "$T/wide.tif"
 # a piece reads only its window of DEM columns, unfilled: voids (across a
 # piece's border too) on a DEM whose columns and rows run backwards
@@ -275,13 +286,7 @@ for c in qem1d qem3d flip; do
 	    xargs -P 2 -I {} tilepack -j 1 -p {} "$d" "$T/pw-$c" $vl 2>"$T/xargs.err"
 	st=$?; [ $st -eq 0 ] || sed 's/^/#   /' "$T/xargs.err"
 	ok $st "$c: every piece, two processes at a time"
-	half=$(find "$T/pw-$c" -name '.*.??????' | wc -l)
-	[ "$half" -eq 0 ]; ok $? "$c: no temporary left in the work directory ($half)"
-	# shellcheck disable=SC2086
-	tilepack -q -g "$T/pw-$c" "$d" "$T/pout-$c" $vl &&
-	    diff -r "$T/pref-$c" "$T/pout-$c" >/dev/null
-	ok $? "$c: the gathered pyramid is tilepack's, byte for byte (index included)"
-	[ ! -e "$T/pw-$c" ]; ok $? "$c: the work directory became the pyramid"
+	gathered "$T/pw-$c" "$T/pout-$c" "$T/pref-$c" "$c"
 done
 # A missing piece, a piece not of the cut, both -g and -p: refused.
 d=$DATA/N48W125.hgt vl=$(levels "$T/pv-qem1d")
@@ -389,13 +394,7 @@ for c in qem1d qem3d flip; do
 	    xargs -P 2 -I {} tilepack -b $b -j 1 -p {} "$d" "$w" $vl 2>"$T/xargs.err"
 	st=$?; [ $st -eq 0 ] || sed 's/^/#   /' "$T/xargs.err"
 	ok $st "$c: that part again, then every piece from its parts"
-	half=$(find "$w" -name '.*.??????' | wc -l)
-	[ "$half" -eq 0 ]; ok $? "$c: no temporary left in the work directory ($half)"
-	# shellcheck disable=SC2086
-	tilepack -q -g "$w" "$d" "$T/qout-$c" $vl &&
-	    diff -r "$T/pref-$c" "$T/qout-$c" >/dev/null
-	ok $? "$c: gathered from parts, the pyramid is tilepack's, byte for byte"
-	[ ! -e "$w" ]; ok $? "$c: the work directory became the pyramid"
+	gathered "$w" "$T/qout-$c" "$T/pref-$c" "$c, from parts"
 	rm -rf "$T/qout-$c"
 done
 # Parts refused: rows not of the cut, a piece made whole, a piece not of
