@@ -123,6 +123,51 @@ tl_alloc(size_t n, size_t size, tl_err *e)
 }
 
 int
+tl_open_regular(const char *path, tl_err *e)
+{
+	struct stat st;
+	int fd, fl;
+
+	if ((fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0)
+		return tl_failsys(e, "%s", path);
+	if (fstat(fd, &st) < 0) {
+		tl_failsys(e, "%s", path);
+		close(fd);
+		return -1;
+	}
+	if (!S_ISREG(st.st_mode)) {
+		tl_fail(e, "%s: not a regular file (%s)", path,
+		    S_ISDIR(st.st_mode) ? "a directory" :
+		    S_ISFIFO(st.st_mode) ? "a FIFO" :
+		    S_ISSOCK(st.st_mode) ? "a socket" : "a device");
+		close(fd);
+		return -1;
+	}
+	if ((fl = fcntl(fd, F_GETFL)) < 0 ||
+	    fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) < 0) {
+		tl_failsys(e, "%s", path);
+		close(fd);
+		return -1;
+	}
+	return fd;
+}
+
+FILE *
+tl_fopen_regular(const char *path, tl_err *e)
+{
+	FILE *f;
+	int fd = tl_open_regular(path, e);
+
+	if (fd < 0)
+		return NULL;
+	if ((f = fdopen(fd, "r")) == NULL) {
+		tl_failsys(e, "%s", path);
+		close(fd);
+	}
+	return f;
+}
+
+int
 tl_scratch(tl_err *e)
 {
 	const char *dir = getenv("TMPDIR");

@@ -5,6 +5,7 @@
 #define TL_UTIL_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #define TL_VERSION "0.1.0"
 
@@ -35,6 +36,14 @@ const char *tl_name(const char *path, int output);
 
 /* calloc(n, size) with overflow check; on failure fills e and returns NULL. */
 void *tl_alloc(size_t n, size_t size, tl_err *e);
+
+/* An input that must be a regular file, opened read-only: anything else
+ * (a FIFO, a device, a directory, a socket) is refused at once, without
+ * blocking on it (O_NONBLOCK open, then fstat). Returns the descriptor,
+ * blocking again, or -1 with "path: not a regular file" or the system's
+ * reason. tl_fopen_regular is the same as a stdio stream ("r"). */
+int tl_open_regular(const char *path, tl_err *e);
+FILE *tl_fopen_regular(const char *path, tl_err *e);
 
 /* An anonymous scratch file (unlinked at once) in $TMPDIR or /tmp. */
 int tl_scratch(tl_err *e);
