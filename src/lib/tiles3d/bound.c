@@ -21,16 +21,27 @@
 #include "tiles3d/t3_impl.h"
 
 /* Height along the normal u through the ellipsoid's point s where it
- * meets the plane through a with normal n. */
+ * meets the plane through a with normal n, less h: how far the drawn
+ * triangle stands above the point of height h. A plane within 6
+ * degrees of the normal (a wall, steeper than any DEM's triangle: the
+ * row of a pole, whose vertices all meet in one point at their several
+ * heights, or padding kept on the globe) meets it far away or never;
+ * there the distance from the point to the plane, how far the wall
+ * stands from the point; a triangle of no area draws nothing. */
 static double
 plane_height(const double s[3], const double u[3], const double a[3],
-    const double n[3])
+    const double n[3], double h)
 {
-	double num = 0, den = 0;
+	double num = 0, den = 0, nn = 0;
 
-	for (int q = 0; q < 3; q++)
+	for (int q = 0; q < 3; q++) {
 		num += (a[q] - s[q]) * n[q], den += u[q] * n[q];
-	return fabs(den) > 0 ? num / den : 0;
+		nn += n[q] * n[q];
+	}
+	nn = sqrt(nn);
+	if (fabs(den) >= 0.1 * nn && fabs(den) > 0)
+		return num / den - h;
+	return nn > 0 ? (num - h * den) / nn : 0;
 }
 
 /* Largest |q| over the triangle, q = c0 l0 l1 + c1 l1 l2 + c2 l2 l0:
@@ -91,7 +102,7 @@ midpoint(t3_work *w, const georef *g, const t3_tile *t, int a, int b,
 		memcpy(u, &w->up[3 * k], 3 * sizeof *u);
 		return 0;
 	}
-	geo_vertex_crs(g, 0, 0.5 * (w->px[a] + w->px[b]),
+	t3_grid_crs(g, 0.5 * (w->px[a] + w->px[b]),
 	    0.5 * (w->py[a] + w->py[b]), &lon, &lat);
 	if (t3_proj_geo(&w->proj, &lon, &lat, &z, 1, e) < 0)
 		return -1;
@@ -112,7 +123,7 @@ t3_flat_bound(t3_work *w, const georef *g, const t3_tile *t,
 	n[2] = u[0] * v[1] - u[1] * v[0];
 	for (int q = 0; q < 3; q++) {
 		d[q] = plane_height(&w->foot[3 * k[q]], &w->up[3 * k[q]], p[0],
-		    n) - w->h[k[q]];
+		    n, w->h[k[q]]);
 		dmax = fmax(dmax, fabs(d[q]));
 	}
 	for (int q = 0; q < 3; q++) {
@@ -120,8 +131,7 @@ t3_flat_bound(t3_work *w, const georef *g, const t3_tile *t,
 		double s[3], up[3], dm;
 		if (midpoint(w, g, t, a, b, s, up, e) < 0)
 			return -1;
-		dm = plane_height(s, up, p[0], n) -
-		    0.5 * (w->h[a] + w->h[b]);
+		dm = plane_height(s, up, p[0], n, 0.5 * (w->h[a] + w->h[b]));
 		c[q] = 4 * (dm - 0.5 * (d[q] + d[(q + 1) % 3]));
 	}
 	*out = dmax + quad_max(c);

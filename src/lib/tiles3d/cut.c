@@ -6,18 +6,34 @@
 
 typedef struct {
 	const pyramid_block *b;
-	double tau;
+	double tau, lmax;
 	int cmax, rmax;
 	t3_tris *t;
 	int failed;
 } sel;
+
+/* Twice the squared length, in cells, of the hypotenuse whose midpoint
+ * is vertex (c, r): k the largest power of 2 dividing both, the
+ * hypotenuse is a diagonal 2k long a side when c / k and r / k are both
+ * odd, else a row or column 2k long. It grows up the hierarchy, so that
+ * splitting every vertex past a length keeps the selection a matching. */
+static double
+hyp2(int c, int r)
+{
+	int k = 1;
+
+	while (k < BT_CELLS && !((c | r) & k))
+		k <<= 1;
+	return (c & r & k) ? 16.0 * k * k : 8.0 * k * k;
+}
 
 static int
 split(void *ctx, int c, int r)
 {
 	const sel *s = ctx;
 
-	return s->b->e[r * BT_SIZE + c] > s->tau;
+	return s->b->e[r * BT_SIZE + c] > s->tau ||
+	    hyp2(c, r) > 2 * s->lmax * s->lmax;
 }
 
 static int
@@ -65,10 +81,10 @@ emit(void *ctx, const int t[3][2])
 }
 
 int
-t3_cut(const pyramid_block *b, double tau, int cmax, int rmax, t3_tris *t,
-    tl_err *e)
+t3_cut(const pyramid_block *b, double tau, double lmax, int cmax, int rmax,
+    t3_tris *t, tl_err *e)
 {
-	sel s = { b, tau, cmax, rmax, t, 0 };
+	sel s = { b, tau, lmax, cmax, rmax, t, 0 };
 
 	t->n = 0;
 	bt_select(0, 0, split, &s, emit, &s);

@@ -84,6 +84,19 @@ t3_proj_geo(t3_proj *p, double *x, double *y, double *z, int n, tl_err *e)
 }
 
 void
+t3_grid_crs(const georef *g, double I, double J, double *x, double *y)
+{
+	double x0, y0;
+
+	geo_vertex_crs(g, 0, I, J, x, y);
+	if (g->model != GEO_GEOGRAPHIC)
+		return;
+	geo_vertex_crs(g, 0, 0, 0, &x0, &y0);
+	*y = fmax(-90, fmin(90, *y));
+	*x = fmax(x0 - 360, fmin(x0 + 360, *x));
+}
+
+void
 t3_ecef(double lon, double lat, double h, double out[3])
 {
 	double e2 = WGS84_F * (2 - WGS84_F), sl = sin(lat * DEG);

@@ -9,6 +9,13 @@
 /* Smallest radius of curvature of WGS 84 (the meridian's at the
  * equator), for a sagitta's bound. */
 #define R_MIN 6335439.0
+/* Metres: a triangle whose chord may sag more than this and than tau
+ * below the Earth's curve is split whatever its E, so that blocks the
+ * size of continents (a global DEM) are not drawn as a few flat
+ * triangles kilometres under the ground. Blocks under about 220 km
+ * across never reach it. */
+#define SAG_SPLIT 1000.0
+#define NC 9 /* lattice nodes a side for a cell's length */
 
 /* A frame at level-0 grid position (I, J), height z: ENU there. */
 static int
@@ -17,7 +24,7 @@ frame_at(t3_proj *p, const georef *g, double I, double J, double z,
 {
 	double x, y;
 
-	geo_vertex_crs(g, 0, I, J, &x, &y);
+	t3_grid_crs(g, I, J, &x, &y);
 	if (t3_proj_geo(p, &x, &y, &z, 1, e) < 0)
 		return -1;
 	t3_ecef(x, y, z, f->c);
@@ -33,8 +40,8 @@ diagonal(t3_proj *p, const georef *g, const t3_tile *t, double *d,
 	double s = BT_CELLS * ldexp(1, t->level), x[2], y[2], z[2] = { 0, 0 };
 	double a[3], b[3];
 
-	geo_vertex_crs(g, 0, t->bi * s, t->bj * s, &x[0], &y[0]);
-	geo_vertex_crs(g, 0, (t->bi + 1) * s, (t->bj + 1) * s, &x[1], &y[1]);
+	t3_grid_crs(g, t->bi * s, t->bj * s, &x[0], &y[0]);
+	t3_grid_crs(g, (t->bi + 1) * s, (t->bj + 1) * s, &x[1], &y[1]);
 	if (t3_proj_geo(p, x, y, z, 2, e) < 0)
 		return -1;
 	t3_ecef(x[0], y[0], 0, a), t3_ecef(x[1], y[1], 0, b);
@@ -43,12 +50,66 @@ diagonal(t3_proj *p, const georef *g, const t3_tile *t, double *d,
 	return 0;
 }
 
+/* The longest chord of one level cell step along a row or a column of
+ * tile t, from a lattice of its footprint (kept on the globe), with 5 %
+ * for the arcs between nodes. */
+static int
+cell_length(t3_proj *p, const georef *g, const t3_tile *t, double *len,
+    tl_err *e)
+{
+	double span = BT_CELLS * ldexp(1, t->level), x[NC * NC], y[NC * NC];
+	double z[NC * NC] = { 0 }, a[3], b[3], m = 0;
+
+	for (int q = 0; q < NC * NC; q++)
+		t3_grid_crs(g, span * (t->bi + (double)(q % NC) / (NC - 1)),
+		    span * (t->bj + (double)(q / NC) / (NC - 1)), &x[q], &y[q]);
+	if (t3_proj_geo(p, x, y, z, NC * NC, e) < 0)
+		return -1;
+	for (int q = 0; q < NC * NC; q++) {
+		t3_ecef(x[q], y[q], 0, a);
+		for (int k = 0; k < 2; k++) {
+			int o = k ? q + NC : q + 1;
+			if ((k ? q / NC : q % NC) == NC - 1)
+				continue;
+			t3_ecef(x[o], y[o], 0, b);
+			m = fmax(m, hypot(hypot(a[0] - b[0], a[1] - b[1]),
+			    a[2] - b[2]));
+		}
+	}
+	*len = 1.05 * m * (NC - 1) / BT_CELLS;
+	return 0;
+}
+
+/* Per level: the longest cell (cl) and each tile's lmax, the hypotenuse
+ * in cells whose chord sags SAG_SPLIT or tau. */
+static int
+curve_split(t3_set *s, t3_proj *p, double *cl, tl_err *e)
+{
+	for (int l = 0; l < s->ix->nlevels; l++) {
+		cl[l] = 0;
+		for (int k = s->first[l]; k < s->first[l + 1]; k++) {
+			double c;
+			if (cell_length(p, &s->ix->geo, &s->tile[k], &c, e) < 0)
+				return -1;
+			cl[l] = fmax(cl[l], c);
+		}
+		for (int k = s->first[l]; k < s->first[l + 1]; k++) {
+			t3_tile *t = &s->tile[k];
+			t->lmax = cl[l] > 0 ? sqrt(8 * R_MIN * fmax(t->tau,
+			    SAG_SPLIT)) / cl[l] : 2 * BT_CELLS;
+		}
+	}
+	return 0;
+}
+
 /* A bound of any tile's error on level l, from the index: unsplit
  * vertices have E <= min(tau, the block's largest), leaves the base
- * error, and flat triangles sag at most diag^2 / 8R (twice, for the
- * projection's curve and float rounding). */
+ * error, and flat triangles sag at most d^2 / 8R (twice, for the
+ * projection's curve and float rounding), d the block's diagonal or the
+ * longest hypotenuse the curve lets stand (lmax cells, or a leaf's). */
 static int
-level_bounds(const t3_set *s, t3_proj *p, double *ub, tl_err *e)
+level_bounds(const t3_set *s, t3_proj *p, const double *cl, double *ub,
+    tl_err *e)
 {
 	for (int l = 0; l < s->ix->nlevels; l++) {
 		const pyramid_level *L = &s->ix->lev[l];
@@ -58,6 +119,7 @@ level_bounds(const t3_set *s, t3_proj *p, double *ub, tl_err *e)
 			double d, b = fmax(fmin(t->tau, L->emax[k]), L->base[k]);
 			if (diagonal(p, &s->ix->geo, t, &d, e) < 0)
 				return -1;
+			d = fmin(d, fmax(t->lmax, M_SQRT2) * cl[l]);
 			ub[l] = fmax(ub[l], b + 2 * d * d / (8 * R_MIN));
 		}
 	}
@@ -109,7 +171,7 @@ t3_plan(t3_set *s, const pyramid_index *ix, double tau0, t3_proj *p,
     tl_err *e)
 {
 	int n = 0, nl = ix->nlevels, r = -1;
-	double *ub = NULL;
+	double *ub = NULL, *cl = NULL;
 
 	s->ix = ix;
 	s->region = ix->geo.model == GEO_GEOGRAPHIC;
@@ -122,7 +184,8 @@ t3_plan(t3_set *s, const pyramid_index *ix, double tau0, t3_proj *p,
 	s->zlo = tl_alloc(n, sizeof *s->zlo, e);
 	s->zhi = tl_alloc(n, sizeof *s->zhi, e);
 	if (!s->tile || !s->zlo || !s->zhi ||
-	    (ub = tl_alloc(nl, sizeof *ub, e)) == NULL)
+	    (ub = tl_alloc(nl, sizeof *ub, e)) == NULL ||
+	    (cl = tl_alloc(nl, sizeof *cl, e)) == NULL)
 		goto done;
 	for (int l = 0; l < nl; l++) {
 		const pyramid_level *L = &ix->lev[l];
@@ -143,13 +206,13 @@ t3_plan(t3_set *s, const pyramid_index *ix, double tau0, t3_proj *p,
 				goto done;
 		}
 	}
-	if (level_bounds(s, p, ub, e) < 0)
+	if (curve_split(s, p, cl, e) < 0 || level_bounds(s, p, cl, ub, e) < 0)
 		goto done;
 	skirts(s, ub);
 	heights(s);
 	r = 0;
 done:
-	free(ub);
+	free(ub), free(cl);
 	return r;
 }
 

@@ -25,6 +25,13 @@ void t3_proj_close(t3_proj *p);
 int t3_proj_geo(t3_proj *p, double *x, double *y, double *z, int n,
     tl_err *e);
 
+/* Level-0 grid place (I, J) in the DEM's CRS (geo_vertex_crs), kept on
+ * the globe for a geographic DEM: padding past a pole stops at the pole,
+ * padding past a full turn of longitude from column 0 stops a turn away
+ * (where the DEM's column 0 comes round again). Any other place, and
+ * every place of a projected DEM, is geo_vertex_crs's. */
+void t3_grid_crs(const georef *g, double I, double J, double *x, double *y);
+
 /* WGS84 (EPSG:4979 -> EPSG:4978), closed form. */
 void t3_ecef(double lon, double lat, double h, double out[3]);
 /* The point of height 0 at (lon, lat) and the unit normal there: the
@@ -49,10 +56,12 @@ typedef struct {
 	int n, cap;      /* triangles */
 } t3_tris;
 
-/* The selection E > tau of block b, triangles wholly past the level's
- * last real column cmax or row rmax (block coordinates) dropped. */
-int t3_cut(const pyramid_block *b, double tau, int cmax, int rmax,
-    t3_tris *t, tl_err *e);
+/* The selection of block b: the vertices with E > tau or whose
+ * hypotenuse is longer than lmax cells (the Earth's curve: plan.c),
+ * triangles wholly past the level's last real column cmax or row rmax
+ * (block coordinates) dropped. */
+int t3_cut(const pyramid_block *b, double tau, double lmax, int cmax,
+    int rmax, t3_tris *t, tl_err *e);
 
 /* One thread's buffers for a tile. */
 typedef struct t3_work t3_work;
@@ -84,6 +93,7 @@ struct t3_tile {
 	int cmax, rmax;     /* last real vertex in block coordinates */
 	int displaced;      /* QEM-3D level: vertices offset in x, y */
 	double tau, skirt;  /* metres */
+	double lmax;        /* cells: longer hypotenuses split (t3_cut) */
 	t3_frame f;
 	double error;       /* written by t3_tile */
 };

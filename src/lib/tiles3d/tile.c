@@ -71,7 +71,7 @@ place(t3_work *w, const georef *g, const t3_tile *t, tl_err *e)
 				geo_offset_to_grid(w->m, w->px[k], w->py[k],
 				    w->blk.x[k], w->blk.y[k], &di, &dj);
 			w->px[k] += di, w->py[k] += dj;
-			geo_vertex_crs(g, 0, w->px[k], w->py[k], &w->lon[k],
+			t3_grid_crs(g, w->px[k], w->py[k], &w->lon[k],
 			    &w->lat[k]);
 			w->h[k] = w->blk.z[k];
 		}
@@ -303,7 +303,7 @@ t3_tile_write(t3_work *w, const char *dir, const georef *g, t3_tile *t,
 	w->blk.displaced = t->displaced;
 	pyramid_block_path(in, sizeof in, dir, t->level, t->bi, t->bj);
 	if (pyramid_block_read(in, &w->blk, e) < 0 ||
-	    t3_cut(&w->blk, t->tau, t->cmax, t->rmax, &w->tris, e) < 0 ||
+	    t3_cut(&w->blk, t->tau, t->lmax, t->cmax, t->rmax, &w->tris, e) < 0 ||
 	    place(w, g, t, e) < 0)
 		return -1;
 	ni = indices(w, g, &nv);

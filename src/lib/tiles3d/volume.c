@@ -3,7 +3,8 @@
  * to the highest vertex of its subtree, so that it holds its children's.
  * A box in the tile's east-north-up frame, or for a geographic DEM a
  * region (radians, ellipsoidal heights), fitted to a lattice of the
- * footprint's points, widened for the curve between them. */
+ * footprint's points (kept on the globe: t3_grid_crs), widened for the
+ * curve between them. */
 #include <math.h>
 
 #include "tiles3d/t3_impl.h"
@@ -21,9 +22,45 @@ node(const t3_set *s, const t3_tile *t, int q, double *x, double *y,
 	    (NL - 1);
 	int top = q / (NL * NL);
 
-	geo_vertex_crs(&s->ix->geo, 0, span * (t->bi + u) + pad * (2 * u - 1),
+	t3_grid_crs(&s->ix->geo, span * (t->bi + u) + pad * (2 * u - 1),
 	    span * (t->bj + v) + pad * (2 * v - 1), x, y);
 	*z = top ? s->zhi[t - s->tile] : s->zlo[t - s->tile];
+}
+
+/* Longitudes continuous over the lattice, whichever way PROJ wrapped
+ * them: each node within half a turn of its neighbour (the one before
+ * in its row, or above it), the first as it came. */
+static void
+unwrap(double *x, int n)
+{
+	for (int q = 1; q < n; q++) {
+		int r = q % (NL * NL), ref = r % NL ? q - 1 : q - NL;
+		if (r == 0)
+			ref = q - NL * NL;
+		x[q] += 360 * round((x[ref] - x[q]) / 360);
+	}
+}
+
+/* A region from the footprint's extremes (degrees, metres): radians,
+ * west and east within [-pi, pi] (west > east across the antimeridian,
+ * as 3D Tiles has it; the whole turn when it spans one), south and
+ * north within [-pi/2, pi/2]. */
+static void
+region(const double lo[3], const double hi[3], double *v)
+{
+	double k = floor((lo[0] + 180) / 360), w = lo[0], east = hi[0];
+
+	if (hi[0] - lo[0] >= 360)
+		w = -180, east = 180;
+	else if (k != 0 || east > 180) {
+		w = lo[0] - 360 * k, east = hi[0] - 360 * k;
+		if (east > 180)
+			east -= 360;
+	}
+	v[0] = w * M_PI / 180, v[2] = east * M_PI / 180;
+	v[1] = fmax(-M_PI / 2, lo[1] * M_PI / 180);
+	v[3] = fmin(M_PI / 2, hi[1] * M_PI / 180);
+	v[4] = lo[2], v[5] = hi[2];
 }
 
 int
@@ -37,13 +74,14 @@ t3_volume(const t3_set *s, t3_proj *p, const t3_tile *t, double *v,
 		node(s, t, q, &x[q], &y[q], &z[q]);
 	if (t3_proj_geo(p, x, y, z, N, e) < 0)
 		return -1;
+	if (s->region)
+		unwrap(x, N);
 	for (int a = 0; a < 3; a++)
 		lo[a] = INFINITY, hi[a] = -INFINITY;
 	for (int q = 0; q < N; q++) {
 		double c[3], d[3], l[3];
 		if (s->region) {
-			l[0] = x[q] * M_PI / 180, l[1] = y[q] * M_PI / 180;
-			l[2] = z[q];
+			l[0] = x[q], l[1] = y[q], l[2] = z[q];
 		} else {
 			t3_ecef(x[q], y[q], z[q], c);
 			for (int a = 0; a < 3; a++)
@@ -57,10 +95,7 @@ t3_volume(const t3_set *s, t3_proj *p, const t3_tile *t, double *v,
 			lo[a] = fmin(lo[a], l[a]), hi[a] = fmax(hi[a], l[a]);
 	}
 	if (s->region) {
-		/* a geographic grid's footprint is a lon/lat rectangle */
-		double v6[6] = { lo[0], lo[1], hi[0], hi[1], lo[2], hi[2] };
-		for (int a = 0; a < 6; a++)
-			v[a] = v6[a];
+		region(lo, hi, v);
 		return 0;
 	}
 	/* the sagitta between nodes: (span / 16)^2 / 8R, with room */
