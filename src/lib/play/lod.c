@@ -40,8 +40,8 @@ emit(lod *s, int l, int bi, int bj, double dist)
 		return;
 	b = &s->out[s->n++];
 	b->level = l, b->bi = bi, b->bj = bj;
-	b->tau = s->pixels > 0 ? s->pixels /
-	    camera_pixels_per_metre(s->c, dist) : -1;
+	b->tau = s->pixels > 0 && !world_block_curved(s->w, l, bi, bj) ?
+	    s->pixels / camera_pixels_per_metre(s->c, dist) : -1;
 }
 
 /* Every existing child of (l, bi, bj) ready (asking loads them)? */

@@ -64,6 +64,21 @@ world_block_exists(const world *w, int l, int bi, int bj)
 	return bi >= 0 && bj >= 0 && bi < L->blocks[0] && bj < L->blocks[1];
 }
 
+int
+world_block_curved(const world *w, int l, int bi, int bj)
+{
+	double span = BT_CELLS * ldexp(1, l), lo = INFINITY, hi = 0;
+	double last = w->ix.size0[1] - 1;
+
+	(void)bi;
+	for (int k = 0; k <= 8; k++) {
+		double J = fmin(last, (bj + k / 8.0) * span);
+		double sx = geo_sx(&w->m, 0, J);
+		lo = fmin(lo, sx), hi = fmax(hi, sx);
+	}
+	return lo < 0.5 * hi;
+}
+
 void
 world_block_box(const world *w, int level, int bi, int bj, double lo[3],
     double hi[3])
@@ -106,4 +121,13 @@ world_box(const world *w, double lo[3], double hi[3])
 	lo[0] = fmin(p[0], q[0]), hi[0] = fmax(p[0], q[0]);
 	lo[1] = fmin(p[1], q[1]), hi[1] = fmax(p[1], q[1]);
 	lo[2] = w->zmin, hi[2] = w->zmax;
+	/* a geographic DEM is widest on its row nearest the equator, not on
+	 * its first or last (a pole's is a point) */
+	for (int k = 1; k < 16; k++) {
+		world_pos(w, 0, k * (w->ix.size0[1] - 1) / 16.0, 0, 0, 0, p);
+		world_pos(w, w->ix.size0[0] - 1, k * (w->ix.size0[1] - 1) /
+		    16.0, 0, 0, 0, q);
+		lo[0] = fmin(lo[0], fmin(p[0], q[0]));
+		hi[0] = fmax(hi[0], fmax(p[0], q[0]));
+	}
 }

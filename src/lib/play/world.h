@@ -32,6 +32,10 @@ void world_pos(const world *w, double I, double J, double X, double Y,
 
 /* Does block (bi, bj) exist on level l? */
 int world_block_exists(const world *w, int l, int bi, int bj);
+/* Does the metre scale of a row vary more than twofold over block (bi,
+ * bj)'s rows (a geographic block reaching far towards a pole)? Its
+ * triangles cannot then stand straight in the world: it is drawn whole. */
+int world_block_curved(const world *w, int l, int bi, int bj);
 /* Bounds of block (bi, bj) of a level: its grid footprint (plus half a
  * level cell on displaced levels) and the index's z range. */
 void world_block_box(const world *w, int level, int bi, int bj,
