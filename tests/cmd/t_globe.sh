@@ -1,0 +1,57 @@
+# t_globe - DEMs that cover the globe, touch a pole or cross the
+# antimeridian, made from a real tile with GDAL: each one through
+# dem2vgis (ellipsoidal heights), tilecheck --dem, vgis2tiles (regions
+# on the globe, west > east only across the antimeridian, errors finite
+# and under the Earth's radius, every glb vertex inside its tile's
+# volume, the 3D Tiles and glTF validators) and tileplay --shot (some
+# terrain in the picture: a cut near a pole is a sliver a few km wide).
+. "$(dirname "$0")/../lib.sh"
+
+PY=/usr/bin/python3
+JS=$TOP/tests/js
+SRC=$DATA/N44W072.tif
+tr() {	# NAME GDAL_TRANSLATE-OPTIONS...: a variant of the real tile
+	_o=$1; shift
+	gdal_translate -q -a_srs EPSG:4326 "$@" "$SRC" "$T/$_o.tif"
+}
+# (a) the globe: 1-degree cells, pixel-is-area (centres 89.5S..89.5N) and
+# pixel-is-point (centres on both poles, 180W and 180E both present)
+tr area -outsize 360 180 -a_ullr -180 90 180 -90
+tr point -outsize 361 181 -a_ullr -180.5 90.5 180.5 -90.5 \
+    -mo AREA_OR_POINT=Point
+# (b) a pole: a cut reaching 90N (its edge), one with a row on 90S
+tr north -srcwin 0 0 300 300 -a_ullr -72 90 -70 88
+tr south -srcwin 0 0 301 301 -a_ullr -72.00333333333333 -87.99666666666667 \
+    -69.99666666666667 -90.00333333333333 -mo AREA_OR_POINT=Point
+# (c) the antimeridian, from either side
+tr east -srcwin 0 0 300 300 -a_ullr 179.5 45 180.5 44
+tr west -srcwin 0 0 300 300 -a_ullr -180.5 45 -179.5 44
+# (d) polar stereographic (NSIDC north, EPSG:3413) of a cut
+gdal_translate -q -srcwin 0 0 400 400 "$SRC" "$T/cut.tif"
+gdalwarp -q -t_srs EPSG:3413 -ts 300 300 -r bilinear "$T/cut.tif" \
+    "$T/polar.tif"
+
+H="-D EPSG:5773 -H ellipsoid"
+for d in area:any point:any north:0 south:0 east:1 west:1 polar:0; do
+	n=${d%:*} cross=${d#*:}
+	run "$n: dem2vgis $H" dem2vgis $H "$T/$n.tif" "$T/$n.pyr"
+	run "$n: tilecheck --dem passes" tilecheck $H --dem "$T/$n.tif" \
+	    "$T/$n.pyr"
+	run "$n: vgis2tiles" vgis2tiles -q "$T/$n.pyr" "$T/$n.3d"
+	run "$n: regions on the globe, errors sane, every vertex in its volume" \
+	    $PY "$TOP/tests/tools/tiles3d_globe.py" "$T/$n.3d" $cross
+	sed 's/^/#   /' "$T/out"
+	run "$n: every glb passes the glTF validator" \
+	    node "$JS/validate.js" glb $(ls "$T/$n.3d"/*/*.glb)
+	run "$n: tileset.json passes the 3D Tiles 1.1 schema" \
+	    node "$JS/validate.js" tileset "$T/$n.3d/tileset.json"
+	run "$n: tileplay --shot" tileplay "$T/$n.pyr" --shot "$T/$n.png" \
+	    --size 160x120 --background 255,0,255
+	$PY -c "from osgeo import gdal; import sys
+a = gdal.Open(sys.argv[1]).ReadAsArray()
+bg = (a[0] == 255) & (a[1] == 0) & (a[2] == 255)
+n = int((~bg).sum()); print(n); sys.exit(n < 20)" \
+	    "$T/$n.png" >"$T/px"
+	ok $? "$n: the shot shows terrain ($(cat "$T/px") pixels)"
+done
+done_testing
