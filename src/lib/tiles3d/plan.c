@@ -12,9 +12,10 @@
 /* Metres: a triangle whose chord may sag more than this and than tau
  * below the Earth's curve is split whatever its E, so that blocks the
  * size of continents (a global DEM) are not drawn as a few flat
- * triangles kilometres under the ground. Blocks under about 220 km
- * across never reach it. */
-#define SAG_SPLIT 1000.0
+ * triangles hundreds of kilometres under the ground. Blocks under about
+ * 700 km across (padding included) never reach it: their tiles are
+ * what they were. */
+#define SAG_SPLIT 10000.0
 #define NC 9 /* lattice nodes a side for a cell's length */
 
 /* A frame at level-0 grid position (I, J), height z: ENU there. */
