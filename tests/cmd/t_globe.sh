@@ -19,7 +19,13 @@ tr() {	# NAME GDAL_TRANSLATE-OPTIONS...: a variant of the real tile
 tr area -outsize 360 180 -a_ullr -180 90 180 -90
 tr point -outsize 361 181 -a_ullr -180.5 90.5 180.5 -90.5 \
     -mo AREA_OR_POINT=Point
-# (b) a pole: a cut reaching 90N (its edge), one with a row on 90S
+# and pixel-is-area whose edges reach 90.5 (half a pixel past the poles)
+# with rows of centres on both poles
+tr polearea -outsize 360 181 -a_ullr -180 90.5 180 -90.5
+# (b) a pole: a cut reaching 90N (its edge), one with a row on 90S, one
+# whose last row misses 90S by rounding (-90.00000000000001: the pole)
+tr round -srcwin 0 0 301 301 -a_ullr -72.15 0.15 18.15 -90.15 \
+    -mo AREA_OR_POINT=Point
 tr north -srcwin 0 0 300 300 -a_ullr -72 90 -70 88
 tr south -srcwin 0 0 301 301 -a_ullr -72.00333333333333 -87.99666666666667 \
     -69.99666666666667 -90.00333333333333 -mo AREA_OR_POINT=Point
@@ -32,7 +38,9 @@ gdalwarp -q -t_srs EPSG:3413 -ts 300 300 -r bilinear "$T/cut.tif" \
     "$T/polar.tif"
 
 H="-D EPSG:5773 -H ellipsoid"
-for d in area:any point:any north:0 south:0 east:1 west:1 polar:0; do
+names=
+for d in area:any point:any polearea:any north:0 south:0 round:0 east:1 \
+    west:1 polar:0; do
 	n=${d%:*} cross=${d#*:}
 	run "$n: dem2vgis $H" dem2vgis $H "$T/$n.tif" "$T/$n.pyr"
 	run "$n: tilecheck --dem passes" tilecheck $H --dem "$T/$n.tif" \
@@ -41,17 +49,42 @@ for d in area:any point:any north:0 south:0 east:1 west:1 polar:0; do
 	run "$n: regions on the globe, errors sane, every vertex in its volume" \
 	    $PY "$TOP/tests/tools/tiles3d_globe.py" "$T/$n.3d" $cross
 	sed 's/^/#   /' "$T/out"
-	run "$n: every glb passes the glTF validator" \
-	    node "$JS/validate.js" glb $(ls "$T/$n.3d"/*/*.glb)
-	run "$n: tileset.json passes the 3D Tiles 1.1 schema" \
-	    node "$JS/validate.js" tileset "$T/$n.3d/tileset.json"
 	run "$n: tileplay --shot" tileplay "$T/$n.pyr" --shot "$T/$n.png" \
 	    --size 160x120 --background 255,0,255
-	$PY -c "from osgeo import gdal; import sys
-a = gdal.Open(sys.argv[1]).ReadAsArray()
-bg = (a[0] == 255) & (a[1] == 0) & (a[2] == 255)
-n = int((~bg).sum()); print(n); sys.exit(n < 20)" \
-	    "$T/$n.png" >"$T/px"
-	ok $? "$n: the shot shows terrain ($(cat "$T/px") pixels)"
+	names="$names $n"
 done
+# the validators once over every tileset (node starts slowly)
+run "every glb passes the glTF validator" \
+    node "$JS/validate.js" glb "$T"/*.3d/*/*.glb
+run "every tileset.json passes the 3D Tiles 1.1 schema" \
+    node "$JS/validate.js" tileset "$T"/*.3d/tileset.json
+# terrain in every shot (not the background's magenta)
+$PY -c "from osgeo import gdal; import sys
+for f in sys.argv[1:]:
+	a = gdal.Open(f).ReadAsArray()
+	bg = (a[0] == 255) & (a[1] == 0) & (a[2] == 255)
+	print(int((~bg).sum()))" $(for n in $names; do echo "$T/$n.png"; done) \
+    >"$T/px"
+set -- $(cat "$T/px")
+for n in $names; do
+	[ "${1:-0}" -ge 20 ]; ok $? "$n: the shot shows terrain (${1:-no} pixels)"
+	shift
+done
+
+# a row past a pole (centres to 90.1S) is refused, saying so
+tr past -srcwin 0 0 100 100 -a_ullr -72.1 -88.1 -69.9 -90.2 \
+    -mo AREA_OR_POINT=Point
+fails "a row past the pole: refused" 1 'latitude -90.1.*past the pole' \
+    dem2vgis $H "$T/past.tif" "$T/past.pyr"
+[ ! -e "$T/past.pyr" ]; ok $? "a row past the pole: nothing written"
+fails "... also with no datum shift" 1 'latitude -90.*past the pole' \
+    dem2vgis "$T/past.tif" "$T/past.pyr"
+# QEM-3D on a grid with rows on both poles: offsets along a pole's row
+# move nothing (it is one point), so the checker passes
+run "point, QEM-3D: dem2vgis -3" dem2vgis -3 $H "$T/point.tif" "$T/p3.pyr"
+run "point, QEM-3D: tilecheck --dem passes" tilecheck $H --dem \
+    "$T/point.tif" "$T/p3.pyr"
+run "point, QEM-3D: vgis2tiles" vgis2tiles -q "$T/p3.pyr" "$T/p3.3d"
+run "point, QEM-3D: regions, errors, volumes" \
+    $PY "$TOP/tests/tools/tiles3d_globe.py" "$T/p3.3d" any
 done_testing

@@ -51,6 +51,9 @@ const char *geo_differs(const georef *a, const georef *b);
 void geo_vertex_crs(const georef *g, int level, double i, double j,
     double *x, double *y);
 
+/* Degrees: a latitude this close past a pole is the pole (rounding). */
+#define GEO_POLE_EPS 1e-9
+
 /* --- the metric embedding of the level-0 grid --------------------------
  *
  * Ground metres for grid steps, never degrees or CRS units. Column I and
@@ -63,7 +66,10 @@ void geo_vertex_crs(const georef *g, int level, double i, double j,
  *
  * Per-row metrics (the column argument is ignored):
  * - GEO_GEOGRAPHIC: geodesics on WGS84 (GeographicLib): dx[J] along the
- *   parallel of row J for one column step, y[J] along the meridian.
+ *   parallel of row J for one column step, y[J] along the meridian. A
+ *   row on a pole (within GEO_POLE_EPS) has dx 0: its vertices are one
+ *   point, and offsets along it move nothing (geo_offset_to_grid); a
+ *   row past a pole is refused.
  * - GEO_NONE: the pixel size times the unit, constant.
  * - a user cell size (georef.cell, any model): constant.
  * Between integer rows the per-row values interpolate linearly; before

@@ -20,10 +20,15 @@
 
 /* --- per-row metrics --------------------------------------------------- */
 
+/* A row's latitude; a pole missed by rounding (a geotransform's decimal
+ * pixel size times 180 rows) is the pole: its cells are 0 m wide. */
 static double
 row_lat(const georef *g, int j)
 {
-	return g->origin[1] + (j + (g->point ? 0 : 0.5)) * g->step[1];
+	double lat = g->origin[1] + (j + (g->point ? 0 : 0.5)) * g->step[1];
+
+	return fabs(lat) > 90 && fabs(lat) < 90 + GEO_POLE_EPS ?
+	    copysign(90, lat) : lat;
 }
 
 static int
@@ -35,13 +40,17 @@ metric_geographic(geo_metric *m, const georef *g, tl_err *e)
 		lat = row_lat(g, j);
 		if (geodesy_inverse(lat, 0, lat, sx, &m->dx[j]) < 0)
 			return tl_fail(e, "row %d: latitude %.9g outside "
-			    "-90..90 or pixel size %g invalid", j, lat, sx);
+			    "-90..90 (past the pole: a pixel-is-area cell's "
+			    "centre, not its edge, must lie within) or pixel "
+			    "size %g invalid", j, lat, sx);
 		if (j + 1 == m->height)
 			break;
 		next = row_lat(g, j + 1);
 		if (geodesy_inverse(lat, 0, next, 0, &d) < 0)
 			return tl_fail(e, "row %d: latitude %.9g outside "
-			    "-90..90", j + 1, next);
+			    "-90..90 (past the pole: a pixel-is-area cell's "
+			    "centre, not its edge, must lie within)", j + 1,
+			    next);
 		m->y[j + 1] = m->y[j] + d;
 	}
 	return 0;
@@ -582,6 +591,7 @@ geo_offset_to_grid(const geo_metric *m, double I, double J, double X,
 	double sx, sy;
 
 	geo_scale(m, I, J, &sx, &sy);
-	*di = X / sx;
-	*dj = Y / sy;
+	/* a row on a pole is one point: no offset along it moves a vertex */
+	*di = sx > 0 ? X / sx : 0;
+	*dj = sy > 0 ? Y / sy : 0;
 }

@@ -275,6 +275,15 @@ dem_area(vdatum_shift *v, double box[4], tl_err *e)
 		geo_vertex_crs(&v->g, 0, 0, h - t * h, &x[4 * k + 3],
 		    &y[4 * k + 3]);
 	}
+	for (int k = 0; v->g.model == GEO_GEOGRAPHIC && k < n; k++) {
+		if (fabs(y[k]) > 90 && fabs(y[k]) < 90 + GEO_POLE_EPS)
+			y[k] = copysign(90, y[k]); /* rounding at a pole */
+		if (fabs(y[k]) > 90)
+			return tl_fail(e, "%s: a row of the DEM lies at latitude "
+			    "%.9g, past the pole (its georeferencing is wrong: a "
+			    "pixel-is-area cell's centre, not its edge, must lie "
+			    "within -90..90)", v->name, y[k]);
+	}
 	proj_trans_generic(v->toll, PJ_FWD, x, sizeof *x, n, y, sizeof *y,
 	    n, NULL, 0, 0, NULL, 0, 0);
 	box[1] = 90, box[3] = -90;

@@ -151,8 +151,9 @@ vertex(const state *s, int gi, int gj, double p[3])
 	if (s->L->displaced) {
 		double sx, sy;
 		scales(s, gi, gj, &sx, &sy);
-		p[0] += s->ox[o] / sx / s->step;
-		p[1] += s->oy[o] / sy / s->step;
+		/* a row on a pole is one point (geo_offset_to_grid) */
+		p[0] += sx > 0 ? s->ox[o] / sx / s->step : 0;
+		p[1] += sy > 0 ? s->oy[o] / sy / s->step : 0;
 	}
 }
 
