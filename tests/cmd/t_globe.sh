@@ -36,11 +36,15 @@ tr west -srcwin 0 0 300 300 -a_ullr -180.5 45 -179.5 44
 gdal_translate -q -srcwin 0 0 400 400 "$SRC" "$T/cut.tif"
 gdalwarp -q -t_srs EPSG:3413 -ts 300 300 -r bilinear "$T/cut.tif" \
     "$T/polar.tif"
+# and a cut re-georeferenced across the south pole, Antarctic polar
+# stereographic (EPSG:3031), 1 km cells
+gdal_translate -q -a_srs EPSG:3031 -srcwin 0 0 300 300 \
+    -a_ullr -150000 150000 150000 -150000 "$SRC" "$T/spole.tif"
 
 H="-D EPSG:5773 -H ellipsoid"
 names=
 for d in area:any point:any polearea:any north:0 south:0 round:0 east:1 \
-    west:1 polar:0; do
+    west:1 polar:0 spole:0; do
 	n=${d%:*} cross=${d#*:}
 	run "$n: dem2vgis $H" dem2vgis $H "$T/$n.tif" "$T/$n.pyr"
 	run "$n: tilecheck --dem passes" tilecheck $H --dem "$T/$n.tif" \
