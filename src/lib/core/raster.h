@@ -98,8 +98,9 @@ const rs_header *rs_header_of(const rs_reader *r);
 int rs_read_row(rs_reader *r, float *row, tl_err *e);
 /* Reads columns x0 .. x0+n-1 of the next row of every channel, channel c
  * at dst + c n. From a complete stream file (its size and trailer checked
- * once) only those bytes are read, and the rows' checksums, which cover
- * whole rows, are not verified; otherwise whole rows are read and
+ * once) each row is read by position, whole, for its checksum covers
+ * the whole row (a damaged row is reported by its number), and only the
+ * span is copied out; otherwise whole rows are read in sequence and
  * verified. Of a band list, each band overlapped is read so, a band left
  * behind by earlier spans first skipping the rows it missed (by position
  * in a complete stream file, otherwise read and verified). A reader is
