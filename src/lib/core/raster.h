@@ -92,6 +92,10 @@ typedef struct rs_reader rs_reader;
  * data as it goes, so a damaged band is reported by the row that reaches
  * it. Spans read only the bands they overlap. */
 rs_reader *rs_open(const char *path, tl_err *e);
+/* The same for an input that must be a regular file (a pyramid's block,
+ * vgis(5)): a FIFO, device or directory is refused at once ("path: not a
+ * regular file (a FIFO)"), never waited on; band lists are refused. */
+rs_reader *rs_open_regular(const char *path, tl_err *e);
 const rs_header *rs_header_of(const rs_reader *r);
 /* Reads the next row; after the last row of a stream it also checks the
  * trailer, so truncation is reported before the caller commits output. */

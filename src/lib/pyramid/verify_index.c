@@ -7,6 +7,7 @@
  * it cannot check against (not JSON, a field missing or of the wrong
  * type, block counts that do not fit the level's size). */
 #include "pyramid/verify.h"
+#include "pyramid/pyramid.h"
 #include "pyramid/vgis.h"
 
 #include <errno.h>
@@ -199,17 +200,27 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 	json_error_t je;
 	json_t *root, *levels;
 	int version, block, r = -1;
-	FILE *f;
+	char *text;
+	size_t n;
 
 	memset(ix, 0, sizeof *ix);
 	snprintf(path, sizeof path, "%s/" VGIS_INDEX, dir);
-	if ((f = fopen(path, "r")) == NULL)
-		return tl_failsys(e, "%s", path);
-	root = json_loadf(f, JSON_REJECT_DUPLICATES, &je);
-	fclose(f);
+	/* a regular file (a FIFO never blocks), and no larger than its size0
+	 * can need: the guards are shared, the reading of fields is not */
+	if ((text = pyramid_index_load(path, &n, e)) == NULL)
+		return -1;
+	if (pyramid_index_bounded(text, n, path, e) < 0) {
+		free(text);
+		return -1;
+	}
+	root = json_loadb(text, n, JSON_REJECT_DUPLICATES, &je);
+	free(text);
+	if (root == NULL && json_error_code(&je) == json_error_out_of_memory)
+		return tl_fail(e, "%s: out of memory parsing %zu bytes", path,
+		    n);
 	if (root == NULL)
 		return tl_fail(e, "%s: not JSON: line %d: %s", path, je.line,
-		    je.text);
+		    je.text[0] ? je.text : "(jansson gave no reason)");
 	levels = json_object_get(root, "levels");
 	if (!json_is_object(root))
 		bad = "an object";
