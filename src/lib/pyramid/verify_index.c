@@ -1,8 +1,10 @@
 /* verify_index.c - the checker's own reader of index.json (jansson).
  *
- * It shares no code with the producer's reader (pyramid_index.c): a pyramid
- * whose index that reader misreads is then caught by the checks against
- * the block files rather than read the same wrong way twice. It reads the
+ * It shares no reading of fields with the viewer's and the exporters'
+ * reader (pyramid_index.c): a pyramid whose index that reader misreads is
+ * then caught by the checks against the block files rather than read the
+ * same wrong way twice. It shares only the guards that read no field for
+ * use: a regular file, and a text no larger than its size0 can need. It reads the
  * fields vgis(5) documents and the checker needs, and refuses an index
  * it cannot check against (not JSON, a field missing or of the wrong
  * type, block counts that do not fit the level's size). */
