@@ -71,6 +71,8 @@ refused levels 'levels'
 # it is parsed, the reason given
 copy big; edit "$T/big" -t 's = s[:-2] + " " * 400000 + s[-2:]'
 refused big 'can need'
+copy values; edit "$T/values" -t 's = s[:-3] + ", \"x\": [" + ",".join(["0"] * 2000) + "]" + s[-3:]'
+refused values 'values'
 copy few; edit "$T/few" -t 's = s.replace("300,", "30000,", 1)'
 refused few 'values|size0|levels'
 

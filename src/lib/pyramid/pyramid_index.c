@@ -2,6 +2,7 @@
  * with jansson; the reader treats the file as untrusted. */
 #include "pyramid/pyramid.h"
 
+#include <errno.h>
 #include <float.h>
 #include <jansson.h>
 #include <limits.h>
@@ -310,7 +311,8 @@ level_from_json(json_t *o, pyramid_level *L, int want, const int size0[2],
 		    "has %dx%d", what, want, bl[0], bl[1], sz[0], sz[1],
 		    pyramid_nblocks(sz[0]), pyramid_nblocks(sz[1]));
 	if (pyramid_level_init(L, level, sz[0], sz[1], e) < 0)
-		return -1;
+		return tl_fail(e, "%s: levels[%d]: %zu blocks: out of memory",
+		    what, want, (size_t)bl[0] * bl[1]);
 	L->displaced = json_is_true(d);
 	memcpy(L->mode, mode, sizeof mode);
 	memcpy(L->kernel, kernel, sizeof kernel);
@@ -430,13 +432,15 @@ pyramid_index_bounded(const char *text, size_t n, const char *what,
 static int
 json_failed(const json_error_t *je, size_t n, const char *what, tl_err *e)
 {
-	if (json_error_code(je) == json_error_out_of_memory)
-		return tl_fail(e, "%s: out of memory parsing %zu bytes", what, n);
+	/* jansson words every syntax error; an empty text is an allocation
+	 * that failed inside it (its error code is not always set then) */
+	if (json_error_code(je) == json_error_out_of_memory ||
+	    je->text[0] == '\0' || errno == ENOMEM)
+		return tl_fail(e, "%s: out of memory parsing its %zu bytes",
+		    what, n);
 	if (json_error_code(je) == json_error_duplicate_key)
 		return tl_fail(e, "%s: line %d: %s (each key once)", what,
 		    je->line, je->text);
-	if (je->text[0] == '\0')
-		return tl_fail(e, "%s: not JSON (jansson gave no reason)", what);
 	return tl_fail(e, "%s: not JSON: line %d column %d: %s", what,
 	    je->line, je->column, je->text);
 }
@@ -478,6 +482,7 @@ pyramid_index_parse(const char *text, size_t n, const char *what,
 	memset(ix, 0, sizeof *ix);
 	if (pyramid_index_bounded(text, n, what, e) < 0)
 		return -1;
+	errno = 0;
 	if ((root = json_loadb(text, n, JSON_REJECT_DUPLICATES, &je)) == NULL)
 		return json_failed(&je, n, what, e);
 	levels = json_object_get(root, "levels");
@@ -499,8 +504,10 @@ pyramid_index_parse(const char *text, size_t n, const char *what,
 		goto done;
 	}
 	if ((ix->lev = tl_alloc(json_array_size(levels), sizeof *ix->lev,
-	    e)) == NULL)
+	    e)) == NULL) {
+		tl_fail(e, "%s: levels: out of memory", what);
 		goto done;
+	}
 	for (size_t l = 0; l < json_array_size(levels); l++, ix->nlevels++)
 		if (level_from_json(json_array_get(levels, l), &ix->lev[l],
 		    (int)l, ix->size0, what, e) < 0) {

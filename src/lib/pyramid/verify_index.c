@@ -215,14 +215,17 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 		free(text);
 		return -1;
 	}
+	errno = 0;
 	root = json_loadb(text, n, JSON_REJECT_DUPLICATES, &je);
 	free(text);
-	if (root == NULL && json_error_code(&je) == json_error_out_of_memory)
-		return tl_fail(e, "%s: out of memory parsing %zu bytes", path,
-		    n);
+	/* jansson words every syntax error: no words, a failed allocation */
+	if (root == NULL && (json_error_code(&je) == json_error_out_of_memory
+	    || je.text[0] == '\0' || errno == ENOMEM))
+		return tl_fail(e, "%s: out of memory parsing its %zu bytes",
+		    path, n);
 	if (root == NULL)
 		return tl_fail(e, "%s: not JSON: line %d: %s", path, je.line,
-		    je.text[0] ? je.text : "(jansson gave no reason)");
+		    je.text);
 	levels = json_object_get(root, "levels");
 	if (!json_is_object(root))
 		bad = "an object";
