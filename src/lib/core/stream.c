@@ -614,7 +614,8 @@ st_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e)
 		s->spans = spannable(r);
 	if (!s->spans)
 		return 1;
-	if (s->rec == NULL && (s->rec = tl_alloc(s->rowbytes + 4, 1, e)) == NULL)
+	if (s->rec == NULL &&
+	    (s->rec = tl_alloc(s->rowbytes + 4, 1, e)) == NULL)
 		return -1;
 	if (tl_pread(r->fd, s->rec, s->rowbytes + 4, rec, r->name, e) < 0)
 		return -1;

@@ -150,7 +150,8 @@ block_header(const rs_header *h, const char *path, pyramid_block *b,
 	    rs_get_double(h, VGIS_ATTR_BASE_ERROR, &b->base) < 0 ||
 	    rs_get_v2d(h, VGIS_ATTR_ZRANGE, zr) < 0)
 		return tl_fail(e, "%s: vgis:version, vgis:level, vgis:block, "
-		    "vgis:origin, vgis:base_error or vgis:zrange missing", path);
+		    "vgis:origin, vgis:base_error or vgis:zrange missing",
+		    path);
 	if (v != VGIS_VERSION)
 		return tl_fail(e, "%s: vgis:version %d, this program reads %d",
 		    path, v, VGIS_VERSION);
@@ -297,8 +298,8 @@ block_origin(const rs_header *h, const char *path, const pyramid_index *ix,
 		    ix->size0[1]);
 	if (mode == NULL || strcmp(mode, L->mode) != 0 || kernel == NULL ||
 	    strcmp(kernel, L->kernel) != 0)
-		return tl_fail(e, "%s: fqm:mode %s fqm:kernel %s, the index says "
-		    "%s %s", path, mode ? mode : "missing", kernel ? kernel :
+		return tl_fail(e, "%s: fqm:mode %s fqm:kernel %s, the index "
+		    "says %s %s", path, mode ? mode : "missing", kernel ? kernel :
 		    "missing", L->mode, L->kernel);
 	return 0;
 }

@@ -358,7 +358,7 @@ int_pair_at(const char *t, size_t n, size_t i, long v[2])
 			while (i < n && strchr(" \t\r\n", t[i]) != NULL)
 				i++;
 		}
-		if (i >= n || t[i] != want[k == 3 ? 3 : k == 2 ? 2 : k])
+		if (i >= n || t[i] != want[k])
 			return -1;
 		i++;
 	}
@@ -382,7 +382,8 @@ prescan(const char *t, size_t n, int size0[2], long long *commas)
 				j += t[j] == '\\' ? 2 : 1;
 			if (depth == 1 && j == i + 6 && j < n &&
 			    memcmp(t + i, "\"size0\"", 7) == 0) {
-				if (found++ || int_pair_at(t, n, j + 1, v) < 0 ||
+				if (found++ ||
+				    int_pair_at(t, n, j + 1, v) < 0 ||
 				    v[0] < 3 || v[1] < 3 || v[0] > (1 << 26) ||
 				    v[1] > (1 << 26))
 					return -1;

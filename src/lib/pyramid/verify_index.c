@@ -4,8 +4,9 @@
  * reader (pyramid_index.c): a pyramid whose index that reader misreads is
  * then caught by the checks against the block files rather than read the
  * same wrong way twice. It shares only the guards that read no field for
- * use: a regular file, and a text no larger than its size0 can need. It reads the
- * fields vgis(5) documents and the checker needs, and refuses an index
+ * use: a regular file, and a text no larger than its size0 can need.
+ * It reads the fields vgis(5) documents and the checker needs, and
+ * refuses an index
  * it cannot check against (not JSON, a field missing or of the wrong
  * type, block counts that do not fit the level's size). */
 #include "pyramid/verify.h"
