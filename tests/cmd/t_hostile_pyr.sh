@@ -128,4 +128,17 @@ run "tilepack on EXR maps" \
     tilepack -q -D EPSG:5773 "$T/cut.tif" "$T/E" "$T/v0.exr" "$T/v1.exr" "$T/v2.exr"
 diff -r "$T/S" "$T/E" >/dev/null
 ok $? "streams read by spans give the pyramid EXR maps give"
+# EXR maps have no row checksums, but a ZIP chunk's zlib Adler-32 and
+# size (fqm(5)): damage inside one is refused, its rows named
+"$PY" - "$T/v0.exr" "$T/bad.exr" <<'EOF'
+import sys
+d = bytearray(open(sys.argv[1], "rb").read())
+o = len(d) * 2 // 3
+d[o:o + 4] = bytes(x ^ 0x5a for x in d[o:o + 4])
+open(sys.argv[2], "wb").write(d)
+EOF
+fails "an EXR map damaged inside a ZIP chunk: tilepack exits 1, the row named" 1 \
+    "^tilepack: .*bad\.exr: corrupt data at row [0-9]+ of 260" \
+    tilepack -q -D EPSG:5773 "$T/cut.tif" "$T/B" "$T/bad.exr" "$T/v1.exr" "$T/v2.exr"
+[ ! -e "$T/B" ]; ok $? "... and no pyramid"
 done_testing
