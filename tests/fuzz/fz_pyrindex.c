@@ -1,7 +1,8 @@
 /* fz_pyrindex - index.json as the viewer and the exporters read it: the
  * shared strict reader (pyramid_index_parse), the text in memory, not
  * NUL-terminated. What it accepts must be what they can use: the grid
- * in metres (geo_metric_init, their next step), and the index written
+ * in metres (geo_metric_init, their next step; not of projected CRSs,
+ * which PROJ may look up for seconds), and the index written
  * back by the producer's writer reads again the same. */
 #include <errno.h>
 #include <stdio.h>
@@ -64,7 +65,11 @@ LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (pyramid_index_parse((const char *)data, size, "index.json", &ix,
 	    &e) < 0)
 		return 0;
-	if (geo_metric_init(&m, &ix.geo, &e) == 0)
+	/* not a projected CRS: PROJ looks a CRS string it does not know up
+	 * by name in its database, seconds under ASan ("EPSG;32611" timed
+	 * out), which tests PROJ, not the reader */
+	if (ix.geo.model != GEO_PROJECTED &&
+	    geo_metric_init(&m, &ix.geo, &e) == 0)
 		geo_metric_free(&m);
 	round_trip(&ix);
 	pyramid_index_free(&ix);
