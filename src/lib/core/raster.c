@@ -448,6 +448,32 @@ rs_open(const char *path, tl_err *e)
 	return open_reader(path, 1, e);
 }
 
+/* A raster that must be a file on disk (a pyramid's block): anything
+ * else, a FIFO included, is refused at once, before it can block. */
+rs_reader *
+rs_open_regular(const char *path, tl_err *e)
+{
+	rs_reader *r;
+	int fd = tl_open_regular(path, e);
+
+	if (fd < 0)
+		return NULL;
+	if ((r = tl_alloc(1, sizeof *r, e)) == NULL ||
+	    (r->name = strdup(path)) == NULL) {
+		if (r != NULL)
+			tl_fail(e, "%s: out of memory", path);
+		free(r);
+		close(fd);
+		return NULL;
+	}
+	r->fd = fd, r->ownfd = 1;
+	if (dispatch(r, 0, e) < 0) {
+		rs_close(r);
+		return NULL;
+	}
+	return r;
+}
+
 rs_reader *
 rs_open_band(const char *path, tl_err *e)
 {

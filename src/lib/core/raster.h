@@ -92,14 +92,19 @@ typedef struct rs_reader rs_reader;
  * data as it goes, so a damaged band is reported by the row that reaches
  * it. Spans read only the bands they overlap. */
 rs_reader *rs_open(const char *path, tl_err *e);
+/* The same for an input that must be a regular file (a pyramid's block,
+ * vgis(5)): a FIFO, device or directory is refused at once ("path: not a
+ * regular file (a FIFO)"), never waited on; band lists are refused. */
+rs_reader *rs_open_regular(const char *path, tl_err *e);
 const rs_header *rs_header_of(const rs_reader *r);
 /* Reads the next row; after the last row of a stream it also checks the
  * trailer, so truncation is reported before the caller commits output. */
 int rs_read_row(rs_reader *r, float *row, tl_err *e);
 /* Reads columns x0 .. x0+n-1 of the next row of every channel, channel c
  * at dst + c n. From a complete stream file (its size and trailer checked
- * once) only those bytes are read, and the rows' checksums, which cover
- * whole rows, are not verified; otherwise whole rows are read and
+ * once) each row is read by position, whole, for its checksum covers
+ * the whole row (a damaged row is reported by its number), and only the
+ * span is copied out; otherwise whole rows are read in sequence and
  * verified. Of a band list, each band overlapped is read so, a band left
  * behind by earlier spans first skipping the rows it missed (by position
  * in a complete stream file, otherwise read and verified). A reader is

@@ -270,6 +270,7 @@ struct st_rd {
 	size_t rowbytes;
 	long long row0;   /* file offset of row 0's record; -1: not a file */
 	int spans;        /* spans by pread: 1 yes, 0 no, -1 not known yet */
+	unsigned char *rec; /* a span's whole row record, checked by its CRC */
 	unsigned char buf[BUFSZ];
 };
 
@@ -598,21 +599,34 @@ spannable(rs_reader *r)
 	    le_get32(b + 8) == (uint32_t)r->h.height;
 }
 
+/* Columns x0 .. x0+n-1 of the next row by pread: the whole row record
+ * is read, for its CRC covers the whole row (fqm(5): damage is reported
+ * by row, windowed reads included); only the span is copied out. */
 static int
 st_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e)
 {
 	struct st_rd *s = r->impl;
 	long long rec = s->row0 + (long long)r->y * ((long long)s->rowbytes + 4);
-	long long plane = 4LL * r->h.width;
+	size_t plane = 4 * (size_t)r->h.width;
+	unsigned char b[4];
 
 	if (s->spans < 0)
 		s->spans = spannable(r);
 	if (!s->spans)
 		return 1;
+	if (s->rec == NULL &&
+	    (s->rec = tl_alloc(s->rowbytes + 4, 1, e)) == NULL)
+		return -1;
+	if (tl_pread(r->fd, s->rec, s->rowbytes + 4, rec, r->name, e) < 0)
+		return -1;
+	le_put32(b, (uint32_t)r->y);
+	if (le_get32(s->rec + s->rowbytes) !=
+	    crc(crc(0, b, 4), s->rec, s->rowbytes))
+		return tl_fail(e, "%s: corrupt row %d of %d (checksum "
+		    "mismatch)", r->name, r->y, r->h.height);
 	for (int c = 0; c < r->h.nch; c++)
-		if (tl_pread(r->fd, dst + (size_t)c * n, (size_t)n * 4,
-		    rec + c * plane + 4LL * x0, r->name, e) < 0)
-			return -1;
+		memcpy(dst + (size_t)c * n, s->rec + c * plane + 4 * (size_t)x0,
+		    (size_t)n * 4);
 	le_swap32s(dst, (size_t)n * r->h.nch);
 	return 0;
 }
@@ -632,6 +646,10 @@ st_skip(rs_reader *r, int n)
 static void
 st_close(rs_reader *r)
 {
+	struct st_rd *s = r->impl;
+
+	if (s != NULL)
+		free(s->rec);
 	free(r->impl);
 	r->impl = NULL;
 }

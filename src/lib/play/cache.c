@@ -129,7 +129,6 @@ load(const world *w, key k, char *err, size_t n)
 {
 	cblock *b;
 	tl_err e;
-	char path[4096];
 	const pyramid_level *L = &w->ix.lev[k.level];
 
 	if ((b = calloc(1, sizeof *b)) == NULL) {
@@ -137,11 +136,10 @@ load(const world *w, key k, char *err, size_t n)
 		return NULL;
 	}
 	b->level = k.level, b->bi = k.bi, b->bj = k.bj;
-	pyramid_block_path(path, sizeof path, w->dir, k.level, k.bi, k.bj);
 	if (pyramid_block_alloc(&b->blk, L->displaced, &e) < 0)
 		goto fail;
 	b->blk.level = k.level, b->blk.bi = k.bi, b->blk.bj = k.bj;
-	if (pyramid_block_read(path, &b->blk, &e) < 0 ||
+	if (pyramid_block_load(w->dir, &w->ix, &b->blk, &e) < 0 ||
 	    mesh_verts_build(w, &b->blk, &b->v, &e) < 0)
 		goto fail;
 	b->bytes = fixed_bytes(L->displaced);

@@ -13,14 +13,12 @@ sample(const world *w, int i, int j, float *z, tl_err *e)
 	const pyramid_level *L = &w->ix.lev[0];
 	int bi = i / BT_CELLS < L->blocks[0] ? i / BT_CELLS : L->blocks[0] - 1;
 	int bj = j / BT_CELLS < L->blocks[1] ? j / BT_CELLS : L->blocks[1] - 1;
-	char path[4096];
 	pyramid_block b;
 
 	if (pyramid_block_alloc(&b, L->displaced, e) < 0)
 		return -1;
 	b.level = 0, b.bi = bi, b.bj = bj;
-	pyramid_block_path(path, sizeof path, w->dir, 0, bi, bj);
-	if (pyramid_block_read(path, &b, e) < 0) {
+	if (pyramid_block_load(w->dir, &w->ix, &b, e) < 0) {
 		pyramid_block_free(&b);
 		return -1;
 	}

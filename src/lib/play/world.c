@@ -13,7 +13,8 @@ world_open(world *w, const char *dir, tl_err *e)
 	snprintf(w->dir, sizeof w->dir, "%s", dir);
 	if (pyramid_index_read(dir, &w->ix, e) < 0)
 		return -1;
-	if (geo_metric_init(&w->m, &w->ix.geo, e) < 0) {
+	if (pyramid_levels_probe(dir, &w->ix, e) < 0 ||
+	    geo_metric_init(&w->m, &w->ix.geo, e) < 0) {
 		pyramid_index_free(&w->ix);
 		return -1;
 	}

@@ -2,9 +2,13 @@
  * index.json is pyramid_index.c. */
 #include "pyramid/pyramid.h"
 
+#include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "core/attr.h"
 
 int
 pyramid_nblocks(int n)
@@ -120,46 +124,102 @@ done:
 	return r;
 }
 
+/* The header of a block at `path`: size, channels for its level's
+ * displacement, and its vgis:* attributes what b's place says. */
+static int
+block_header(const rs_header *h, const char *path, pyramid_block *b,
+    tl_err *e)
+{
+	int n = b->displaced ? 4 : 2, v, level, blk[2], org[2];
+	double zr[2];
+
+	if (h->width != BT_SIZE || h->height != BT_SIZE)
+		return tl_fail(e, "%s: %dx%d, a block is %dx%d", path, h->width,
+		    h->height, BT_SIZE, BT_SIZE);
+	if (h->nch != n || rs_channel(h, "E") != 0 ||
+	    rs_channel(h, "Z") != n - 1 ||
+	    (b->displaced && (rs_channel(h, "X") != 1 ||
+	    rs_channel(h, "Y") != 2)))
+		return tl_fail(e, "%s: channels must be %s (the index says "
+		    "level %d is %sdisplaced)", path, b->displaced ? "E X Y Z" :
+		    "E Z", b->level, b->displaced ? "" : "not ");
+	if (rs_get_int(h, VGIS_ATTR_VERSION, &v) < 0 ||
+	    rs_get_int(h, VGIS_ATTR_LEVEL, &level) < 0 ||
+	    rs_get_v2i(h, VGIS_ATTR_BLOCK, blk) < 0 ||
+	    rs_get_v2i(h, VGIS_ATTR_ORIGIN, org) < 0 ||
+	    rs_get_double(h, VGIS_ATTR_BASE_ERROR, &b->base) < 0 ||
+	    rs_get_v2d(h, VGIS_ATTR_ZRANGE, zr) < 0)
+		return tl_fail(e, "%s: vgis:version, vgis:level, vgis:block, "
+		    "vgis:origin, vgis:base_error or vgis:zrange missing",
+		    path);
+	if (v != VGIS_VERSION)
+		return tl_fail(e, "%s: vgis:version %d, this program reads %d",
+		    path, v, VGIS_VERSION);
+	if (level != b->level || blk[0] != b->bi || blk[1] != b->bj ||
+	    org[0] != b->bi * BT_CELLS || org[1] != b->bj * BT_CELLS)
+		return tl_fail(e, "%s: says level %d block (%d,%d) origin "
+		    "(%d,%d), expected level %d block (%d,%d)", path, level,
+		    blk[0], blk[1], org[0], org[1], b->level, b->bi, b->bj);
+	if (!isfinite(b->base) || b->base < 0)
+		return tl_fail(e, "%s: vgis:base_error %g: not a finite "
+		    "error >= 0", path, b->base);
+	if (!isfinite(zr[0]) || !isfinite(zr[1]) || zr[0] > zr[1])
+		return tl_fail(e, "%s: vgis:zrange %g..%g: not a finite range",
+		    path, zr[0], zr[1]);
+	b->zmin = zr[0], b->zmax = zr[1];
+	return 0;
+}
+
+static int
+corner(int k)
+{
+	return k == 0 || k == BT_CELLS || k == BT_CELLS * BT_SIZE ||
+	    k == PYRAMID_N - 1;
+}
+
+/* The content vgis(5) allows: Z (X, Y) finite, inside vgis:zrange, which
+ * it spans; E FLT_MAX at the four corners, finite and >= 0 elsewhere.
+ * Sets b->emax. */
+static int
+block_content(const char *path, pyramid_block *b, tl_err *e)
+{
+	double lo = INFINITY, hi = -INFINITY;
+
+	b->emax = 0;
+	for (int k = 0; k < PYRAMID_N; k++) {
+		int r = k / BT_SIZE, c = k % BT_SIZE;
+		if (!isfinite(b->z[k]) || (b->displaced &&
+		    (!isfinite(b->x[k]) || !isfinite(b->y[k]))))
+			return tl_fail(e, "%s: vertex (%d,%d): Z %g%s: not "
+			    "finite", path, c, r, b->z[k], b->displaced ?
+			    " or X, Y" : "");
+		if (corner(k) ? b->e[k] != FLT_MAX :
+		    !(b->e[k] >= 0 && b->e[k] < FLT_MAX))
+			return tl_fail(e, "%s: vertex (%d,%d): E %g: %s", path,
+			    c, r, b->e[k], corner(k) ? "a corner's E must be "
+			    "FLT_MAX" : "not a finite error >= 0");
+		lo = fmin(lo, b->z[k]), hi = fmax(hi, b->z[k]);
+		if (!corner(k))
+			b->emax = fmax(b->emax, b->e[k]);
+	}
+	if (lo != b->zmin || hi != b->zmax)
+		return tl_fail(e, "%s: Z ranges %.9g..%.9g, vgis:zrange says "
+		    "%.9g..%.9g", path, lo, hi, b->zmin, b->zmax);
+	return 0;
+}
+
 int
 pyramid_block_read(const char *path, pyramid_block *b, tl_err *e)
 {
 	rs_reader *r;
 	float row[4 * BT_SIZE], *p[4];
-	int n, level, blk[2], ret = -1;
-	double zr[2];
+	int n, ret = -1;
 
-	if ((r = rs_open(path, e)) == NULL)
+	if ((r = rs_open_regular(path, e)) == NULL)
 		return -1;
-	const rs_header *h = rs_header_of(r);
 	planes(b, p, &n);
-	if (h->width != BT_SIZE || h->height != BT_SIZE) {
-		tl_fail(e, "%s: %dx%d, a block is %dx%d", path, h->width,
-		    h->height, BT_SIZE, BT_SIZE);
+	if (block_header(rs_header_of(r), path, b, e) < 0)
 		goto done;
-	}
-	if (h->nch != n || rs_channel(h, "E") != 0 ||
-	    rs_channel(h, "Z") != n - 1 ||
-	    (b->displaced && (rs_channel(h, "X") != 1 ||
-	    rs_channel(h, "Y") != 2))) {
-		tl_fail(e, "%s: channels must be %s", path,
-		    b->displaced ? "E X Y Z" : "E Z");
-		goto done;
-	}
-	if (rs_get_int(h, VGIS_ATTR_LEVEL, &level) < 0 ||
-	    rs_get_v2i(h, VGIS_ATTR_BLOCK, blk) < 0 ||
-	    rs_get_double(h, VGIS_ATTR_BASE_ERROR, &b->base) < 0 ||
-	    rs_get_v2d(h, VGIS_ATTR_ZRANGE, zr) < 0) {
-		tl_fail(e, "%s: vgis:level, vgis:block, vgis:base_error or "
-		    "vgis:zrange missing", path);
-		goto done;
-	}
-	if (level != b->level || blk[0] != b->bi || blk[1] != b->bj) {
-		tl_fail(e, "%s: says level %d block (%d,%d), expected level %d "
-		    "block (%d,%d)", path, level, blk[0], blk[1], b->level,
-		    b->bi, b->bj);
-		goto done;
-	}
-	b->zmin = zr[0], b->zmax = zr[1];
 	for (int j = 0; j < BT_SIZE; j++) {
 		if (rs_read_row(r, row, e) < 0)
 			goto done;
@@ -167,8 +227,101 @@ pyramid_block_read(const char *path, pyramid_block *b, tl_err *e)
 			memcpy(p[c] + j * BT_SIZE, row + c * BT_SIZE,
 			    BT_SIZE * sizeof *row);
 	}
-	ret = 0;
+	ret = block_content(path, b, e);
 done:
 	rs_close(r);
+	return ret;
+}
+
+/* What the index lists for block k of level L, and says of all its
+ * blocks, the block at path must say too. */
+static int
+against_index(const char *path, const pyramid_block *b,
+    const pyramid_level *L, size_t k, tl_err *e)
+{
+	if (b->zmin != L->zmin[k] || b->zmax != L->zmax[k])
+		return tl_fail(e, "%s: vgis:zrange %.9g..%.9g, the index says "
+		    "%.9g..%.9g", path, b->zmin, b->zmax, L->zmin[k],
+		    L->zmax[k]);
+	if (b->base != L->base[k])
+		return tl_fail(e, "%s: vgis:base_error %.9g, the index says "
+		    "%.9g", path, b->base, L->base[k]);
+	if (b->emax != L->emax[k])
+		return tl_fail(e, "%s: largest finite E %.9g, the index says "
+		    "%.9g", path, b->emax, L->emax[k]);
+	return 0;
+}
+
+int
+pyramid_block_load(const char *dir, const pyramid_index *ix,
+    pyramid_block *b, tl_err *e)
+{
+	char path[4096];
+	const pyramid_level *L;
+
+	if (b->level < 0 || b->level >= ix->nlevels)
+		return tl_fail(e, "%s: no level %d", dir, b->level);
+	L = &ix->lev[b->level];
+	if (b->bi < 0 || b->bj < 0 || b->bi >= L->blocks[0] ||
+	    b->bj >= L->blocks[1] || b->displaced != L->displaced)
+		return tl_fail(e, "%s: level %d has no block (%d,%d)", dir,
+		    b->level, b->bi, b->bj);
+	pyramid_block_path(path, sizeof path, dir, b->level, b->bi, b->bj);
+	if (pyramid_block_read(path, b, e) < 0)
+		return -1;
+	return against_index(path, b, L,
+	    (size_t)b->bj * L->blocks[0] + b->bi, e);
+}
+
+/* The fqm:* and geo:* attributes of a block: the index's. */
+static int
+block_origin(const rs_header *h, const char *path, const pyramid_index *ix,
+    int l, tl_err *e)
+{
+	const pyramid_level *L = &ix->lev[l];
+	const char *mode = rs_get_string(h, FQM_ATTR_MODE);
+	const char *kernel = rs_get_string(h, FQM_ATTR_KERNEL);
+	const char *what;
+	int lv, s0[2];
+	georef g;
+
+	if (geo_from_header(&g, h, e) < 0)
+		return -1;
+	if ((what = geo_differs(&g, &ix->geo)) != NULL)
+		return tl_fail(e, "%s: geo:%s differs from the index's georef",
+		    path, what);
+	if (rs_get_int(h, FQM_ATTR_LEVEL, &lv) < 0 || lv != l ||
+	    rs_get_v2i(h, FQM_ATTR_SIZE0, s0) < 0 || s0[0] != ix->size0[0] ||
+	    s0[1] != ix->size0[1])
+		return tl_fail(e, "%s: fqm:level or fqm:size0 missing or not "
+		    "level %d of %dx%d (the index's)", path, l, ix->size0[0],
+		    ix->size0[1]);
+	if (mode == NULL || strcmp(mode, L->mode) != 0 || kernel == NULL ||
+	    strcmp(kernel, L->kernel) != 0)
+		return tl_fail(e, "%s: fqm:mode %s fqm:kernel %s, the index "
+		    "says %s %s", path, mode ? mode : "missing", kernel ? kernel :
+		    "missing", L->mode, L->kernel);
+	return 0;
+}
+
+int
+pyramid_levels_probe(const char *dir, const pyramid_index *ix, tl_err *e)
+{
+	char path[4096];
+	pyramid_block b;
+	rs_reader *r;
+	int ret = 0;
+
+	for (int l = 0; l < ix->nlevels && ret == 0; l++) {
+		memset(&b, 0, sizeof b);
+		b.level = l, b.displaced = ix->lev[l].displaced;
+		pyramid_block_path(path, sizeof path, dir, l, 0, 0);
+		if ((r = rs_open_regular(path, e)) == NULL)
+			return -1;
+		if (block_header(rs_header_of(r), path, &b, e) < 0 ||
+		    block_origin(rs_header_of(r), path, ix, l, e) < 0)
+			ret = -1;
+		rs_close(r);
+	}
 	return ret;
 }

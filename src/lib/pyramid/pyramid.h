@@ -48,10 +48,37 @@ void pyramid_index_free(pyramid_index *ix);
 /* DIR/index.json, written atomically (ix->version is not read: this
  * program's VGIS_VERSION is written). */
 int pyramid_index_write(const char *dir, const pyramid_index *ix, tl_err *e);
-/* Reads DIR/index.json as untrusted input: sizes, the level count and
- * every level's size and block count are checked before anything is
- * allocated from them. */
+
+/* The strict reader that the viewer and the exporters share (the checker
+ * keeps its own, verify.h); it refuses what they could not honour, with
+ * the field or block named, as strictly as tilecheck(1):
+ *
+ * pyramid_index_parse reads the n bytes of an index.json (name: for
+ * messages) as untrusted input: no more bytes, and no more JSON values,
+ * than the index of the pyramid its size0 claims can need (so jansson's
+ * memory stays proportional to the pyramid), keys unique, every integer
+ * in range before it is used (no truncation), every number finite,
+ * the level count, sizes and block counts those of size0, the pixel size
+ * sane, and per block zmin <= zmax, base_error and max_error >= 0.
+ * pyramid_index_read reads DIR/index.json, which must be a regular file
+ * (a FIFO or a directory is refused at once), the same way. Its users
+ * then call pyramid_levels_probe: block (0,0) of every level must have that
+ * level's channels (displaced or not) and the index's fqm:* and geo:*
+ * attributes, so that a level the index misdescribes is refused before
+ * anything is drawn or exported. */
+int pyramid_index_parse(const char *text, size_t n, const char *name,
+    pyramid_index *ix, tl_err *e);
 int pyramid_index_read(const char *dir, pyramid_index *ix, tl_err *e);
+int pyramid_levels_probe(const char *dir, const pyramid_index *ix, tl_err *e);
+/* Resource guards that the checker's reader shares (they read no field
+ * for use): pyramid_index_load reads a whole index.json that must be a
+ * regular file, NUL-terminated, its size in *n; pyramid_index_bounded
+ * refuses a text larger, or with more or fewer values, than the index of
+ * the pyramid its root's "size0" claims can hold, before jansson parses
+ * it. */
+char *pyramid_index_load(const char *path, size_t *n, tl_err *e);
+int pyramid_index_bounded(const char *text, size_t n, const char *what,
+    tl_err *e);
 
 /* "DIR/<level>/<row>_<col>.exr" */
 void pyramid_block_path(char *buf, size_t n, const char *dir, int level, int bi,
@@ -72,8 +99,16 @@ void pyramid_block_free(pyramid_block *b);
  * (rs_create_fresh). */
 int pyramid_block_write(const char *path, const pyramid_block *b,
     const rs_header *attrs, tl_err *e);
-/* Reads a block and checks its size, channels and vgis:* attributes
- * against what b->level, bi, bj, displaced say it must be. */
+/* Reads a block, a regular file (a FIFO is refused at once), and checks
+ * its size, its channels and vgis:* attributes against what b->level,
+ * bi, bj, displaced say it must be, and its content as vgis(5) allows it:
+ * Z (X, Y) finite and spanning vgis:zrange exactly, E FLT_MAX at the
+ * corners and finite, >= 0 elsewhere; sets b->emax. */
 int pyramid_block_read(const char *path, pyramid_block *b, tl_err *e);
+/* Block (b->bi, b->bj) of level b->level of the pyramid in dir (b->displaced
+ * the level's), read as above and checked against the index's entry for
+ * it: zmin, zmax, base_error and max_error. */
+int pyramid_block_load(const char *dir, const pyramid_index *ix,
+    pyramid_block *b, tl_err *e);
 
 #endif

@@ -135,7 +135,7 @@ vf_block_load(vf_lv *v, vf_blk *b, int bi, int bj, int quiet)
 	assert(bi >= 0 && bj >= 0 && bi < v->bx && bj < v->by);
 	b->ok = 0;
 	snprintf(path, sizeof path, VGIS_BLOCK_PATH, v->c->dir, v->l, bj, bi);
-	if ((rd = rs_open(path, &e)) == NULL) {
+	if ((rd = rs_open_regular(path, &e)) == NULL) {
 		if (!quiet)
 			BNOTE(v, VF_INDEX, bi, bj, "%s", e.msg);
 		return;

@@ -1,12 +1,16 @@
 /* verify_index.c - the checker's own reader of index.json (jansson).
  *
- * It shares no code with the producer's reader (pyramid_index.c): a pyramid
- * whose index that reader misreads is then caught by the checks against
- * the block files rather than read the same wrong way twice. It reads the
- * fields vgis(5) documents and the checker needs, and refuses an index
+ * It shares no reading of fields with the viewer's and the exporters'
+ * reader (pyramid_index.c): a pyramid whose index that reader misreads is
+ * then caught by the checks against the block files rather than read the
+ * same wrong way twice. It shares only the guards that read no field for
+ * use: a regular file, and a text no larger than its size0 can need.
+ * It reads the fields vgis(5) documents and the checker needs, and
+ * refuses an index
  * it cannot check against (not JSON, a field missing or of the wrong
  * type, block counts that do not fit the level's size). */
 #include "pyramid/verify.h"
+#include "pyramid/pyramid.h"
 #include "pyramid/vgis.h"
 
 #include <errno.h>
@@ -199,14 +203,27 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 	json_error_t je;
 	json_t *root, *levels;
 	int version, block, r = -1;
-	FILE *f;
+	char *text;
+	size_t n;
 
 	memset(ix, 0, sizeof *ix);
 	snprintf(path, sizeof path, "%s/" VGIS_INDEX, dir);
-	if ((f = fopen(path, "r")) == NULL)
-		return tl_failsys(e, "%s", path);
-	root = json_loadf(f, JSON_REJECT_DUPLICATES, &je);
-	fclose(f);
+	/* a regular file (a FIFO never blocks), and no larger than its size0
+	 * can need: the guards are shared, the reading of fields is not */
+	if ((text = pyramid_index_load(path, &n, e)) == NULL)
+		return -1;
+	if (pyramid_index_bounded(text, n, path, e) < 0) {
+		free(text);
+		return -1;
+	}
+	errno = 0;
+	root = json_loadb(text, n, JSON_REJECT_DUPLICATES, &je);
+	free(text);
+	/* jansson words every syntax error: no words, a failed allocation */
+	if (root == NULL && (json_error_code(&je) == json_error_out_of_memory
+	    || je.text[0] == '\0' || errno == ENOMEM))
+		return tl_fail(e, "%s: out of memory parsing its %zu bytes",
+		    path, n);
 	if (root == NULL)
 		return tl_fail(e, "%s: not JSON: line %d: %s", path, je.line,
 		    je.text);

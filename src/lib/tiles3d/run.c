@@ -33,7 +33,7 @@ run_range(void *arg, int k, int i0, int i1)
 		t3_tile *t = &j->s->tile[j->base + i];
 		snprintf(path, sizeof path, "%s/%d/%d_%d.glb", j->tmp, t->level,
 		    t->bj, t->bi);
-		if (t3_tile_write(&j->w[k], j->a->dir, &j->ix->geo, t, path,
+		if (t3_tile_write(&j->w[k], j->a->dir, j->ix, t, path,
 		    &j->err[k]) < 0)
 			j->failed[k] = 1;
 	}
@@ -145,6 +145,10 @@ t3_run(const t3_args *a, t3_report *rep, tl_err *e)
 	memset(rep, 0, sizeof *rep);
 	if (pyramid_index_read(a->dir, &ix, e) < 0)
 		return -1;
+	if (pyramid_levels_probe(a->dir, &ix, e) < 0) {
+		pyramid_index_free(&ix);
+		return -1;
+	}
 	j.w = tl_alloc(nt, sizeof *j.w, e);
 	j.err = tl_alloc(nt, sizeof *j.err, e);
 	j.failed = tl_alloc(nt, sizeof *j.failed, e);

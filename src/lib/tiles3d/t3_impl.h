@@ -100,8 +100,8 @@ struct t3_tile {
 
 /* Reads block t of the pyramid in dir, writes its glb to path and sets
  * t->error: the bound of its mesh's vertical distance from the DEM. */
-int t3_tile_write(t3_work *w, const char *dir, const georef *g, t3_tile *t,
-    const char *path, tl_err *e);
+int t3_tile_write(t3_work *w, const char *dir, const pyramid_index *ix,
+    t3_tile *t, const char *path, tl_err *e);
 
 /* The bound of the distance between the drawn triangle p (ECEF of its
  * float32 vertices) over grid vertices k and the grid-linear one, along

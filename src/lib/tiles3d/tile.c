@@ -293,16 +293,15 @@ write_glb(t3_work *w, const char *path, int nv, int ni, tl_err *e)
 }
 
 int
-t3_tile_write(t3_work *w, const char *dir, const georef *g, t3_tile *t,
-    const char *path, tl_err *e)
+t3_tile_write(t3_work *w, const char *dir, const pyramid_index *ix,
+    t3_tile *t, const char *path, tl_err *e)
 {
-	char in[4096];
+	const georef *g = &ix->geo;
 	int nv, ni;
 
 	w->blk.level = t->level, w->blk.bi = t->bi, w->blk.bj = t->bj;
 	w->blk.displaced = t->displaced;
-	pyramid_block_path(in, sizeof in, dir, t->level, t->bi, t->bj);
-	if (pyramid_block_read(in, &w->blk, e) < 0 ||
+	if (pyramid_block_load(dir, ix, &w->blk, e) < 0 ||
 	    t3_cut(&w->blk, t->tau, t->lmax, t->cmax, t->rmax, &w->tris, e) < 0 ||
 	    place(w, g, t, e) < 0)
 		return -1;
