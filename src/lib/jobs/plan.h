@@ -39,7 +39,16 @@ typedef struct {
 	/* tilepack -b: pieces in parts of at most this many DEM samples (-1:
 	 * tilepack's own bound) */
 	long long part_samples;
+	/* what identifies the DEM's files (dem2fqm --stamp, stamp.h): copied
+	 * into the plan as dem.stamp, which every job checks first */
+	const char *stamp;
 } plan_opts;
+
+/* Whether the plan can carry every path and option of o into dir: a
+ * newline cannot go into a Makefile's recipe (every other byte is
+ * quoted for make, sh, GNU parallel and sbatch). plan_write checks it
+ * too; a caller with work to do first checks it before. */
+int plan_check(const plan_opts *o, const char *dir, tl_err *e);
 
 /* Writes the plan into the directory dir, made atomically (an existing
  * one is replaced only with force). */
