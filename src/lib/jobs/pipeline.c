@@ -456,6 +456,8 @@ absolute(const char *p, char *buf, size_t n, tl_err *e)
 		    tl_fail(e, "%s: name too long", p);
 	if (getcwd(cwd, sizeof cwd) == NULL)
 		return tl_failsys(e, "current directory");
+	while (p[0] == '.' && p[1] == '/') /* ./-x (undashed), ./x */
+		p += 2;
 	return snprintf(buf, n, "%s/%s", cwd, p) < (int)n ? 0 :
 	    tl_fail(e, "%s: name too long", p);
 }
