@@ -184,8 +184,9 @@ main(int argc, char **argv)
 	if (check_stamp != NULL && argc == optind) {
 		if (stamp_check(check_stamp, &e) == 0)
 			return 0;
-		fprintf(stderr, "%s: %s: the plan's jobs would mix two DEMs; "
-		    "write the plan again (dem2vgis -f --plan)\n", c.prog, e.msg);
+		fprintf(stderr, "%s: %s: a plan's jobs must all read the DEM "
+		    "it was made from; write the plan again (dem2vgis -f "
+		    "--plan)\n", c.prog, e.msg);
 		return CLI_FAIL;
 	}
 	if (argc - optind < 2 || check_stamp != NULL)

@@ -7,7 +7,8 @@
 # every character, builds the pyramid byte for byte the one dem2vgis
 # builds; nothing is ever run from a name (no PWNED anywhere). A
 # newline, which make cannot carry, is refused at --plan time, naming
-# what holds it, and no plan is left.
+# what holds it, and no plan is left. The programs' directory (TL_BIN)
+# has a hostile name too.
 . "$(dirname "$0")/../lib.sh"
 . "$TOP/tests/slurm.sh"
 PATH=$B:$PATH
@@ -34,12 +35,13 @@ name() {
 	13) desc=dash n='-a' ;;
 	esac
 }
-# the three groups: every character in one of them
+# the three groups: every character in one of them, each a name that a
+# shell parsing it unquoted would run "touch PWNED" from
 group() {
 	case $1 in
-	1) n="a b';touch PWNED;'\";touch PWNED;\"" ;;
-	2) n='a$(touch PWNED)\#&touch PWNED&|touch PWNED|\' ;;
-	3) n='-a*?`touch PWNED`#' ;;
+	1) n="a b'c'\"d\";touch PWNED;" ;;
+	2) n='a$(touch PWNED)\b#c&touch PWNED|touch PWNED|' ;;
+	3) n='-a*?`touch PWNED`' ;;
 	esac
 }
 # plan RUNNER NAME: in $T/RUNNER, the plan NAMEp of the DEM NAMEd.tif (a
@@ -72,7 +74,10 @@ cd "$T/each" && grep -q '\\\\\\#' "./a#b\\#cp/Makefile"
 ok $? "a '#' after a backslash escaped as make reads it (\\\\\\#)"
 
 # --- each runner: every character in three groups ----------------------
+# (the programs too, from a directory with a hostile name: TL_BIN)
 mkdir -p "$T/bin" && fake_sbatch "$T/bin"
+TL_BIN=$T/'b d;touch PWNED;#$x' && ln -s "$B" "$TL_BIN"
+ok $? "the programs from a directory named $TL_BIN"
 for g in 1 2 3; do
 	group $g
 	plan make "$n" && make -s -C "./${n}p" -j2 >"$T/log" 2>&1 &&
@@ -95,6 +100,10 @@ for g in 1 2 3; do
 	[ $s -eq 0 ] || tail -3 "$T/log" | sed 's/^/#   /'
 	ok $s "Slurm faked, group $g ($n): the pyramid byte for byte"
 done
+
+cd "$T/make" &&
+    [ "$(grep -lF "B = '$T/b d;touch PWNED;\\#\$\$x'" ./*p/Makefile | wc -l)" -eq 3 ]
+ok $? "the plans ran the programs from there (B in each Makefile)"
 
 # --- a newline: refused at once, naming what holds it ------------------
 nl='

@@ -39,13 +39,14 @@ ok $? "dry run: chain, submit (afterok chain), $n pieces (array 1-$n), gather (a
 # back, submitted again, it finishes
 cp "$T/dem.tif" "$T/gone.tif"
 dem2vgis --plan "$T/plan-f" "$T/gone.tif" "$T/out-f"
-rm "$T/gone.tif" "$T/bin/jobs" "$T/bin/n"
+mv "$T/gone.tif" "$T/away.tif" && rm "$T/bin/jobs" "$T/bin/n"
 SBATCH_OPTS='-p test -t 5' PATH=$T/bin:$PATH sh "$T/plan-f/slurm.sh" \
     >/dev/null 2>&1 && [ ! -e "$T/out-f" ] &&
     [ "$(cut -d' ' -f2 "$T/bin/jobs" | tr '\n' ' ')" = "chain submit " ] &&
     grep -q 'gone.tif' "$T/plan-f/slurm-1.out"
 ok $? "dry run, the chain failing: the rest not run, the error in slurm-1.out"
-cp "$T/dem.tif" "$T/gone.tif"
+# the same file back (a copy would be another DEM to the plan: t_plan_dem)
+mv "$T/away.tif" "$T/gone.tif"
 SBATCH_OPTS='-p test -t 5' PATH=$T/bin:$PATH sh "$T/plan-f/slurm.sh" \
     >/dev/null 2>&1 && diff -r "$T/ref" "$T/out-f" >/dev/null
 ok $? "dry run, submitted again with the DEM back: the pyramid byte for byte"

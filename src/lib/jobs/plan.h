@@ -7,7 +7,13 @@
  * (stage by stage; PARALLEL may name --sshloginfile for machines that
  * share the file system) and a script submitting Slurm jobs (an array for
  * the pieces, chained by dependencies). Every job is a make target, so
- * all three skip what is done. */
+ * all three skip what is done; it runs through the plan's script job,
+ * which checks the DEM's files as the plan recorded them (dem.stamp,
+ * stamp.h), holds a lock of its own (runners at once run it once) and
+ * makes its done/ file; a run of the whole plan first drops the done/
+ * files whose outputs are gone. Names and options reach the jobs
+ * exactly, quoted for make, sh, GNU parallel and sbatch; a newline,
+ * which no Makefile carries, is refused (plan_check). */
 #ifndef TL_PLAN_H
 #define TL_PLAN_H
 
