@@ -26,6 +26,8 @@ record(FILE *f, const char *cwd, const char *file, tl_err *e)
 		    "recorded", file);
 	if (stat(file, &st) != 0)
 		return tl_failsys(e, "%s", file);
+	while (file[0] == '.' && file[1] == '/') /* ./-x: a name as given */
+		file += 2;
 	fprintf(f, "%lld %lld %ld %llu %s%s%s\n", (long long)st.st_size,
 	    (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec,
 	    (unsigned long long)st.st_ino, file[0] == '/' ? "" : cwd,
