@@ -105,6 +105,16 @@ cd "$T/make" &&
     [ "$(grep -lF "B = '$T/b d;touch PWNED;\\#\$\$x'" ./*p/Makefile | wc -l)" -eq 3 ]
 ok $? "the plans ran the programs from there (B in each Makefile)"
 
+# a mosaic of two tiles with such names (the plan's list, dems.txt)
+group 2
+mkdir -p "$T/mosaic" && cd "$T/mosaic" &&
+    gdal_translate -q -srcwin 0 0 128 257 "$T/dem.tif" "./${n}w.tif" &&
+    gdal_translate -q -srcwin 128 0 129 257 "$T/dem.tif" "./${n}e.tif" &&
+    dem2vgis -q -- "${n}w.tif" "${n}e.tif" ref &&
+    dem2vgis --plan "${n}p" -- "${n}w.tif" "${n}e.tif" "${n}o" &&
+    make -s -C "./${n}p" >"$T/log" 2>&1 && diff -r ref "./${n}o" >/dev/null
+ok $? "make, a mosaic of two tiles named $n: the pyramid byte for byte"
+
 # --- a newline: refused at once, naming what holds it ------------------
 nl='
 '
