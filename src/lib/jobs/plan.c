@@ -175,9 +175,12 @@ makefile(FILE *f, const plan_opts *o)
 	fputs("\n\nall: done/gather\n\n"
 	    "# done/ markers whose outputs are gone (work/ removed...) removed "
 	    "first,\n# to be made again: for the whole build or the gather, "
-	    "not for each\n# job that GNU parallel and Slurm run\n"
+	    "not for each\n# job that GNU parallel and Slurm run, nor for "
+	    "make -n or -q\n"
 	    "ifneq ($(filter all done/gather,$(or $(MAKECMDGOALS),all)),)\n"
-	    "SWEPT := $(shell $(JOB) --sweep)\nendif\n\n", f);
+	    "ifeq ($(findstring n,$(firstword -$(MAKEFLAGS)))$(findstring q,"
+	    "$(firstword -$(MAKEFLAGS))),)\n"
+	    "SWEPT := $(shell $(JOB) --sweep)\nendif\nendif\n\n", f);
 	chain(f, o);
 	fprintf(f, "# the pieces, known once the vertex maps are: a rule each\n"
 	    "done/pieces.mk: done/chain\n"
