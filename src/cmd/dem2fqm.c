@@ -5,12 +5,14 @@
 #include "core/cli.h"
 #include "core/fqm0.h"
 #include "core/rowpipe.h"
+#include "core/stamp.h"
 
 static const char usage[] =
     "[-I] [-D datum] [-e encoding] [-F filled] [-H datum] [-N nodata]\n"
     "               [-n name] [-s dx[,dy]] [-W filled] [-w a,b] "
     "[-z compression]\n"
     "               [dem [out]]\n"
+    "       dem2fqm --stamp file dem ...\n"
     "       dem2fqm -W filled --fill-pass 1|2 --rows y0,y1 [DEM options] "
     "dem\n"
     "       dem2fqm -W filled --fill-pass join|commit --band-rows n\n"
@@ -41,6 +43,9 @@ static const char usage[] =
     "  -w a,b          only the DEM's columns a .. b-1: a window of the FQM "
     "(a band\n"
     "                  job's; its edge columns lack the cells beyond)\n"
+    "  --stamp file    record what identifies every file the DEMs read "
+    "into\n"
+    "                  file (a plan's, dem2vgis(1)); no output\n"
     "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
     "  dem             any raster GDAL reads, EXR, or a list of DEM files (a\n"
     "                  mosaic); - (stdin, default)\n"
@@ -55,11 +60,12 @@ typedef struct {
 	int pass;            /* --fill-pass: 0 none, or a fill_pass */
 	int rows[2], has_rows; /* --rows */
 	int band;            /* --band-rows, 0 none */
+	const char *stamp;   /* --stamp */
 } options;
 
 /* --fill-pass: the parts of a filled DEM made in row bands */
 enum { PASS_1 = 1, PASS_JOIN, PASS_2, PASS_COMMIT };
-enum { OPT_PASS = 256, OPT_ROWS, OPT_BAND_ROWS };
+enum { OPT_PASS = 256, OPT_ROWS, OPT_BAND_ROWS, OPT_STAMP };
 
 static int
 convert(const cli *c, const options *o, dem *d, tl_err *e)
@@ -202,16 +208,20 @@ main(int argc, char **argv)
 		{ "fill-pass", required_argument, NULL, OPT_PASS },
 		{ "rows", required_argument, NULL, OPT_ROWS },
 		{ "band-rows", required_argument, NULL, OPT_BAND_ROWS },
+		{ "stamp", required_argument, NULL, OPT_STAMP },
 		{ NULL, 0, NULL, 0 },
 	};
-	options o = { 0, { 0, 0 }, 0, NULL, 0, "-", "-", 0, { 0, 0 }, 0, 0 };
+	options o = { 0, { 0, 0 }, 0, NULL, 0, "-", "-", 0, { 0, 0 }, 0, 0,
+	    NULL };
 	cli c;
 	tl_err e;
 	int ch;
 
 	cli_init(&c, argv, usage, CLI_COMPRESSION | CLI_DEM);
 	while ((ch = cli_next(&c, argc, argv, "F:IW:w:", longopts)) != -1) {
-		if (ch >= OPT_PASS) {
+		if (ch == OPT_STAMP)
+			o.stamp = optarg;
+		else if (ch >= OPT_PASS) {
 			if ((ch = long_option(&c, ch, &o)) != 0)
 				return ch;
 		} else if (ch == 'F' || ch == 'W') {
@@ -231,6 +241,10 @@ main(int argc, char **argv)
 	if (c.status >= 0)
 		return c.status;
 	argc -= optind, argv += optind;
+	if (o.stamp != NULL) /* a plan's record of its DEM (stamp.h) */
+		return argc < 1 || o.info || o.filled != NULL || o.pass ?
+		    cli_usage_error(&c) :
+		    cli_exit(&c, dem_stamp(o.stamp, argv, argc, &e), &e);
 	if (o.info || o.save) { /* one DEM in, no raster out */
 		if (argc > 1 || (o.save && (o.info || o.has_win)))
 			return cli_usage_error(&c);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/cli.h"
+#include "core/stamp.h"
 #include "jobs/graph.h"
 #include "jobs/pipeline.h"
 
@@ -15,6 +16,7 @@ static const char usage[] =
     "[-3fMq] [-j jobs] [-k kernel] [-P plandir] [-r cut] [-D datum]\n"
     "                [-e encoding] [-H datum] [-N nodata] [-n name]\n"
     "                [-s dx[,dy]] dem ... dir\n"
+    "       dem2vgis --check-stamp file\n"
     "  -3              QEM-3D levels (fqmsolve -m qem3d)\n"
     "  -f              replace dir (with -P: plandir) if it exists\n"
     "  -j jobs         tilepack's threads (default: the CPUs)\n"
@@ -34,6 +36,9 @@ static const char usage[] =
     "job, levels\n"
     "                  0 .. t-1 of columns a .. b-1, and level t's FQM\n"
     "  --from fqm      with -M: the chain from this FQM (a band list)\n"
+    "  --check-stamp file  a plan's job: its DEM's files as the plan "
+    "recorded\n"
+    "                  them (dem2fqm --stamp), or exit 1\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
     "  dem ...         the DEM, or - (stdin); several are one mosaic\n"
     "  dir             the pyramid directory to build\n";
@@ -63,7 +68,9 @@ static const char dem_letters[] = "DeHNs";
 static const char *const flags[] = { "-D", "-e", "-H", "-N", "-s" };
 
 enum { OPT_BAND = 256, OPT_BAND_LEVELS, OPT_BAND_WIDTH, OPT_FILL, OPT_FROM,
-    OPT_FILL_ROWS, OPT_PART_SAMPLES };
+    OPT_FILL_ROWS, OPT_PART_SAMPLES, OPT_CHECK_STAMP };
+
+static const char *check_stamp; /* --check-stamp */
 
 /* The options of a plan's band jobs (dem2vgis(1), section PLANS). */
 static int
@@ -103,6 +110,9 @@ parse_band(cli *c, int ch, pipeline_opts *o)
 	case OPT_FROM:
 		o->from = optarg;
 		return 0;
+	case OPT_CHECK_STAMP:
+		check_stamp = optarg;
+		return 0;
 	}
 	return cli_usage_error(c);
 }
@@ -119,6 +129,7 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 		{ "fill-rows", required_argument, NULL, OPT_FILL_ROWS },
 		{ "from", required_argument, NULL, OPT_FROM },
 		{ "part-samples", required_argument, NULL, OPT_PART_SAMPLES },
+		{ "check-stamp", required_argument, NULL, OPT_CHECK_STAMP },
 		{ NULL, 0, NULL, 0 },
 	};
 	int ch, j;
@@ -170,7 +181,15 @@ main(int argc, char **argv)
 	cli_init(&c, argv, usage, 0);
 	if ((st = parse(&c, argc, argv, &o)) >= 0)
 		return st;
-	if (argc - optind < 2)
+	if (check_stamp != NULL && argc == optind) {
+		if (stamp_check(check_stamp, &e) == 0)
+			return 0;
+		fprintf(stderr, "%s: %s: a plan's jobs must all read the DEM "
+		    "it was made from; write the plan again (dem2vgis -f "
+		    "--plan)\n", c.prog, e.msg);
+		return CLI_FAIL;
+	}
+	if (argc - optind < 2 || check_stamp != NULL)
 		return cli_usage_error(&c);
 	o.prog = c.prog, o.bindir = bindir(self, sizeof self);
 	o.dem = argv[optind], o.out = argv[argc - 1];

@@ -82,7 +82,7 @@ dem2vgis --band-width 256 --fill-rows 70 --plan "$P" "$T/flip.tif" "$T/out-p" &&
 ok $? "make done/f1-2: that fill band's pass 1 alone"
 make -s -C "$P" done/fill >/dev/null 2>&1 && [ -f "$P/fill.dem" ] &&
     [ -z "$(ls "$P/bands" | grep -v '[.a-z]')" ] && [ ! -e "$P/done/chain" ] &&
-    [ -z "$(ls "$P" | grep -v '^bands$\|^done$\|^fill.dem$\|^Makefile$\|^mkpieces$\|sh$')" ]
+    [ -z "$(ls "$P" | grep -v '^bands$\|^done$\|^fill.dem$\|^Makefile$\|^mkpieces$\|^job$\|^dem.stamp$\|sh$')" ]
 ok $? "make done/fill: the fill's parts, no band, no chain, no part left"
 make -s -C "$P" done/b-1 >/dev/null 2>&1 && [ -f "$P/bands/1/f.fqm" ] &&
     [ ! -e "$P/bands/0" ] && [ ! -e "$P/done/chain" ]

@@ -456,6 +456,8 @@ absolute(const char *p, char *buf, size_t n, tl_err *e)
 		    tl_fail(e, "%s: name too long", p);
 	if (getcwd(cwd, sizeof cwd) == NULL)
 		return tl_failsys(e, "current directory");
+	while (p[0] == '.' && p[1] == '/') /* ./-x (undashed), ./x */
+		p += 2;
 	return snprintf(buf, n, "%s/%s", cwd, p) < (int)n ? 0 :
 	    tl_fail(e, "%s: name too long", p);
 }
@@ -503,16 +505,42 @@ plan_bands(const pipeline_opts *o, int levels, int w, plan_opts *p)
 		p->nbands--;
 }
 
+/* What identifies the DEM's files, recorded by dem2fqm --stamp into
+ * path in the scratch (stamp.h); a mosaic's list (in the scratch too)
+ * on its stdin, so that its entries are recorded, not it. */
+static int
+plan_stamp(const pipeline_opts *o, const char *dem, const scratch *s,
+    char *path, size_t n, int *status, tl_err *e)
+{
+	words a = { 0 };
+	int in = -1, r;
+
+	if ((size_t)snprintf(path, n, "%s/dem.stamp", s->path) >= n)
+		return tl_fail(e, "%s: %s/dem.stamp: name too long", o->prog,
+		    s->path);
+	say(&a, "dem2fqm"), say(&a, "--stamp"), say(&a, path);
+	if (o->ndem > 1) {
+		say(&a, "-");
+		if ((in = open(dem, O_RDONLY | O_CLOEXEC)) < 0)
+			return tl_failsys(e, "%s: %s", o->prog, dem);
+	} else
+		say(&a, dem);
+	r = alone(o, &a, in, 1, NULL, 0, status, e);
+	if (in >= 0)
+		close(in);
+	return r;
+}
+
 /* --plan: the job graph (plan.h), each job one of the stages with the
  * options given here. */
 static int
-plan(const pipeline_opts *o, const char *dem, int levels, int w, int h,
-    int *status, tl_err *e)
+plan(const pipeline_opts *o, const char *dem, const scratch *s, int levels,
+    int w, int h, int *status, tl_err *e)
 {
 	const char *chain[PIPELINE_MAXOPTS + 8], *dopt[PIPELINE_MAXOPTS + 2];
-	char adem[PATHMAX], aout[PATHMAX], abin[PATHMAX];
+	char adem[PATHMAX], aout[PATHMAX], abin[PATHMAX], stamp[PATHMAX];
 	plan_opts p = { .prog = o->prog, .levels = levels, .force = o->force,
-	    .part_samples = o->partplan };
+	    .part_samples = o->partplan, .stamp = stamp };
 	int nc = 0, nd = 0;
 
 	if (strcmp(o->mode, "qem3d") == 0)
@@ -537,6 +565,10 @@ plan(const pipeline_opts *o, const char *dem, int levels, int w, int h,
 	p.dem = adem, p.out = aout, p.bindir = abin;
 	p.dems = o->ndem > 1 ? (const char *const *)o->dems : NULL;
 	p.ndem = o->ndem > 1 ? o->ndem : 0;
+	if (plan_check(&p, o->plan, e) < 0)
+		return ours(o, e);
+	if (plan_stamp(o, dem, s, stamp, sizeof stamp, status, e) < 0)
+		return -1;
 	if (plan_write(&p, o->plan, e) < 0)
 		return ours(o, e);
 	*status = 0;
@@ -566,7 +598,7 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 	if (level_count(o, dem, &levels, &w, &h, status, e) < 0)
 		return -1;
 	if (o->plan != NULL)
-		return plan(o, dem, levels, w, h, status, e);
+		return plan(o, dem, s, levels, w, h, status, e);
 	if (o->vmaps)
 		return vmaps_only(o, dem, levels, w, vpath, &m, status, e);
 	for (int l = 0; l < levels; l++)
@@ -582,12 +614,29 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 	return r;
 }
 
-int
-pipeline_run(const pipeline_opts *o, int *status, tl_err *e)
+/* A relative name beginning with '-' would be an option to the stages
+ * it is given to: "./" before it. */
+static const char *
+undashed(const char *p, char *buf, size_t n)
 {
+	if (p[0] != '-' || p[1] == '\0' || (size_t)snprintf(buf, n, "./%s",
+	    p) >= n)
+		return p;
+	return buf;
+}
+
+int
+pipeline_run(const pipeline_opts *opts, int *status, tl_err *e)
+{
+	char dem[PATHMAX], out[PATHMAX];
+	pipeline_opts q = *opts;
+	const pipeline_opts *o = &q;
 	vpath_t *vpath;
 	scratch s;
 	int r;
+
+	q.dem = undashed(opts->dem, dem, sizeof dem);
+	q.out = undashed(opts->out, out, sizeof out);
 
 	if (precheck(o, status, e) < 0)
 		return -1;

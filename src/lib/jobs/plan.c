@@ -9,19 +9,34 @@
 
 #include "core/outfile.h"
 
-/* A word for the shell, single-quoted; for a Makefile, $ doubled as make
- * wants. */
+/* A word for the shell, single-quoted; for a Makefile also as make
+ * reads a variable's value: $ doubled, and a '#' (a comment) escaped by a
+ * backslash, the n backslashes before it doubled (make halves them, and
+ * takes the rest literally). A newline no Makefile carries: plan_write
+ * refuses it first (carriable). */
 static void
 word(FILE *f, const char *w, int make)
 {
+	int bs = 0;
+
 	fputc('\'', f);
-	for (const char *p = w; *p; p++)
+	for (const char *p = w; *p; p++) {
+		if (*p == '\\' && make) {
+			bs++;
+			continue;
+		}
+		for (int k = 0; k < (*p == '#' && make ? 2 * bs + 1 : bs); k++)
+			fputc('\\', f);
+		bs = 0;
 		if (*p == '\'')
 			fputs("'\\''", f);
 		else if (*p == '$' && make)
 			fputs("$$", f);
 		else
 			fputc(*p, f);
+	}
+	while (bs-- > 0)
+		fputc('\\', f);
 	fputc('\'', f);
 }
 
@@ -51,15 +66,15 @@ vmaps(FILE *f, const plan_opts *o)
 static void
 fill_part(FILE *f, const plan_opts *o, const char *pass, int k)
 {
-	fprintf(f, "\tmkdir -p done\n"
-	    "\tTMPDIR=. $(B)/dem2fqm -W fill.dem --fill-pass %s ", pass);
+	fprintf(f, "\t$(JOB) $@ env TMPDIR=. $(B)/dem2fqm -W fill.dem "
+	    "--fill-pass %s ", pass);
 	if (k >= 0) {
 		int y1 = (k + 1) * o->fillrows;
 		fprintf(f, "--rows %d,%d", k * o->fillrows,
 		    y1 < o->height ? y1 : o->height);
 	} else
 		fprintf(f, "--band-rows %d", o->fillrows);
-	fputs(" $(DEMOPTS) $(DEM)\n\ttouch $@\n\n", f);
+	fputs(" $(DEMOPTS) $(DEM)\n\n", f);
 }
 
 /* The DEM converted and its voids filled once (the fill reaches across
@@ -71,9 +86,8 @@ fill(FILE *f, const plan_opts *o)
 {
 	if (o->nfill == 0) {
 		fputs("done/fill:\n"
-		    "\tmkdir -p done\n"
-		    "\tTMPDIR=. $(B)/dem2fqm -W fill.dem $(DEMOPTS) $(DEM)\n"
-		    "\ttouch $@\n\n", f);
+		    "\t$(JOB) $@ env TMPDIR=. $(B)/dem2fqm -W fill.dem "
+		    "$(DEMOPTS) $(DEM)\n\n", f);
 		return;
 	}
 	for (int pass = 1; pass <= 2; pass++) {
@@ -103,9 +117,8 @@ chain(FILE *f, const plan_opts *o)
 {
 	if (o->nbands == 0) {
 		fputs("done/chain:\n"
-		    "\tmkdir -p done\n"
-		    "\t$(B)/dem2vgis -M $(CHAINOPTS) $(DEM) vmaps\n"
-		    "\ttouch $@\n\n", f);
+		    "\t$(JOB) $@ $(B)/dem2vgis -M $(CHAINOPTS) $(DEM) vmaps\n\n",
+		    f);
 		return;
 	}
 	fputs("BANDS =", f);
@@ -117,14 +130,13 @@ chain(FILE *f, const plan_opts *o)
 		int a = k * o->bandw;
 		int b = k == o->nbands - 1 ? o->width : a + o->bandw;
 		fprintf(f, "done/b-%d: done/fill\n"
-		    "\t$(B)/dem2vgis -M --band %d,%d --band-levels %d "
-		    "--fill fill.dem $(CHAINOPTS) $(DEM) bands/%d\n"
-		    "\ttouch $@\n\n", k, a, b, o->band_levels, k);
+		    "\t$(JOB) $@ $(B)/dem2vgis -M --band %d,%d --band-levels %d "
+		    "--fill fill.dem $(CHAINOPTS) $(DEM) bands/%d\n\n", k, a, b,
+		    o->band_levels, k);
 	}
 	fprintf(f, "done/chain: $(BANDS)\n"
-	    "\t$(B)/dem2vgis -M --from bands/f.bands $(CHAINOPTS) $(DEM) "
-	    "vmaps\n"
-	    "\ttouch $@\n\n");
+	    "\t$(JOB) $@ $(B)/dem2vgis -M --from bands/f.bands $(CHAINOPTS) "
+	    "$(DEM) vmaps\n\n");
 }
 
 static void
@@ -147,6 +159,7 @@ makefile(FILE *f, const plan_opts *o)
 		    o->band_levels - 1, o->band_levels, o->band_levels);
 	fputs("SHELL = /bin/sh\nB =", f);
 	words(f, &o->bindir, 1, 1);
+	fputs("\nJOB = sh job $(B)", f);
 	fputs("\nDEM =", f);
 	words(f, &o->dem, 1, 1);
 	fputs("\nOUT =", f);
@@ -159,14 +172,20 @@ makefile(FILE *f, const plan_opts *o)
 	if (o->part_samples >= 0)
 		fprintf(f, " -b %lld", o->part_samples);
 	vmaps(f, o);
-	fputs("\n\nall: done/gather\n\n", f);
+	fputs("\n\nall: done/gather\n\n"
+	    "# done/ markers whose outputs are gone (work/ removed...) removed "
+	    "first,\n# to be made again: for the whole build or the gather, "
+	    "not for each\n# job that GNU parallel and Slurm run, nor for "
+	    "make -n or -q\n"
+	    "ifneq ($(filter all done/gather,$(or $(MAKECMDGOALS),all)),)\n"
+	    "ifeq ($(findstring n,$(firstword -$(MAKEFLAGS)))$(findstring q,"
+	    "$(firstword -$(MAKEFLAGS))),)\n"
+	    "SWEPT := $(shell $(JOB) --sweep)\nendif\nendif\n\n", f);
 	chain(f, o);
 	fprintf(f, "# the pieces, known once the vertex maps are: a rule each\n"
 	    "done/pieces.mk: done/chain\n"
-	    "\t$(B)/tilepack -l $(PARTOPTS) $(DEMOPTS) $(DEM) - $(V) "
-	    ">done/pieces.tmp\n"
-	    "\tsh mkpieces done/pieces.tmp done/parts done/targets >$@.tmp\n"
-	    "\tmv $@.tmp $@\n\n"
+	    "\t$(JOB) $@ sh mkpieces $(B)/tilepack -l $(PARTOPTS) $(DEMOPTS) "
+	    "$(DEM) - $(V)\n\n"
 	    "# made (and read again) for any goal but the chain's band stages\n"
 	    "# alone, which GNU parallel and Slurm run before it\n"
 	    "ifneq ($(filter-out done/fill done/fill-join done/f1-%% "
@@ -174,41 +193,114 @@ makefile(FILE *f, const plan_opts *o)
 	    "-include done/pieces.mk\n"
 	    "endif\n\n"
 	    "done/gather: done/pieces.mk $(PIECES)\n"
-	    "\t$(B)/tilepack -q%s -g work $(DEMOPTS) $(DEM) $(OUT) $(V)\n"
-	    "\ttouch $@\n", o->force ? " -f" : "");
+	    "\t$(JOB) $@ $(B)/tilepack -q%s -g work $(DEMOPTS) $(DEM) $(OUT) "
+	    "$(V)\n", o->force ? " -f" : "");
 }
 
 static void
 mkpieces(FILE *f)
 {
 	fputs("#!/bin/sh\n"
-	    "# mkpieces LIST PARTS PIECES: the Makefile's rules for the jobs of\n"
-	    "# tilepack -l's lines (level:b0:b1 a piece, level:b0:b1:y0:y1 a part of\n"
-	    "# one, before it); the parts' targets into PARTS, the pieces' into\n"
-	    "# PIECES, a line each\n"
-	    ": >\"$2\"\n"
-	    ": >\"$3\"\n"
-	    "tr : - <\"$1\" | awk -v parts=\"$2\" -v pieces=\"$3\" '\n"
+	    "# mkpieces CMD...: CMD, tilepack -l, lists the pieces into\n"
+	    "# done/pieces.tmp (level:b0:b1 a piece, level:b0:b1:y0:y1 a part of\n"
+	    "# one, before it); then the Makefile's rules for their jobs into\n"
+	    "# done/pieces.mk, the parts' targets into done/parts, the pieces'\n"
+	    "# into done/targets, a line each\n"
+	    "set -e\n"
+	    "\"$@\" >done/pieces.tmp\n"
+	    ": >done/parts\n"
+	    ": >done/targets\n"
+	    "tr : - <done/pieces.tmp | awk '\n"
 	    "BEGIN { FS = \"-\" }\n"
 	    "NF == 5 {\n"
 	    "\tq = \"done/q-\" $0\n"
-	    "\tprint q >parts\n"
+	    "\tprint q >\"done/parts\"\n"
 	    "\tdeps[$1 \"-\" $2 \"-\" $3] = deps[$1 \"-\" $2 \"-\" $3] \" \" q\n"
-	    "\tprintf \"%s: done/chain\\n\\t$(B)/tilepack -j 1 $(PARTOPTS) -p \" \\\n"
-	    "\t    \"%s:%s:%s:%s:%s $(DEMOPTS) $(DEM) work $(V)\\n\\ttouch $@\\n\", \\\n"
-	    "\t    q, $1, $2, $3, $4, $5\n"
+	    "\tprintf \"%s: done/chain\\n\\t$(JOB) $@ $(B)/tilepack -j 1 \" \\\n"
+	    "\t    \"$(PARTOPTS) -p %s:%s:%s:%s:%s $(DEMOPTS) $(DEM) work \" \\\n"
+	    "\t    \"$(V)\\n\", q, $1, $2, $3, $4, $5\n"
 	    "}\n"
 	    "NF == 3 {\n"
 	    "\tp = \"done/p-\" $0\n"
-	    "\tprint p >pieces\n"
+	    "\tprint p >\"done/targets\"\n"
 	    "\tlist = list \" \" p\n"
-	    "\tprintf \"%s: done/chain%s\\n\\t$(B)/tilepack -j 1 $(PARTOPTS) -p \" \\\n"
-	    "\t    \"%s:%s:%s $(DEMOPTS) $(DEM) work $(V)\\n\\ttouch $@\\n\", \\\n"
+	    "\tprintf \"%s: done/chain%s\\n\\t$(JOB) $@ $(B)/tilepack -j 1 \" \\\n"
+	    "\t    \"$(PARTOPTS) -p %s:%s:%s $(DEMOPTS) $(DEM) work $(V)\\n\", \\\n"
 	    "\t    p, deps[$0], $1, $2, $3\n"
 	    "}\n"
 	    "END { print \"PIECES =\" list }\n"
-	    "'\n", f);
+	    "' >done/pieces.mk.tmp\n"
+	    "mv done/pieces.mk.tmp done/pieces.mk\n", f);
 }
+
+/* The wrapper of every job (plan.h): the DEM checked, a lock, the
+ * marker; and the sweep of stale markers. */
+static void
+job(FILE *f)
+{
+	fputs("#!/bin/sh\n"
+	    "# job B TARGET CMD...: the plan's job TARGET (done/NAME, made when "
+	    "CMD\n"
+	    "# succeeds; B: the programs' directory). Run once however many "
+	    "runners\n"
+	    "# ask for it at once (two makes, make and GNU parallel...): under "
+	    "an\n"
+	    "# flock(1) of done/.lock-NAME, and not when TARGET was made "
+	    "meanwhile.\n"
+	    "# First the DEM's files are checked as the plan recorded them "
+	    "(dem.stamp).\n"
+	    "# job B --sweep: the markers of jobs whose outputs are gone (work/ "
+	    "or\n"
+	    "# vmaps/ removed...) removed, so that make runs those jobs again; "
+	    "none\n"
+	    "# once the gather is done.\n"
+	    "set -e\n"
+	    "b=$1 t=$2\n"
+	    "shift 2\n"
+	    "mkdir -p done\n"
+	    "lock() {\n"
+	    "\texec 9>>\"done/.lock-$1\"\n"
+	    "\tif command -v flock >/dev/null; then flock 9; fi\n"
+	    "}\n"
+	    "if [ \"$t\" = --sweep ]; then\n"
+	    "\tlock gather\n"
+	    "\t[ ! -e done/gather ] || exit 0\n"
+	    "\tgone=\n"
+	    "\tstale() { rm -f \"$1\"; gone=\"$gone ${1#done/}\"; }\n"
+	    "\tfor m in done/p-*; do\n"
+	    "\t\t[ ! -e \"$m\" ] || [ -e \"work/.pieces/${m#done/p-}\" ] ||\n"
+	    "\t\t    stale \"$m\"\n"
+	    "\tdone\n"
+	    "\tfor m in done/q-*; do # q-L-B0-B1-Y0-Y1: .parts/L-B0-B1-Y0\n"
+	    "\t\tp=${m#done/q-} p=${p%-*-*} y=${m%-*} y=${y##*-}\n"
+	    "\t\t[ ! -e \"$m\" ] || [ -e \"work/.parts/$p-$y\" ] ||\n"
+	    "\t\t    [ -e \"work/.pieces/$p\" ] || stale \"$m\"\n"
+	    "\tdone\n"
+	    "\tfor m in done/b-*; do\n"
+	    "\t\t[ ! -e \"$m\" ] || [ -d \"bands/${m#done/b-}\" ] || stale \"$m\"\n"
+	    "\tdone\n"
+	    "\t[ ! -e done/chain ] || [ -d vmaps ] || stale done/chain\n"
+	    "\tif [ -e done/fill ] && [ ! -e fill.dem ] && [ -e bands/targets ]\n"
+	    "\tthen\n"
+	    "\t\twhile read -r m; do\n"
+	    "\t\t\t[ -e \"$m\" ] || { stale done/fill; break; }\n"
+	    "\t\tdone <bands/targets\n"
+	    "\tfi\n"
+	    "\t[ -z \"$gone\" ] || echo \"job: outputs gone, their jobs to be\" \\\n"
+	    "\t    \"run again (done/ markers removed):$gone\" >&2\n"
+	    "\texit 0\n"
+	    "fi\n"
+	    "lock \"${t#done/}\"\n"
+	    "[ ! -e \"$t\" ] || exit 0\n"
+	    "\"$b/dem2vgis\" --check-stamp dem.stamp\n"
+	    "\"$@\" 9>&-\n"
+	    "touch \"$t\"\n", f);
+}
+
+/* -q: parallel runs its command through a shell, which would split "$P"
+ * at blanks and run what it holds; quoted, it is one word whatever it
+ * holds (the targets, from ::: and ::::, are always quoted). */
+#define PAR "parallel -q --will-cite --halt now,fail=1 make -C \"$P\" "
 
 static void
 parallel(FILE *f, const plan_opts *o, const char *dir)
@@ -223,21 +315,16 @@ parallel(FILE *f, const plan_opts *o, const char *dir)
 	    "this file\n# system (same paths).\nset -e\nP=", f);
 	word(f, dir, 0);
 	if (o->nfill > 0)
-		fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" "
-		    ":::: \"$P/bands/fill1\"\n"
-		    "parallel --will-cite --halt now,fail=1 make -C \"$P\" "
-		    "::: done/fill-join\n"
-		    "parallel --will-cite --halt now,fail=1 make -C \"$P\" "
-		    ":::: \"$P/bands/fill2\"", f);
+		fputs("\n" PAR ":::: \"$P/bands/fill1\"\n"
+		    PAR "::: done/fill-join\n"
+		    PAR ":::: \"$P/bands/fill2\"", f);
 	if (o->nbands > 0)
-		fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" "
-		    "::: done/fill\n"
-		    "parallel --will-cite --halt now,fail=1 make -C \"$P\" "
-		    ":::: \"$P/bands/targets\"", f);
-	fputs("\nparallel --will-cite --halt now,fail=1 make -C \"$P\" ::: done/pieces.mk\n"
-	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" :::: \"$P/done/parts\"\n"
-	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" :::: \"$P/done/targets\"\n"
-	    "parallel --will-cite --halt now,fail=1 make -C \"$P\" ::: done/gather\n", f);
+		fputs("\n" PAR "::: done/fill\n"
+		    PAR ":::: \"$P/bands/targets\"", f);
+	fputs("\n" PAR "::: done/pieces.mk\n"
+	    PAR ":::: \"$P/done/parts\"\n"
+	    PAR ":::: \"$P/done/targets\"\n"
+	    PAR "::: done/gather\n", f);
 }
 
 static void
@@ -329,6 +416,13 @@ put_mkpieces(FILE *f, const void *o)
 {
 	(void)o;
 	mkpieces(f);
+}
+
+static void
+put_job(FILE *f, const void *o)
+{
+	(void)o;
+	job(f);
 }
 
 /* The scripts need the plan's options and its final path. */
@@ -430,6 +524,105 @@ put_list(FILE *f, const void *arg)
 		    o->dems[k][0] == '/' ? "" : "/", o->dems[k]);
 }
 
+/* The file src copied to dir/name. */
+static int
+copy(const char *dir, const char *name, const char *src, tl_err *e)
+{
+	char path[4400], buf[8192];
+	FILE *in, *out;
+	size_t n;
+	int r = 0;
+
+	snprintf(path, sizeof path, "%s/%s", dir, name);
+	if ((in = fopen(src, "r")) == NULL)
+		return tl_failsys(e, "%s", src);
+	if ((out = fopen(path, "w")) == NULL) {
+		fclose(in);
+		return tl_failsys(e, "%s", path);
+	}
+	while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+		if (fwrite(buf, 1, n, out) != n)
+			break;
+	if (ferror(in))
+		r = tl_failsys(e, "%s", src);
+	if (ferror(out) && r == 0)
+		r = tl_failsys(e, "%s", path);
+	if (fclose(out) != 0 && r == 0)
+		r = tl_failsys(e, "%s", path);
+	fclose(in);
+	return r;
+}
+
+/* What a plan cannot carry: make reads a recipe a line at a time, so a
+ * newline in a path or an option would end the job's command there (and
+ * a list of DEMs has a path a line). Every other byte is quoted for each
+ * consumer: make, sh, GNU parallel (word, PAR) and sbatch (slurm). The
+ * name is shown with its newlines as \n, cut at 200 bytes. */
+static int
+carriable(const char *what, const char *s, tl_err *e)
+{
+	char shown[208];
+	size_t n = 0;
+
+	if (strchr(s, '\n') == NULL)
+		return 0;
+	for (; *s != '\0' && n < 200; s++)
+		if (*s == '\n')
+			shown[n++] = '\\', shown[n++] = 'n';
+		else
+			shown[n++] = *s;
+	shown[n] = '\0';
+	return tl_fail(e, "%s %s%s: a newline cannot go into a plan (make "
+	    "reads its jobs' commands a line at a time): rename it", what,
+	    shown, *s != '\0' ? "..." : "");
+}
+
+/* Every path and option the plan's jobs are given, carriable. */
+static int
+check_words(const plan_opts *o, const char *dir, const char *cwd,
+    tl_err *e)
+{
+	if (carriable("the plan directory", dir, e) < 0 ||
+	    carriable("the pyramid", o->out, e) < 0 ||
+	    carriable("the programs' directory", o->bindir, e) < 0 ||
+	    (o->ndem == 0 && carriable("the DEM", o->dem, e) < 0))
+		return -1;
+	for (int k = 0; k < o->ndem; k++)
+		if (carriable("the DEM", o->dems[k], e) < 0 ||
+		    (o->dems[k][0] != '/' &&
+		    carriable("the current directory", cwd, e) < 0))
+			return -1;
+	for (int k = 0; k < o->nchainopt; k++)
+		if (carriable("the option", o->chainopt[k], e) < 0)
+			return -1;
+	return 0;
+}
+
+/* The plan's final absolute path (the scripts name it so) into full,
+ * and the current directory into cwd (or ""). */
+static int
+plan_path(const char *dir, char *full, char *cwd, size_t n, tl_err *e)
+{
+	if (getcwd(cwd, n) == NULL) {
+		if (dir[0] != '/')
+			return tl_failsys(e, "current directory");
+		cwd[0] = '\0';
+	}
+	if ((size_t)snprintf(full, n, "%s%s%s", dir[0] == '/' ? "" : cwd,
+	    dir[0] == '/' ? "" : "/", dir) >= n)
+		return tl_fail(e, "%s: name too long", dir);
+	return 0;
+}
+
+int
+plan_check(const plan_opts *o, const char *dir, tl_err *e)
+{
+	char full[4096], cwd[4096];
+
+	return plan_path(dir, full, cwd, sizeof full, e) < 0 ? -1 :
+	    check_words(o, full, cwd, e);
+}
+
 int
 plan_write(const plan_opts *o, const char *dir, tl_err *e)
 {
@@ -439,14 +632,11 @@ plan_write(const plan_opts *o, const char *dir, tl_err *e)
 	struct stat st;
 	tl_outfile d;
 
+	if (plan_path(dir, full, cwd, sizeof full, e) < 0 ||
+	    check_words(o, full, cwd, e) < 0)
+		return -1;
 	if (!o->force && stat(dir, &st) == 0)
 		return tl_fail(e, "%s: exists; use -f to replace it", dir);
-	/* the scripts name the plan by its final absolute path */
-	if (dir[0] != '/' && getcwd(cwd, sizeof cwd) == NULL)
-		return tl_failsys(e, "current directory");
-	if (snprintf(full, sizeof full, "%s%s%s", dir[0] == '/' ? "" : cwd,
-	    dir[0] == '/' ? "" : "/", dir) >= (int)sizeof full)
-		return tl_fail(e, "%s: name too long", dir);
 	snprintf(list, sizeof list, "%s/dems.txt", full);
 	if (o->ndem > 0)
 		q.dem = list;
@@ -455,6 +645,8 @@ plan_write(const plan_opts *o, const char *dir, tl_err *e)
 	if ((o->ndem > 0 && put(d.tmp, "dems.txt", 0, put_list, o, e) < 0) ||
 	    put(d.tmp, "Makefile", 0, put_makefile, &q, e) < 0 ||
 	    put(d.tmp, "mkpieces", 1, put_mkpieces, o, e) < 0 ||
+	    put(d.tmp, "job", 1, put_job, o, e) < 0 ||
+	    copy(d.tmp, "dem.stamp", o->stamp, e) < 0 ||
 	    put(d.tmp, "parallel.sh", 1, put_parallel, &sc, e) < 0 ||
 	    put(d.tmp, "slurm.sh", 1, put_slurm, &sc, e) < 0 ||
 	    put_bands(d.tmp, o, e) < 0) {

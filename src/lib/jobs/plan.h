@@ -7,7 +7,13 @@
  * (stage by stage; PARALLEL may name --sshloginfile for machines that
  * share the file system) and a script submitting Slurm jobs (an array for
  * the pieces, chained by dependencies). Every job is a make target, so
- * all three skip what is done. */
+ * all three skip what is done; it runs through the plan's script job,
+ * which checks the DEM's files as the plan recorded them (dem.stamp,
+ * stamp.h), holds a lock of its own (runners at once run it once) and
+ * makes its done/ file; a run of the whole plan first drops the done/
+ * files whose outputs are gone. Names and options reach the jobs
+ * exactly, quoted for make, sh, GNU parallel and sbatch; a newline,
+ * which no Makefile carries, is refused (plan_check). */
 #ifndef TL_PLAN_H
 #define TL_PLAN_H
 
@@ -39,7 +45,16 @@ typedef struct {
 	/* tilepack -b: pieces in parts of at most this many DEM samples (-1:
 	 * tilepack's own bound) */
 	long long part_samples;
+	/* what identifies the DEM's files (dem2fqm --stamp, stamp.h): copied
+	 * into the plan as dem.stamp, which every job checks first */
+	const char *stamp;
 } plan_opts;
+
+/* Whether the plan can carry every path and option of o into dir: a
+ * newline cannot go into a Makefile's recipe (every other byte is
+ * quoted for make, sh, GNU parallel and sbatch). plan_write checks it
+ * too; a caller with work to do first checks it before. */
+int plan_check(const plan_opts *o, const char *dir, tl_err *e);
 
 /* Writes the plan into the directory dir, made atomically (an existing
  * one is replaced only with force). */
