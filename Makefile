@@ -40,7 +40,7 @@ ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) \
             $(call pkgcf,$(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS)) \
             -Isrc/lib -DTL_LIBDIR='"$(LIBDIR)"'
 ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) -Isrc/lib \
-            $(call pkgcf,geographiclib)
+            $(call pkgcf,geographiclib gdal)
 SYSLIBS  = -lstdc++ -lm -lpthread -ldl
 
 LAYERS  := core pyramid play jobs tiles3d

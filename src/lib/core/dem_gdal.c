@@ -31,9 +31,7 @@ init(void)
 	GDALAllRegister();
 	if (CPLGetConfigOption("GDAL_CACHEMAX", NULL) == NULL)
 		GDALSetCacheMax64((GIntBig)CACHE_MB << 20);
-	/* no .aux.xml sidecars beside the user's DEM */
-	if (CPLGetConfigOption("GDAL_PAM_ENABLED", NULL) == NULL)
-		CPLSetConfigOption("GDAL_PAM_ENABLED", "NO");
+	/* .aux.xml sidecars are read, never written (dem_gdal_open) */
 }
 
 void
@@ -528,8 +526,7 @@ dem_read_gdal(dem_load *L, georef *g, const char *path, const dem_opts *o,
 
 	dem_gdal_init();
 	dem_gdal_catch(&c);
-	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
-	    NULL);
+	ds = dem_gdal_open(path);
 	r = ds == NULL ? not_opened(&c, path, L, e) :
 	    dem_read_dataset(L, g, ds, NULL, o, e);
 	if (ds != NULL)

@@ -106,9 +106,14 @@ int dem_read_gdal(dem_load *L, georef *g, const char *path,
 
 /* --- GDAL, shared by the adapter and the mosaics (dem_gdal.c) --------- */
 
-/* GDAL set up once per process: drivers, a small block cache, no .aux.xml
- * sidecars. */
+/* GDAL set up once per process: drivers, a small block cache. */
 void dem_gdal_init(void);
+
+/* path opened by GDAL, raster, read-only, with its .aux.xml sidecar read
+ * (PAM) but never written: every dataset the reader opens is opened so
+ * (dem_pam.cpp). NULL when GDAL does not open it (its message is
+ * GDAL's error). */
+GDALDatasetH dem_gdal_open(const char *path);
 
 /* GDAL's messages caught for ours instead of printed: between
  * dem_gdal_catch and dem_gdal_release (a stack, per thread), the first

@@ -52,8 +52,7 @@ tile_open(const char *path, tl_err *e)
 	dem_gdal_msg c;
 
 	dem_gdal_catch(&c);
-	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
-	    NULL);
+	ds = dem_gdal_open(path);
 	dem_gdal_release();
 	if (ds == NULL && (c.msg[0] == '\0' || strstr(c.msg,
 	    "not recognized") != NULL))
@@ -682,8 +681,7 @@ dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t)
 		tl_err e;
 		if (strcmp(files[k], self) == 0)
 			continue;
-		s = GDALOpenEx(files[k], GDAL_OF_RASTER | GDAL_OF_READONLY, NULL,
-		    NULL, NULL);
+		s = dem_gdal_open(files[k]);
 		if (s == NULL || GDALGetRasterCount(s) < 1 ||
 		    head_read(s, files[k], &h, &e) < 0) {
 			if (s != NULL)
