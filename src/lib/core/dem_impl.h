@@ -21,6 +21,12 @@
 #define DEM_SAMPLEBYTES 8
 #define DEM_MAXABS 1e6   /* |z| beyond this (metres) is a void */
 
+/* A path as messages name it: whole up to DEM_NAME - 1 bytes, else its
+ * head and tail around "...", so that a list entry of 5000 characters
+ * does not fill the screen; returns buf (DEM_NAME bytes). */
+#define DEM_NAME 100
+const char *dem_name(const char *path, char *buf);
+
 /* Bit i of a per-row bitmap (which rows have voids), and setting it. */
 static inline int
 dem_bit(const unsigned char *b, long long i)
@@ -76,7 +82,7 @@ struct dem {
 	uint64_t print;          /* dem_fingerprint of how it was read */
 	struct dem_file *file;   /* where fd's rows and masks are, when fd
 	                          * is a filled DEM file; else NULL */
-	char what[256];          /* the file, for messages */
+	char what[DEM_NAME];     /* the file, for messages (dem_name) */
 };
 
 /* Sets up the conversion once size, nodata and units are known (zunit,

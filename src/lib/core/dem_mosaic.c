@@ -34,6 +34,7 @@ typedef struct {
 /* A tile's header: what every tile must share with the first. */
 typedef struct {
 	const char *path;
+	char name[DEM_NAME];       /* path for messages (dem_name) */
 	OGRSpatialReferenceH srs;  /* a clone (the file closes), NULL: none */
 	double gt[6];
 	int w, h, bh;              /* size, block height */
@@ -50,20 +51,22 @@ tile_open(const char *path, tl_err *e)
 {
 	GDALDatasetH ds;
 	dem_gdal_msg c;
+	char name[DEM_NAME];
 
+	dem_name(path, name);
 	dem_gdal_catch(&c);
 	ds = dem_gdal_open(path);
 	dem_gdal_release();
 	if (ds == NULL && (c.msg[0] == '\0' || strstr(c.msg,
 	    "not recognized") != NULL))
 		tl_fail(e, "%s: not a raster GDAL reads (a mosaic's tiles are "
-		    "read by GDAL)", path);
+		    "read by GDAL)", name);
 	else if (ds == NULL)
-		tl_fail(e, "%s: truncated or corrupt: %s", path, c.msg);
+		tl_fail(e, "%s: truncated or corrupt: %s", name, c.msg);
 	else if (GDALGetRasterCount(ds) < 1) {
 		GDALClose(ds);
 		ds = NULL;
-		tl_fail(e, "%s: no raster band", path);
+		tl_fail(e, "%s: no raster band", name);
 	}
 	return ds;
 }
@@ -77,15 +80,15 @@ head_place(GDALDatasetH ds, head *h, tl_err *e)
 
 	if (GDALGetGeoTransform(ds, gt) != CE_None)
 		return tl_fail(e, "%s: no geotransform: a mosaic places its "
-		    "tiles by theirs", h->path);
+		    "tiles by theirs", h->name);
 	if (gt[2] != 0 || gt[4] != 0)
 		return tl_fail(e, "%s: rotated or sheared georeferencing is not "
-		    "supported: warp it north-up first (gdalwarp)", h->path);
+		    "supported: warp it north-up first (gdalwarp)", h->name);
 	if (!isfinite(gt[0]) || !isfinite(gt[3]) || !(gt[1] > 0) ||
 	    !(gt[5] < 0) || !isfinite(gt[1]) || !isfinite(gt[5]))
 		return tl_fail(e, "%s: pixel size %g x %g: a mosaic's tiles "
 		    "must run east and south (gdalwarp them north-up first)",
-		    h->path, gt[1], gt[5]);
+		    h->name, gt[1], gt[5]);
 	return 0;
 }
 
@@ -99,10 +102,11 @@ head_read(GDALDatasetH ds, const char *path, head *h, tl_err *e)
 
 	memset(h, 0, sizeof *h);
 	h->path = path;
+	dem_name(path, h->name);
 	if (head_place(ds, h, e) < 0)
 		return -1;
 	if (srs != NULL && (h->srs = OSRClone(srs)) == NULL)
-		return tl_fail(e, "%s: out of memory", path);
+		return tl_fail(e, "%s: out of memory", h->name);
 	h->w = GDALGetRasterXSize(ds);
 	h->h = GDALGetRasterYSize(ds);
 	GDALGetBlockSize(b, &bx, &h->bh);
@@ -161,15 +165,15 @@ agree_grid(const head *r, const head *h, tile *t, tl_err *e)
 	    fabs(h->gt[5] / r->gt[5] - 1) * h->h > GRID_TOL)
 		return tl_fail(e, "%s: pixel size %.10g x %.10g, the first "
 		    "file's (%s) %.10g x %.10g: tiles are never resampled "
-		    "(gdalwarp -tr them to one grid first)", h->path, h->gt[1],
-		    -h->gt[5], r->path, r->gt[1], -r->gt[5]);
+		    "(gdalwarp -tr them to one grid first)", h->name, h->gt[1],
+		    -h->gt[5], r->name, r->gt[1], -r->gt[5]);
 	if (fabs(fx) > DEM_MAXDIM || fabs(fy) > DEM_MAXDIM)
 		return tl_fail(e, "%s: more than %d pixels from the first file "
-		    "(%s): too far for one DEM", h->path, DEM_MAXDIM, r->path);
+		    "(%s): too far for one DEM", h->name, DEM_MAXDIM, r->name);
 	if (fabs(fx - round(fx)) > GRID_TOL || fabs(fy - round(fy)) > GRID_TOL)
 		return tl_fail(e, "%s: origin off the first file's (%s) grid by "
 		    "%.3g pixel in x and %.3g in y: tiles must share one grid "
-		    "(gdalwarp them onto it first)", h->path, r->path,
+		    "(gdalwarp them onto it first)", h->name, r->name,
 		    fx - round(fx), fy - round(fy));
 	t->col = (int)round(fx);
 	t->row = (int)round(fy);
@@ -191,8 +195,8 @@ agree_nodata(const head *r, const head *h, const dem_opts *o, tl_err *e)
 		return 0;
 	nodata_label(h, a, sizeof a);
 	nodata_label(r, b, sizeof b);
-	return tl_fail(e, "%s: nodata %s, the first file's (%s) %s", h->path,
-	    a, r->path, b);
+	return tl_fail(e, "%s: nodata %s, the first file's (%s) %s", h->name,
+	    a, r->name, b);
 }
 
 /* What the samples mean: bands, type, nodata, scale, unit, point. */
@@ -201,23 +205,23 @@ agree_samples(const head *r, const head *h, const dem_opts *o, tl_err *e)
 {
 	if (h->nbands != r->nbands)
 		return tl_fail(e, "%s: %d bands, the first file's (%s) %d",
-		    h->path, h->nbands, r->path, r->nbands);
+		    h->name, h->nbands, r->name, r->nbands);
 	if (h->type != r->type || h->i8 != r->i8)
 		return tl_fail(e, "%s: %s samples, the first file's (%s) %s",
-		    h->path, type_label(h), r->path, type_label(r));
+		    h->name, type_label(h), r->name, type_label(r));
 	if (agree_nodata(r, h, o, e) < 0)
 		return -1;
 	if (h->scale != r->scale || h->offset != r->offset)
 		return tl_fail(e, "%s: scale %g and offset %g, the first file's "
-		    "(%s) %g and %g", h->path, h->scale, h->offset, r->path,
+		    "(%s) %g and %g", h->name, h->scale, h->offset, r->name,
 		    r->scale, r->offset);
 	if (strcasecmp(h->unit, r->unit) != 0)
 		return tl_fail(e, "%s: heights in '%s', the first file's (%s) "
-		    "in '%s'", h->path, h->unit, r->path, r->unit);
+		    "in '%s'", h->name, h->unit, r->name, r->unit);
 	if (h->point != r->point)
 		return tl_fail(e, "%s: pixel-is-%s, the first file's (%s) "
 		    "pixel-is-%s: their georeferencing differs by half a pixel",
-		    h->path, h->point ? "point" : "area", r->path,
+		    h->name, h->point ? "point" : "area", r->name,
 		    r->point ? "point" : "area");
 	return 0;
 }
@@ -228,7 +232,7 @@ agree(const head *r, const head *h, tile *t, const dem_opts *o, tl_err *e)
 	if ((r->srs == NULL) != (h->srs == NULL) ||
 	    (r->srs != NULL && !OSRIsSame(r->srs, h->srs)))
 		return tl_fail(e, "%s: CRS %s, the first file's (%s) %s",
-		    h->path, crs_label(h->srs), r->path, crs_label(r->srs));
+		    h->name, crs_label(h->srs), r->name, crs_label(r->srs));
 	if (agree_grid(r, h, t, e) < 0)
 		return -1;
 	return agree_samples(r, h, o, e);
@@ -394,6 +398,7 @@ read_win(const cmpbuf *c, GDALDatasetH ds, const tile *t, int band,
 	GDALRasterBandH b = GDALGetRasterBand(ds, band);
 	int x = win[0] - t->col, y = win[1] - t->row;
 	dem_gdal_msg g;
+	char name[DEM_NAME];
 	CPLErr err;
 
 	dem_gdal_catch(&g);
@@ -404,7 +409,7 @@ read_win(const cmpbuf *c, GDALDatasetH ds, const tile *t, int band,
 		    win[3], m, win[2], win[3], GDT_Byte, 0, 0);
 	dem_gdal_release();
 	return err == CE_None ? 0 : tl_fail(e, "%s: truncated or corrupt: %s",
-	    t->path, g.msg[0] ? g.msg : "GDAL cannot read it");
+	    dem_name(t->path, name), g.msg[0] ? g.msg : "GDAL cannot read it");
 }
 
 static void
@@ -425,7 +430,7 @@ differ(const cmpbuf *c, const pair *p, int band, const int win[4],
     tl_err *e)
 {
 	size_t n = (size_t)win[2] * win[3];
-	char va[40], vb[40];
+	char va[40], vb[40], na[DEM_NAME], nb[DEM_NAME];
 
 	for (size_t k = 0; k < n; k++) {
 		int i = win[0] + (int)(k % win[2]);
@@ -438,8 +443,9 @@ differ(const cmpbuf *c, const pair *p, int band, const int win[4],
 		value_label(c, c->pb, c->mb, k, vb, sizeof vb);
 		return tl_fail(e, "%s: sample %d,%d%s is %s where it overlaps "
 		    "%s, whose sample %d,%d is %s: overlapping tiles must agree",
-		    p->b->path, i - p->b->col, j - p->b->row, band > 1 ?
-		    " of a band past the first" : "", vb, p->a->path,
+		    dem_name(p->b->path, nb), i - p->b->col, j - p->b->row,
+		    band > 1 ? " of a band past the first" : "", vb,
+		    dem_name(p->a->path, na),
 		    i - p->a->col, j - p->a->row, va);
 	}
 	return 0;
