@@ -497,7 +497,8 @@ dem_read_dataset(dem_load *L, georef *g, GDALDatasetH ds,
 	/* a VRT from gdalbuildvrt lost what its tiles say */
 	if (t == NULL && strcmp(GDALGetDriverShortName(GDALGetDatasetDriver(
 	    ds)), "VRT") == 0) {
-		dem_vrt_tiles(ds, &vt);
+		if (dem_vrt_tiles(ds, &vt, o, e) < 0)
+			return -1;
 		s.t = &vt;
 	}
 	dem_gdal_catch(&s.c);

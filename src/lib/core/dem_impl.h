@@ -160,8 +160,14 @@ int dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
     const dem_opts *o, tl_err *e);
 
 /* What the sources of the VRT ds agree on, each opened in turn (its
- * header only); t is zeroed first. */
-void dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t);
+ * header only), a source that is a VRT by what its own sources say (to
+ * VRT_DEPTH); t is zeroed first, and left so when a source does not open
+ * (reading the VRT then says why). Refused, naming the VRT and the
+ * source: a source GDAL would resample (scaled, or at a fractional
+ * offset) unless o->resample, one that is not a regular file (a FIFO),
+ * pixel-is-point and pixel-is-area sources in one VRT. */
+int dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o,
+    tl_err *e);
 
 /* The file path as a list of DEM files (dem2fqm(1) says what is one):
  * returns 1 when it is not one, else reads its mosaic. Relative entries

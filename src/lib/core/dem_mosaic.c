@@ -13,7 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
+#include <cpl_minixml.h>
 #include <cpl_string.h>
 #include <gdal.h>
 #include <gdal_utils.h>
@@ -260,6 +262,9 @@ tiles_note(dem_tiles *t, const head *h, int first)
 		t->rows = h->bh;
 }
 
+static int head_vrt(GDALDatasetH ds, head *h, const dem_opts *o,
+    int depth, tl_err *e);
+
 /* Every tile's header against the first's (kept in r), one file open at
  * a time; places moved so that the grid starts at (0, 0). */
 static int
@@ -276,6 +281,9 @@ check_all(char *const *paths, int n, tile *tl, head *r, dem_tiles *dt,
 		if (ds == NULL)
 			return -1;
 		rc = head_read(ds, paths[k], k == 0 ? r : &h, e);
+		/* a VRT entry: what its tiles say */
+		if (rc == 0)
+			rc = head_vrt(ds, k == 0 ? r : &h, o, 0, e);
 		GDALClose(ds);
 		if (rc < 0)
 			return -1;
@@ -670,36 +678,188 @@ out:
 
 /* --- a VRT file's sources ------------------------------------------------ */
 
-void
-dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t)
+#define VRT_DEPTH 8  /* VRTs of VRTs looked into; GDAL refuses loops */
+
+/* One source of a VRT (its XML, as the band's "vrt_sources" give it):
+ * refused when GDAL would resample it, scaled (SrcRect's size not
+ * DstRect's) or placed at a fractional pixel, unless --resample. */
+static int
+vrt_rect(CPLXMLNode *x, const char *vrt, const dem_opts *o, tl_err *e)
+{
+	static const char *const k[4] = { "xOff", "yOff", "xSize", "ySize" };
+	CPLXMLNode *sr = CPLGetXMLNode(x, "SrcRect");
+	CPLXMLNode *dr = CPLGetXMLNode(x, "DstRect");
+	const char *f = CPLGetXMLValue(x, "SourceFilename", "?");
+	char nv[DEM_NAME], nf[DEM_NAME];
+	double s[4], d[4];
+
+	if (o->resample || sr == NULL || dr == NULL)
+		return 0;
+	for (int i = 0; i < 4; i++) {
+		s[i] = CPLAtof(CPLGetXMLValue(sr, k[i], "0"));
+		d[i] = CPLAtof(CPLGetXMLValue(dr, k[i], "0"));
+	}
+	dem_name(vrt, nv), dem_name(f, nf);
+	if (fabs(s[2] - d[2]) > GRID_TOL || fabs(s[3] - d[3]) > GRID_TOL)
+		return tl_fail(e, "%s: its source %s is scaled from %.10g x %.10g "
+		    "to %.10g x %.10g pixels: tiles of another pixel size are "
+		    "never resampled (gdalwarp -tr them to one grid first), "
+		    "unless --resample asks for GDAL's resampling", nv, nf, s[2],
+		    s[3], d[2], d[3]);
+	for (int i = 0; i < 4; i++)
+		if (fabs((i < 2 ? d : s)[i % 2] -
+		    round((i < 2 ? d : s)[i % 2])) > GRID_TOL)
+			return tl_fail(e, "%s: its source %s lies off the VRT's "
+			    "grid (%s offset %.10g, %.10g): it would be "
+			    "resampled; gdalwarp it onto the grid first, or give "
+			    "--resample for GDAL's resampling", nv, nf, i < 2 ?
+			    "DstRect" : "SrcRect", (i < 2 ? d : s)[0],
+			    (i < 2 ? d : s)[1]);
+	return 0;
+}
+
+/* Every source of every band of the VRT ds, as vrt_rect checks it. */
+static int
+vrt_rects(GDALDatasetH ds, const dem_opts *o, tl_err *e)
+{
+	const char *self = GDALGetDescription(ds);
+
+	for (int b = 1; b <= GDALGetRasterCount(ds); b++) {
+		char **src = GDALGetMetadata(GDALGetRasterBand(ds, b),
+		    "vrt_sources");
+		for (int k = 0; src != NULL && src[k] != NULL; k++) {
+			const char *v = strchr(src[k], '=');
+			CPLXMLNode *x = v != NULL ? CPLParseXMLString(v + 1) :
+			    NULL;
+			int r = x != NULL ? vrt_rect(x, self, o, e) : 0;
+			if (x != NULL)
+				CPLDestroyXMLNode(x);
+			if (r < 0)
+				return -1;
+		}
+	}
+	return 0;
+}
+
+/* A VRT source's file must be a regular one: GDAL would wait on a FIFO
+ * for ever. */
+static int
+vrt_file(const char *vrt, const char *f, tl_err *e)
+{
+	char nv[DEM_NAME], nf[DEM_NAME];
+	struct stat st;
+
+	if (strncmp(f, "/vsi", 4) == 0 || stat(f, &st) != 0 ||
+	    S_ISREG(st.st_mode))
+		return 0;
+	return tl_fail(e, "%s: its source %s is not a regular file (%s)",
+	    dem_name(vrt, nv), dem_name(f, nf), S_ISDIR(st.st_mode) ?
+	    "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" :
+	    "a device or socket");
+}
+
+static int vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o,
+    int depth, tl_err *e);
+
+/* What a VRT's own sources say, where the VRT h says nothing (a VRT of
+ * VRTs of pixel-is-point tiles is pixel-is-point). */
+static int
+head_vrt(GDALDatasetH ds, head *h, const dem_opts *o, int depth, tl_err *e)
+{
+	dem_tiles sub;
+
+	if (strcmp(h->driver, "VRT") != 0 || depth >= VRT_DEPTH)
+		return 0;
+	if (vrt_tiles(ds, &sub, o, depth + 1, e) < 0)
+		return -1;
+	if (h->aop[0] == '\0')
+		snprintf(h->aop, sizeof h->aop, "%s", sub.aop);
+	h->point = strcasecmp(h->aop, "Point") == 0;
+	if (h->unit[0] == '\0')
+		snprintf(h->unit, sizeof h->unit, "%s", sub.unit);
+	if (sub.driver[0] != '\0')
+		snprintf(h->driver, sizeof h->driver, "%s", sub.driver);
+	h->i8 |= h->type == GDT_Byte && sub.signed_byte;
+	h->bh = sub.rows > h->bh ? sub.rows : h->bh;
+	return 0;
+}
+
+/* The source h of the VRT named vrt against the first, f: a VRT mixing
+ * pixel-is-point and pixel-is-area sources shifts some by half a pixel. */
+static int
+vrt_point(const char *vrt, const head *f, const head *h, tl_err *e)
+{
+	char nv[DEM_NAME];
+
+	if (f->point == h->point)
+		return 0;
+	return tl_fail(e, "%s: its source %s is pixel-is-%s, its source %s "
+	    "pixel-is-%s: their georeferencing differs by half a pixel "
+	    "(gdal_edit.py -mo AREA_OR_POINT= one of them, as it truly is)",
+	    dem_name(vrt, nv), h->name, h->point ? "point" : "area", f->name,
+	    f->point ? "point" : "area");
+}
+
+/* One source file of the VRT ds (not a VRT's own file), noted in t: 1
+ * when it does not open (the VRT's reading then says why). */
+static int
+vrt_source(GDALDatasetH ds, const char *file, dem_tiles *t, head *first,
+    int *seen, const dem_opts *o, int depth, tl_err *e)
+{
+	const char *self = GDALGetDescription(ds);
+	GDALDatasetH s;
+	head h = { 0 };
+	int r = 0;
+
+	if (vrt_file(self, file, e) < 0)
+		return -1;
+	if ((s = dem_gdal_open(file)) == NULL)
+		return 1;
+	if (GDALGetRasterCount(s) < 1 || head_read(s, file, &h, e) < 0)
+		r = 1;
+	else if (head_vrt(s, &h, o, depth, e) < 0 ||
+	    vrt_point(self, *seen ? first : &h, &h, e) < 0)
+		r = -1;
+	else {
+		tiles_note(t, &h, *seen == 0);
+		if ((*seen)++ == 0)
+			*first = h, first->srs = NULL;
+	}
+	if (h.srs != NULL)
+		OSRDestroySpatialReference(h.srs);
+	GDALClose(s);
+	return r;
+}
+
+static int
+vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o, int depth,
+    tl_err *e)
 {
 	char **files = GDALGetFileList(ds);
 	const char *self = GDALGetDescription(ds);
-	dem_gdal_msg c;
-	int seen = 0;
+	head first;
+	int seen = 0, r = 0;
 
 	memset(t, 0, sizeof *t);
+	if (vrt_rects(ds, o, e) < 0)
+		r = -1;
+	for (int k = 0; r == 0 && files != NULL && files[k] != NULL; k++)
+		if (strcmp(files[k], self) != 0 && (r = vrt_source(ds, files[k],
+		    t, &first, &seen, o, depth, e)) > 0)
+			memset(t, 0, sizeof *t); /* and no more */
+	CSLDestroy(files);
+	return r < 0 ? -1 : 0;
+}
+
+int
+dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o, tl_err *e)
+{
+	dem_gdal_msg c;
+	int r;
+
 	/* quiet: a source that does not open only makes them not agree */
 	dem_gdal_catch(&c);
-	for (int k = 0; files != NULL && files[k] != NULL; k++) {
-		GDALDatasetH s;
-		head h;
-		tl_err e;
-		if (strcmp(files[k], self) == 0)
-			continue;
-		s = dem_gdal_open(files[k]);
-		if (s == NULL || GDALGetRasterCount(s) < 1 ||
-		    head_read(s, files[k], &h, &e) < 0) {
-			if (s != NULL)
-				GDALClose(s);
-			memset(t, 0, sizeof *t);
-			break;
-		}
-		tiles_note(t, &h, seen++ == 0);
-		if (h.srs != NULL)
-			OSRDestroySpatialReference(h.srs);
-		GDALClose(s);
-	}
+	r = vrt_tiles(ds, t, o, 0, e);
 	dem_gdal_release();
-	CSLDestroy(files);
+	return r;
 }
