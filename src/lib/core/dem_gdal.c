@@ -32,6 +32,11 @@ init(void)
 	if (CPLGetConfigOption("GDAL_CACHEMAX", NULL) == NULL)
 		GDALSetCacheMax64((GIntBig)CACHE_MB << 20);
 	/* .aux.xml sidecars are read, never written (dem_gdal_open) */
+	/* GDAL lists a file's directory at each open (for sidecars): with
+	 * a mosaic of n tiles in one directory, n^2 entries read; it asks
+	 * for each sidecar by name instead */
+	if (CPLGetConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", NULL) == NULL)
+		CPLSetConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", "TRUE");
 }
 
 void

@@ -31,6 +31,9 @@
 typedef struct {
 	const char *path;
 	int col, row, w, h;
+	int dup;           /* the earlier entry naming the same file, or -1 */
+	dev_t dev;         /* the file, to know it listed again */
+	ino_t ino;
 } tile;
 
 /* A tile's header: what every tile must share with the first. */
@@ -302,11 +305,74 @@ check_all(char *const *paths, int n, tile *tl, head *r, dem_tiles *dt,
 	return 0;
 }
 
+/* --- a file listed again ----------------------------------------------- */
+
+typedef struct {
+	dev_t dev;
+	ino_t ino;
+	int k;
+} ident;
+
+static int
+cmp_ident(const void *a, const void *b)
+{
+	const ident *x = a, *y = b;
+
+	if (x->dev != y->dev)
+		return x->dev < y->dev ? -1 : 1;
+	if (x->ino != y->ino)
+		return x->ino < y->ino ? -1 : 1;
+	return (x->k > y->k) - (x->k < y->k);
+}
+
+/* Marks each entry naming the file of an earlier one (by device and
+ * inode, so ./a.tif and ../d/a.tif are one), tl[k].dup: it lies where
+ * that one does with the same samples, so it is neither compared again
+ * nor read again. /vsi paths are never the same. Sorted: O(n log n). */
+static int
+mark_dups(tile *tl, int n, tl_err *e)
+{
+	ident *id = tl_alloc((size_t)n, sizeof *id, e);
+	struct stat st;
+	int m = 0;
+
+	if (id == NULL)
+		return -1;
+	for (int k = 0; k < n; k++) {
+		tl[k].dup = -1;
+		if (strncmp(tl[k].path, "/vsi", 4) != 0 &&
+		    stat(tl[k].path, &st) == 0)
+			id[m].dev = st.st_dev, id[m].ino = st.st_ino,
+			    id[m++].k = k;
+	}
+	qsort(id, (size_t)m, sizeof *id, cmp_ident);
+	for (int k = 1; k < m; k++)
+		if (id[k].dev == id[k - 1].dev && id[k].ino == id[k - 1].ino)
+			tl[id[k].k].dup = tl[id[k - 1].k].dup >= 0 ?
+			    tl[id[k - 1].k].dup : id[k - 1].k;
+	free(id);
+	return 0;
+}
+
 /* --- gaps ---------------------------------------------------------------- */
 
 typedef struct {
 	int lo, hi;
 } span;
+
+/* A tile by one of its edges (or a span by its start), and its index. */
+typedef struct {
+	int at, k;
+} key;
+
+static int
+cmp_key(const void *a, const void *b)
+{
+	const key *x = a, *y = b;
+
+	return x->at != y->at ? (x->at > y->at) - (x->at < y->at) :
+	    (x->k > y->k) - (x->k < y->k);
+}
 
 static int
 cmp_int(const void *a, const void *b)
@@ -322,15 +388,13 @@ cmp_span(const void *a, const void *b)
 	return cmp_int(&((const span *)a)->lo, &((const span *)b)->lo);
 }
 
-/* Whether the rows of the column slab x0 .. x1 are covered from 0 to h. */
+/* Whether the m row spans v (of the tiles over one column slab) cover
+ * rows 0 .. h. */
 static int
-slab_covered(const tile *tl, int n, int x0, int x1, int h, span *v)
+rows_covered(span *v, int m, int h)
 {
-	int m = 0, reach = 0;
+	int reach = 0;
 
-	for (int k = 0; k < n; k++)
-		if (tl[k].col <= x0 && tl[k].col + tl[k].w >= x1)
-			v[m].lo = tl[k].row, v[m++].hi = tl[k].row + tl[k].h;
 	qsort(v, (size_t)m, sizeof *v, cmp_span);
 	for (int k = 0; k < m && reach < h; k++) {
 		if (v[k].lo > reach)
@@ -341,27 +405,47 @@ slab_covered(const tile *tl, int n, int x0, int x1, int h, span *v)
 }
 
 /* Whether the tiles leave a hole in the rectangle they span: a sweep over
- * the slabs between tiles' column edges, headers only (n^2 log n). */
+ * the column slabs between tiles' edges, tiles sorted by their west edge
+ * and only those over a slab (the active ones) looked at: O(n log n) for
+ * tiles on a grid, headers only. */
 static int
 has_gaps(const tile *tl, int n, tl_err *e)
 {
-	int *xs = tl_alloc((size_t)n * 2, sizeof *xs, e), h = 0, gap = 0;
+	key *west = tl_alloc((size_t)n, sizeof *west, e);
+	int *xs = tl_alloc((size_t)n * 2, sizeof *xs, e);
+	int *act = tl_alloc((size_t)n, sizeof *act, e);
 	span *v = tl_alloc((size_t)n, sizeof *v, e);
+	int h = 0, gap = 0, nx = 0, na = 0, next = 0;
 
-	if (xs == NULL || v == NULL)
+	if (west == NULL || xs == NULL || act == NULL || v == NULL)
 		gap = -1;
 	for (int k = 0; k < n && gap == 0; k++) {
-		xs[2 * k] = tl[k].col, xs[2 * k + 1] = tl[k].col + tl[k].w;
+		west[k].at = tl[k].col, west[k].k = k;
+		xs[nx++] = tl[k].col, xs[nx++] = tl[k].col + tl[k].w;
 		h = tl[k].row + tl[k].h > h ? tl[k].row + tl[k].h : h;
 	}
-	if (gap == 0)
-		qsort(xs, (size_t)n * 2, sizeof *xs, cmp_int);
-	for (int k = 0; gap == 0 && k + 1 < 2 * n; k++)
-		if (xs[k] < xs[k + 1] && !slab_covered(tl, n, xs[k], xs[k + 1],
-		    h, v))
-			gap = 1;
-	free(xs);
-	free(v);
+	if (gap == 0) {
+		qsort(west, (size_t)n, sizeof *west, cmp_key);
+		qsort(xs, (size_t)nx, sizeof *xs, cmp_int);
+	}
+	for (int k = 0; gap == 0 && k + 1 < nx; k++) {
+		int m = 0, keep = 0;
+		if (xs[k] == xs[k + 1])
+			continue;
+		/* no edge lies inside the slab: a tile over its west edge
+		 * covers it whole */
+		while (next < n && west[next].at <= xs[k])
+			act[na++] = west[next++].k;
+		for (int a = 0; a < na; a++)
+			if (tl[act[a]].col + tl[act[a]].w > xs[k])
+				act[keep++] = act[a];
+		na = keep;
+		for (int a = 0; a < na; a++)
+			v[m].lo = tl[act[a]].row, v[m++].hi = tl[act[a]].row +
+			    tl[act[a]].h;
+		gap = !rows_covered(v, m, h);
+	}
+	free(west), free(xs), free(act), free(v);
 	return gap;
 }
 
@@ -500,20 +584,78 @@ overlap(const tile *a, const tile *b)
 	    a->row < b->row + b->h && b->row < a->row + a->h;
 }
 
-/* Tile i against its later neighbours, i opened once for them all. */
+/* Appends the pair i < j to *v (*n of them, room for *cap). */
 static int
-overlaps_of(cmpbuf *c, const tile *tl, int n, int i, int nbands, tl_err *e)
+pair_add(key **v, size_t *n, size_t *cap, int i, int j, tl_err *e)
 {
-	pair p = { &tl[i], NULL, NULL, NULL };
+	key *nv;
+
+	if (*n == *cap) {
+		*cap = *cap ? 2 * *cap : 1024;
+		if ((nv = realloc(*v, *cap * sizeof *nv)) == NULL)
+			return tl_fail(e, "out of memory (overlapping tiles)");
+		*v = nv;
+	}
+	(*v)[*n].at = i < j ? i : j;
+	(*v)[(*n)++].k = i < j ? j : i;
+	return 0;
+}
+
+/* Every pair of tiles that overlap (a tile listed again, dup, is left
+ * out: it is the same file in the same place), in the order i < j, by i
+ * then j, that the check has always taken: tiles sorted by their west
+ * edge, each paired only with those that start before it ends, so that
+ * tiles on a grid cost O(n log n), not n^2. */
+static key *
+overlap_pairs(const tile *tl, int n, size_t *np, tl_err *e)
+{
+	key *west = tl_alloc((size_t)n, sizeof *west, e), *v = NULL;
+	size_t cap = 0;
+	int m = 0, bad = west == NULL;
+
+	*np = 0;
+	for (int k = 0; !bad && k < n; k++)
+		if (tl[k].dup < 0)
+			west[m].at = tl[k].col, west[m++].k = k;
+	if (!bad)
+		qsort(west, (size_t)m, sizeof *west, cmp_key);
+	for (int a = 0; !bad && a < m; a++) {
+		const tile *t = &tl[west[a].k];
+		for (int b = a + 1; !bad && b < m && west[b].at < t->col + t->w;
+		    b++)
+			if (overlap(t, &tl[west[b].k]) && pair_add(&v, np, &cap,
+			    west[a].k, west[b].k, e) < 0)
+				bad = 1;
+	}
+	free(west);
+	if (bad) {
+		free(v);
+		return NULL;
+	}
+	if (*np > 0)
+		qsort(v, *np, sizeof *v, cmp_key);
+	return v != NULL ? v : tl_alloc(1, sizeof *v, e);
+}
+
+/* The pairs v[0 .. n-1] compared, each first tile opened once for its
+ * run of pairs. */
+static int
+compare_pairs(cmpbuf *c, const tile *tl, const key *v, size_t n,
+    int nbands, tl_err *e)
+{
+	pair p = { NULL, NULL, NULL, NULL };
 	int rc = 0;
 
-	for (int j = i + 1; j < n && rc == 0; j++) {
-		if (!overlap(&tl[i], &tl[j]))
-			continue;
-		p.b = &tl[j];
-		if (p.da == NULL && (p.da = tile_open(tl[i].path, e)) == NULL)
-			return -1;
-		if ((p.db = tile_open(tl[j].path, e)) == NULL) {
+	for (size_t k = 0; k < n && rc == 0; k++) {
+		if (p.a != &tl[v[k].at]) {
+			if (p.da != NULL)
+				GDALClose(p.da);
+			p.a = &tl[v[k].at];
+			if ((p.da = tile_open(p.a->path, e)) == NULL)
+				return -1;
+		}
+		p.b = &tl[v[k].k];
+		if ((p.db = tile_open(p.b->path, e)) == NULL) {
 			rc = -1;
 			break;
 		}
@@ -531,7 +673,9 @@ overlaps(const tile *tl, int n, const head *r, const dem_opts *o,
     tl_err *e)
 {
 	cmpbuf c = { 0 };
-	int rc = 0;
+	size_t np = 0;
+	key *v = overlap_pairs(tl, n, &np, e);
+	int rc = v == NULL ? -1 : 0;
 
 	c.has_nodata = o->has_nodata ? 1 : r->has_nodata;
 	c.nodata = o->has_nodata ? o->nodata : r->nodata;
@@ -542,8 +686,9 @@ overlaps(const tile *tl, int n, const head *r, const dem_opts *o,
 	c.mb = tl_alloc(CMP_SAMPLES, 1, e);
 	if (c.pa == NULL || c.pb == NULL || c.ma == NULL || c.mb == NULL)
 		rc = -1;
-	for (int i = 0; i < n && rc == 0; i++)
-		rc = overlaps_of(&c, tl, n, i, r->nbands, e);
+	if (rc == 0)
+		rc = compare_pairs(&c, tl, v, np, r->nbands, e);
+	free(v);
 	free(c.pa), free(c.pb), free(c.ma), free(c.mb);
 	return rc;
 }
@@ -653,19 +798,25 @@ dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
     const dem_opts *o, tl_err *e)
 {
 	tile *tl = tl_alloc((size_t)n, sizeof *tl, e);
+	char **once = tl_alloc((size_t)n, sizeof *once, e);
 	GDALDatasetH vrt = NULL;
 	dem_tiles dt = { 0 };
 	head r = { 0 };
-	int gaps, rc = -1;
+	int gaps, rc = -1, m = 0;
 
 	dem_gdal_init();
-	if (tl == NULL || n < 1 || check_all(paths, n, tl, &r, &dt, o, e) < 0 ||
-	    (gaps = has_gaps(tl, n, e)) < 0)
+	if (tl == NULL || once == NULL || n < 1 ||
+	    check_all(paths, n, tl, &r, &dt, o, e) < 0 ||
+	    mark_dups(tl, n, e) < 0 || (gaps = has_gaps(tl, n, e)) < 0)
 		goto out;
 	/* -I reads no sample: the overlaps wait for the samples' reading */
 	if (!L->info && overlaps(tl, n, &r, o, e) < 0)
 		goto out;
-	if ((vrt = vrt_build(paths, n, &r, gaps, o, L->what, e)) != NULL)
+	/* a file listed again paints what it painted (overlaps agree) */
+	for (int k = 0; k < n; k++)
+		if (tl[k].dup < 0)
+			once[m++] = paths[k];
+	if ((vrt = vrt_build(once, m, &r, gaps, o, L->what, e)) != NULL)
 		rc = dem_read_dataset(L, g, vrt, &dt, o, e);
 out:
 	if (vrt != NULL)
@@ -673,6 +824,7 @@ out:
 	if (r.srs != NULL)
 		OSRDestroySpatialReference(r.srs);
 	free(tl);
+	free(once);
 	return rc;
 }
 
