@@ -343,6 +343,29 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 	return r;
 }
 
+/* A failure of the anonymous scratch file (conversion, fill) names its
+ * directory and, when it is full or a limit is met, what to do. */
+static void
+scratch_note(long long w, long long h, tl_err *e)
+{
+	const char *dir = getenv("TMPDIR");
+	char m[sizeof e->msg];
+	int full;
+
+	if (strncmp(e->msg, "scratch file", 12) != 0)
+		return;
+	if (dir == NULL || *dir == '\0')
+		dir = "/tmp";
+	full = strstr(e->msg, strerror(ENOSPC)) != NULL ||
+	    strstr(e->msg, strerror(EDQUOT)) != NULL ||
+	    strstr(e->msg, strerror(EFBIG)) != NULL;
+	snprintf(m, sizeof m, "%s", e->msg + 12);
+	tl_fail(e, "scratch file in %.200s%s%s%lld%s", dir, m, full ?
+	    " (it needs at least " : "", full ? (w * h * 4 >> 20) + 1 : 0,
+	    full ? " MiB: set TMPDIR to a directory with room, or raise "
+	    "ulimit -f)" : "");
+}
+
 /* info: the header only; cols (2 ints, or NULL): only those columns;
  * rows (2 ints and an fd, or NULL): only those rows, into that file */
 static dem *
@@ -401,6 +424,8 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 		    d->what);
 	if (r == 0 && !info && cols == NULL && rows == NULL && L.voids > 0)
 		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
+	if (r < 0)
+		scratch_note(L.w, L.h, e);
 	if (r < 0) {
 		dem_close(d);
 		return NULL;
