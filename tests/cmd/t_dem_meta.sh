@@ -33,14 +33,17 @@ GDAL_PAM_ENABLED=YES gdal_translate -q -of PNG -ot UInt16 "$D/whole.tif" \
     "$D/whole.png" 2>/dev/null
 gt -ot UInt16 "$D/whole.tif" "$D/whole16.tif" 2>/dev/null
 [ -f "$D/whole.png.aux.xml" ]; ok $? "fixture: the PNG's georeferencing is in its .aux.xml"
-listing() { ls -la --time-style=+%s "$D" | grep -v ' \.\.$'; }
+listing() {
+	stat -c '%n %Y' "$D"
+	find "$D" -mindepth 1 -maxdepth 1 -printf '%f %s %T@ %m\n' | sort
+}
 listing >"$T/before"
 
 # unchanged: nothing written, removed or touched in $D
 unchanged() {
 	listing >"$T/after"
 	cmp -s "$T/before" "$T/after" ||
-	    { diff "$T/before" "$T/after" | sed 's/^/#   /' | head -5; return 1; }
+	    { diff "$T/before" "$T/after" | sed 's/^/#   /' | head -40; return 1; }
 }
 info() { dem2fqm -I "$@" 2>"$T/ierr" | grep -E '^(model|crs|raster|origin|step|size) '; }
 
@@ -93,6 +96,9 @@ fails "a VRT at half the pixel size (gdalbuildvrt -tr): refused" 1 \
 run "--resample: the mosaic VRT read" dem2fqm --resample "$S/mixed.vrt" "$T/mixed.fqm"
 run "dem2vgis --resample passes it to its stages" dem2vgis --resample \
     "$S/fine.vrt" "$T/finepyr"
+dem2vgis --resample -P "$T/plan" "$S/fine.vrt" "$T/planpyr" >"$T/o" 2>"$T/e" &&
+    make -s -C "$T/plan" >"$T/o" 2>"$T/e" && [ -f "$T/planpyr/index.json" ]
+ok $? "a plan made with --resample: its jobs read the VRT too"
 fails "dem2vgis without it: refused" 1 "--resample" dem2vgis "$S/fine.vrt" "$T/finepyr2"
 [ ! -e "$T/finepyr2" ]; ok $? "dem2vgis refused: no output"
 # pixel-is-point and pixel-is-area sources in one VRT: half a pixel apart
