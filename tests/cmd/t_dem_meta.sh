@@ -150,6 +150,34 @@ ok $? "a 5000-character entry: cut with ... ($n bytes)"
     >"$T/o" 2>"$T/e"; s=$?
 [ $s -eq 1 ] && grep -q "^dem2fqm: scratch file in $T: write: .*TMPDIR" "$T/e"
 ok $? "a scratch file that cannot grow: its directory and TMPDIR named"
+# the fill's scratch on a full disk (a 256 KiB tmpfs, as root): a DEM
+# whose copy fits and whose fill does not
+if [ "$(id -u)" -eq 0 ] && mkdir "$T/full" &&
+    mount -t tmpfs -o size=256k tmpfs "$T/full" 2>/dev/null; then
+	trap 'umount "$T/full" 2>/dev/null; rm -rf "$T"' EXIT
+	GDAL_PAM_ENABLED=NO /usr/bin/python3 - "$DEM" "$T/voids.tif" <<'PY'
+import sys
+from osgeo import gdal
+gdal.UseExceptions()
+d = gdal.Open(sys.argv[1])
+a = d.ReadAsArray(0, 0, 200, 200).astype("float32")
+a[20:180:2, :] = float("nan")
+o = gdal.GetDriverByName("GTiff").Create(sys.argv[2], 200, 200, 1,
+                                         gdal.GDT_Float32)
+o.SetGeoTransform(d.GetGeoTransform())
+o.SetProjection(d.GetProjection())
+o.GetRasterBand(1).WriteArray(a)
+o = None
+PY
+	fails "the fill's scratch on a full disk: its directory, TMPDIR" 1 \
+	    "^dem2fqm: scratch file in $T/full: write: No space left on device \(it needs up to [0-9]+ MiB: set TMPDIR" \
+	    env TMPDIR="$T/full" dem2fqm "$T/voids.tif" "$T/voids.fqm"
+	[ -z "$(ls -A "$T/full")" ]; ok $? "the full disk: nothing left on it"
+	umount "$T/full"
+else
+	ok 0 "# SKIP the fill's scratch on a full disk: tmpfs needs root"
+	ok 0 "# SKIP the full disk: nothing left on it"
+fi
 # too few descriptors: the supervisor's own messages name it
 bad=0
 for n in 10 12 14; do

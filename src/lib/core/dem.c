@@ -344,9 +344,11 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 }
 
 /* A failure of the anonymous scratch file (conversion, fill) names its
- * directory and, when it is full or a limit is met, what to do. */
+ * directory and, when it is full or a limit is met, what to do: the copy
+ * takes 4 bytes a sample, the fill up to 9 more (nearest samples, masks)
+ * for each sample of a row with voids. */
 static void
-scratch_note(long long w, long long h, tl_err *e)
+scratch_note(long long w, long long h, int voids, tl_err *e)
 {
 	const char *dir = getenv("TMPDIR");
 	char m[sizeof e->msg];
@@ -361,9 +363,9 @@ scratch_note(long long w, long long h, tl_err *e)
 	    strstr(e->msg, strerror(EFBIG)) != NULL;
 	snprintf(m, sizeof m, "%s", e->msg + 12);
 	tl_fail(e, "scratch file in %.200s%s%s%lld%s", dir, m, full ?
-	    " (it needs at least " : "", full ? (w * h * 4 >> 20) + 1 : 0,
-	    full ? " MiB: set TMPDIR to a directory with room, or raise "
-	    "ulimit -f)" : "");
+	    " (it needs up to " : "", full ? (w * h * (voids ? 13 : 4) >>
+	    20) + 1 : 0, full ? " MiB: set TMPDIR to a directory with room, "
+	    "or raise ulimit -f)" : "");
 }
 
 /* info: the header only; cols (2 ints, or NULL): only those columns;
@@ -425,7 +427,7 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 	if (r == 0 && !info && cols == NULL && rows == NULL && L.voids > 0)
 		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
 	if (r < 0)
-		scratch_note(L.w, L.h, e);
+		scratch_note(L.w, L.h, L.voids > 0, e);
 	if (r < 0) {
 		dem_close(d);
 		return NULL;

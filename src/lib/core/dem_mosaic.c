@@ -3,7 +3,11 @@
  * bands, sample type, nodata, scale and offset, unit, AREA_OR_POINT;
  * tiles that overlap (SRTM tiles share their edge row and column) are
  * compared where they do. GDALBuildVRT then makes them one in-memory
- * VRT, which the GDAL adapter reads like any dataset (dem_gdal.c).
+ * VRT, which the GDAL adapter reads like any dataset (dem_gdal.c). The
+ * checks sort (by west edge, by inode), so that thousands of tiles cost
+ * O(n log n), not a pass over every pair; a file listed twice is read
+ * once. A VRT file's sources are checked too (dem_vrt_tiles): what they
+ * say that the VRT lost, and that GDAL would not resample them.
  *
  * Only headers are held, one per tile: samples stream through GDAL's
  * block cache; at most two tiles are open at once besides the VRT's own
