@@ -93,12 +93,16 @@ fails "the same tiles as a VRT: refused, naming the source" 1 \
 fails "a VRT at half the pixel size (gdalbuildvrt -tr): refused" 1 \
     "^dem2fqm: .*fine.vrt: its source a.tif is scaled from 121 x 121 to 242 x 242" \
     dem2fqm "$S/fine.vrt" "$T/x.fqm"
+echo mixed.vrt >"$S/vrtlist.txt"
+fails "a list whose entry is that VRT: refused the same way" 1 \
+    "^dem2fqm: .*mixed.vrt: its source .*is scaled" dem2fqm -I "$S/vrtlist.txt"
 run "--resample: the mosaic VRT read" dem2fqm --resample "$S/mixed.vrt" "$T/mixed.fqm"
 run "dem2vgis --resample passes it to its stages" dem2vgis --resample \
     "$S/fine.vrt" "$T/finepyr"
 dem2vgis --resample -P "$T/plan" "$S/fine.vrt" "$T/planpyr" >"$T/o" 2>"$T/e" &&
     make -s -C "$T/plan" >"$T/o" 2>"$T/e" && [ -f "$T/planpyr/index.json" ]
 ok $? "a plan made with --resample: its jobs read the VRT too"
+run "tilecheck --dem --resample on it" tilecheck --resample --dem "$S/fine.vrt" "$T/finepyr"
 fails "dem2vgis without it: refused" 1 "--resample" dem2vgis "$S/fine.vrt" "$T/finepyr2"
 [ ! -e "$T/finepyr2" ]; ok $? "dem2vgis refused: no output"
 # pixel-is-point and pixel-is-area sources in one VRT: half a pixel apart
