@@ -40,7 +40,7 @@ ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) \
             $(call pkgcf,$(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS)) \
             -Isrc/lib -DTL_LIBDIR='"$(LIBDIR)"'
 ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) -Isrc/lib \
-            $(call pkgcf,geographiclib)
+            $(call pkgcf,geographiclib gdal)
 SYSLIBS  = -lstdc++ -lm -lpthread -ldl
 
 LAYERS  := core pyramid play jobs tiles3d
@@ -136,6 +136,9 @@ $(B)/tests/play/%: tests/play/%.c tests/tap.h $(PLAY_A) $(PYR_A) $(CORE_A)
 $(B)/tests/jobs/%: tests/jobs/%.c tests/tap.h $(JOBS_A) $(CORE_A)
 	@mkdir -p $(@D)
 	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(JOBS_LD) $(TEST_LD)
+$(B)/tests/tiles3d/%: tests/tiles3d/%.c tests/tap.h $(T3_A) $(PYR_A) $(CORE_A)
+	@mkdir -p $(@D)
+	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(T3_LD) $(TEST_LD)
 
 $(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 	@mkdir -p $(@D)

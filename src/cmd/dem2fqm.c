@@ -47,6 +47,8 @@ static const char usage[] =
     "into\n"
     "                  file (a plan's, dem2vgis(1)); no output\n"
     "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
+    "  --resample      let GDAL resample a VRT's scaled sources, not refuse "
+    "them\n"
     "  dem             any raster GDAL reads, EXR, or a list of DEM files (a\n"
     "                  mosaic); - (stdin, default)\n"
     "  out             level-0 FQM: EXR file or - (stream, default)\n";

@@ -39,7 +39,8 @@ static const char usage[] =
     "  --check-stamp file  a plan's job: its DEM's files as the plan "
     "recorded\n"
     "                  them (dem2fqm --stamp), or exit 1\n"
-    "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+    "  -D, -e, -H, -N, -n, -s, --resample  how to read the DEM, as for "
+    "dem2fqm(1)\n"
     "  dem ...         the DEM, or - (stdin); several are one mosaic\n"
     "  dir             the pyramid directory to build\n";
 
@@ -130,6 +131,7 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 		{ "from", required_argument, NULL, OPT_FROM },
 		{ "part-samples", required_argument, NULL, OPT_PART_SAMPLES },
 		{ "check-stamp", required_argument, NULL, OPT_CHECK_STAMP },
+		{ "resample", no_argument, NULL, DEM_RESAMPLE },
 		{ NULL, 0, NULL, 0 },
 	};
 	int ch, j;
@@ -158,8 +160,13 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 			    flags[strchr(dem_letters, ch) - dem_letters];
 			o->demopt[o->ndemopt++] = optarg;
 			break;
+		case DEM_RESAMPLE: /* the stages' own option */
+			if (o->ndemopt + 1 > PIPELINE_MAXOPTS)
+				return cli_bad(c, "too many DEM options");
+			o->demopt[o->ndemopt++] = "--resample";
+			break;
 		default:
-			if (ch < OPT_BAND)
+			if (ch < OPT_BAND || ch > OPT_PART_SAMPLES)
 				return cli_usage_error(c);
 			if (parse_band(c, ch, o) != 0)
 				return CLI_USAGE;

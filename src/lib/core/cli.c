@@ -13,6 +13,7 @@
 static const struct option shared_long[] = {
 	{ "help", no_argument, NULL, 'h' },
 	{ "version", no_argument, NULL, 'V' },
+	{ "resample", no_argument, NULL, DEM_RESAMPLE }, /* CLI_DEM only */
 };
 
 void
@@ -41,11 +42,13 @@ build(cli *c, const char *optstring, const struct option *longopts)
 	    c->sets & CLI_COMPRESSION ? "z:" : "",
 	    c->sets & CLI_DEM ? DEM_OPTS : "");
 	for (; longopts != NULL && longopts[n].name != NULL; n++) {
-		assert(n + 3 < CLI_MAXLONG);
+		assert(n + 4 < CLI_MAXLONG);
 		c->longopts[n] = longopts[n];
 	}
 	c->longopts[n++] = shared_long[0];
 	c->longopts[n++] = shared_long[1];
+	if (c->sets & CLI_DEM)
+		c->longopts[n++] = shared_long[2];
 	memset(&c->longopts[n], 0, sizeof c->longopts[n]);
 }
 

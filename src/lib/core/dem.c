@@ -272,7 +272,8 @@ check_file(const char *path, enum magic *kind, tl_err *e)
 	int fd;
 
 	*kind = MAGIC_NONE;
-	if ((fd = open(path, O_RDONLY | O_CLOEXEC)) < 0)
+	/* O_NONBLOCK: a FIFO's open must not wait for a writer */
+	if ((fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0)
 		return tl_failsys(e, "%s: cannot open", path);
 	if (fstat(fd, &st) != 0) {
 		close(fd);
@@ -282,13 +283,21 @@ check_file(const char *path, enum magic *kind, tl_err *e)
 		close(fd);
 		return tl_fail(e, "%s: is a directory", path);
 	}
+	/* GDAL would read a FIFO or a device forever, or seek in vain */
+	if (!S_ISREG(st.st_mode)) {
+		close(fd);
+		return tl_fail(e, "%s: not a regular file (%s): a DEM is read "
+		    "from a file, or from standard input as -", path,
+		    S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISSOCK(st.st_mode) ?
+		    "a socket" : "a device");
+	}
 	do
 		n = pread(fd, m, sizeof m, 0);
 	while (n < 0 && errno == EINTR);
 	close(fd);
 	if (n < 0)
 		return tl_failsys(e, "%s: read", path);
-	if (n == 0 && S_ISREG(st.st_mode))
+	if (n == 0)
 		return tl_fail(e, "%s: empty file", path);
 	if (n >= 4 && memcmp(m, "\x76\x2f\x31\x01", 4) == 0)
 		*kind = MAGIC_EXR;
@@ -311,6 +320,10 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 	enum magic kind;
 	int r;
 
+	/* GDAL's virtual file systems (/vsizip/...): GDAL's alone */
+	if (strncmp(path, "/vsi", 4) == 0)
+		return (r = dem_read_gdal(L, g, path, o, e)) <= 0 ? r :
+		    tl_fail(e, "%s: not a raster GDAL reads", L->what);
 	if (check_file(path, &kind, e) < 0)
 		return -1;
 	if (kind != MAGIC_EXR && (r = dem_read_gdal(L, g, path, o, e)) <= 0)
@@ -328,6 +341,31 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 		    "; a format GDAL knows by its file name (an .hgt) needs "
 		    "that name on stdin: -n NAME" : "");
 	return r;
+}
+
+/* A failure of the anonymous scratch file (conversion, fill) names its
+ * directory and, when it is full or a limit is met, what to do: the copy
+ * takes 4 bytes a sample, the fill up to 9 more (nearest samples, masks)
+ * for each sample of a row with voids. */
+static void
+scratch_note(long long w, long long h, int voids, tl_err *e)
+{
+	const char *dir = getenv("TMPDIR");
+	char m[sizeof e->msg];
+	int full;
+
+	if (strncmp(e->msg, "scratch file", 12) != 0)
+		return;
+	if (dir == NULL || *dir == '\0')
+		dir = "/tmp";
+	full = strstr(e->msg, strerror(ENOSPC)) != NULL ||
+	    strstr(e->msg, strerror(EDQUOT)) != NULL ||
+	    strstr(e->msg, strerror(EFBIG)) != NULL;
+	snprintf(m, sizeof m, "%s", e->msg + 12);
+	tl_fail(e, "scratch file in %.200s%s%s%lld%s", dir, m, full ?
+	    " (it needs up to " : "", full ? (w * h * (voids ? 13 : 4) >>
+	    20) + 1 : 0, full ? " MiB: set TMPDIR to a directory with room, "
+	    "or raise ulimit -f)" : "");
 }
 
 /* info: the header only; cols (2 ints, or NULL): only those columns;
@@ -359,8 +397,7 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 			return NULL;
 		}
 	}
-	snprintf(d->what, sizeof d->what, "%s", strcmp(path, "-") == 0 ?
-	    "stdin" : path);
+	dem_name(strcmp(path, "-") == 0 ? "stdin" : path, d->what);
 	L.what = d->what;
 	if (strcmp(path, "-") == 0) {
 		r = spool_stdin(&sp, o->hgt_name, e);
@@ -389,6 +426,8 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 		    d->what);
 	if (r == 0 && !info && cols == NULL && rows == NULL && L.voids > 0)
 		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
+	if (r < 0)
+		scratch_note(L.w, L.h, L.voids > 0, e);
 	if (r < 0) {
 		dem_close(d);
 		return NULL;

@@ -45,6 +45,8 @@ typedef struct {
 	                        * ("ellipsoid", "EPSG:5773"), NULL: as read */
 	const char *vdatum;    /* -D: the DEM's vertical datum when it
 	                        * declares none (or another), NULL: the file's */
+	int resample;          /* --resample: a VRT's scaled or misplaced
+	                        * sources resampled by GDAL, not refused */
 } dem_opts;
 
 typedef struct dem dem;
@@ -54,6 +56,8 @@ typedef struct dem dem;
  * with argument arg. Returns 1 when c is one of them, 0 when it is not,
  * -1 when arg is bad (e says why, as "-e x: unknown encoding"). */
 #define DEM_OPTS "e:N:n:s:H:D:"
+/* and --resample, a long option only (cli.c adds it): c is DEM_RESAMPLE */
+#define DEM_RESAMPLE 0x7f00
 int dem_option(dem_opts *o, int c, const char *arg, tl_err *e);
 
 dem *dem_open(const char *path, const dem_opts *o, tl_err *e);

@@ -160,7 +160,8 @@ slurp(const char *path, size_t n, tl_err *e)
 	struct stat st;
 	int fd;
 
-	if ((fd = open(path, O_RDONLY | O_CLOEXEC)) < 0) {
+	/* O_NONBLOCK: a FIFO in a plan's place is refused, not waited on */
+	if ((fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0) {
 		if (errno == ENOENT)
 			tl_fail(e, "%s: missing (its part has not run)", path);
 		else
@@ -169,6 +170,9 @@ slurp(const char *path, size_t n, tl_err *e)
 	}
 	if (fstat(fd, &st) != 0)
 		tl_failsys(e, "%s: stat", path);
+	else if (!S_ISREG(st.st_mode))
+		tl_fail(e, "%s: not a regular file: remove it and run its part "
+		    "again", path);
 	else if ((long long)st.st_size != (long long)n)
 		tl_fail(e, "%s: %lld bytes, not the %zu of this band's part "
 		    "(another band height or DEM?)", path,
@@ -515,9 +519,9 @@ fill_band(const part *p, const names *N, tl_err *e)
 	for (int j = p->y0; j < p->y1; j++)
 		if (p->flags[j - p->y0])
 			dem_setbit(rowvoid, j);
-	if ((b.in = open(N->raw, O_RDONLY | O_CLOEXEC)) < 0)
+	if ((b.in = open(N->raw, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0)
 		tl_failsys(e, "%s: cannot open (pass 1 has not run?)", N->raw);
-	else if ((b.out = open(N->tmp, O_WRONLY | O_CLOEXEC)) < 0)
+	else if ((b.out = open(N->tmp, O_WRONLY | O_NONBLOCK | O_CLOEXEC)) < 0)
 		tl_failsys(e, "%s: cannot open (the join has not run?)",
 		    N->tmp);
 	else

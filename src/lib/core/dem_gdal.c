@@ -31,9 +31,12 @@ init(void)
 	GDALAllRegister();
 	if (CPLGetConfigOption("GDAL_CACHEMAX", NULL) == NULL)
 		GDALSetCacheMax64((GIntBig)CACHE_MB << 20);
-	/* no .aux.xml sidecars beside the user's DEM */
-	if (CPLGetConfigOption("GDAL_PAM_ENABLED", NULL) == NULL)
-		CPLSetConfigOption("GDAL_PAM_ENABLED", "NO");
+	/* .aux.xml sidecars are read, never written (dem_gdal_open) */
+	/* GDAL lists a file's directory at each open (for sidecars): with
+	 * a mosaic of n tiles in one directory, n^2 entries read; it asks
+	 * for each sidecar by name instead */
+	if (CPLGetConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", NULL) == NULL)
+		CPLSetConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", "TRUE");
 }
 
 void
@@ -499,7 +502,8 @@ dem_read_dataset(dem_load *L, georef *g, GDALDatasetH ds,
 	/* a VRT from gdalbuildvrt lost what its tiles say */
 	if (t == NULL && strcmp(GDALGetDriverShortName(GDALGetDatasetDriver(
 	    ds)), "VRT") == 0) {
-		dem_vrt_tiles(ds, &vt);
+		if (dem_vrt_tiles(ds, &vt, o, e) < 0)
+			return -1;
 		s.t = &vt;
 	}
 	dem_gdal_catch(&s.c);
@@ -528,8 +532,7 @@ dem_read_gdal(dem_load *L, georef *g, const char *path, const dem_opts *o,
 
 	dem_gdal_init();
 	dem_gdal_catch(&c);
-	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
-	    NULL);
+	ds = dem_gdal_open(path);
 	r = ds == NULL ? not_opened(&c, path, L, e) :
 	    dem_read_dataset(L, g, ds, NULL, o, e);
 	if (ds != NULL)

@@ -21,6 +21,12 @@
 #define DEM_SAMPLEBYTES 8
 #define DEM_MAXABS 1e6   /* |z| beyond this (metres) is a void */
 
+/* A path as messages name it: whole up to DEM_NAME - 1 bytes, else its
+ * head and tail around "...", so that a list entry of 5000 characters
+ * does not fill the screen; returns buf (DEM_NAME bytes). */
+#define DEM_NAME 100
+const char *dem_name(const char *path, char *buf);
+
 /* Bit i of a per-row bitmap (which rows have voids), and setting it. */
 static inline int
 dem_bit(const unsigned char *b, long long i)
@@ -76,7 +82,7 @@ struct dem {
 	uint64_t print;          /* dem_fingerprint of how it was read */
 	struct dem_file *file;   /* where fd's rows and masks are, when fd
 	                          * is a filled DEM file; else NULL */
-	char what[256];          /* the file, for messages */
+	char what[DEM_NAME];     /* the file, for messages (dem_name) */
 };
 
 /* Sets up the conversion once size, nodata and units are known (zunit,
@@ -106,9 +112,14 @@ int dem_read_gdal(dem_load *L, georef *g, const char *path,
 
 /* --- GDAL, shared by the adapter and the mosaics (dem_gdal.c) --------- */
 
-/* GDAL set up once per process: drivers, a small block cache, no .aux.xml
- * sidecars. */
+/* GDAL set up once per process: drivers, a small block cache. */
 void dem_gdal_init(void);
+
+/* path opened by GDAL, raster, read-only, with its .aux.xml sidecar read
+ * (PAM) but never written: every dataset the reader opens is opened so
+ * (dem_pam.cpp). NULL when GDAL does not open it (its message is
+ * GDAL's error). */
+GDALDatasetH dem_gdal_open(const char *path);
 
 /* GDAL's messages caught for ours instead of printed: between
  * dem_gdal_catch and dem_gdal_release (a stack, per thread), the first
@@ -149,8 +160,14 @@ int dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
     const dem_opts *o, tl_err *e);
 
 /* What the sources of the VRT ds agree on, each opened in turn (its
- * header only); t is zeroed first. */
-void dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t);
+ * header only), a source that is a VRT by what its own sources say (to
+ * VRT_DEPTH); t is zeroed first, and left so when a source does not open
+ * (reading the VRT then says why). Refused, naming the VRT and the
+ * source: a source GDAL would resample (scaled, or at a fractional
+ * offset) unless o->resample, one that is not a regular file (a FIFO),
+ * pixel-is-point and pixel-is-area sources in one VRT. */
+int dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o,
+    tl_err *e);
 
 /* The file path as a list of DEM files (dem2fqm(1) says what is one):
  * returns 1 when it is not one, else reads its mosaic. Relative entries

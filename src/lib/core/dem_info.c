@@ -1,6 +1,10 @@
 /* dem_info.c - what is known of a DEM, said to a user (dem.h). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
 
 #include "core/dem.h"
 #include "core/fqm.h"
@@ -57,6 +61,21 @@ dem_info_print(const dem *d, FILE *f, tl_err *e)
 	    tl_failsys(e, "%s", f == stdout ? "stdout" : "output");
 }
 
+/* Whether name has an .aux.xml sidecar that GDAL was told not to read. */
+static int
+pam_off(const char *name)
+{
+	const char *v = getenv("GDAL_PAM_ENABLED");
+	char aux[4096];
+
+	if (v == NULL || !(strcasecmp(v, "NO") == 0 ||
+	    strcasecmp(v, "FALSE") == 0 || strcasecmp(v, "OFF") == 0 ||
+	    strcmp(v, "0") == 0))
+		return 0;
+	return (size_t)snprintf(aux, sizeof aux, "%s.aux.xml", name) <
+	    sizeof aux && access(aux, F_OK) == 0;
+}
+
 int
 dem_metric_note(const dem *d, const dem_opts *o, const char *name,
     char *buf, size_t n)
@@ -68,7 +87,8 @@ dem_metric_note(const dem *d, const dem_opts *o, const char *name,
 	if (g->origin[0] == 0 && g->origin[1] == 0 && g->step[0] == 1 &&
 	    g->step[1] == -1)
 		snprintf(buf, n, "%s: not georeferenced: cells taken as 1 m "
-		    "(set with -s)", name);
+		    "(set with -s)%s", name, pam_off(name) ? "; its .aux.xml "
+		    "sidecar is not read while GDAL_PAM_ENABLED says NO" : "");
 	else
 		snprintf(buf, n, "%s: a geotransform but no CRS: its pixel size "
 		    "%g x %g taken as metres (set with -s, or assign the CRS: "

@@ -7,7 +7,8 @@
  * at most LIST_MAX bytes, without a NUL byte, and one of its entries at
  * least names an existing file; every entry must then. So a text file
  * that is no list still says "not a raster", and a list with a bad line
- * says which. */
+ * says which. An entry that is not a regular file (a FIFO, on which GDAL
+ * would wait for ever) is refused at once; /vsi paths are GDAL's. */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -25,6 +26,7 @@ typedef struct {
 	char **paths;     /* the entries, resolved */
 	int n, found;     /* entries, and those naming an existing file */
 	int bad_line, bad_errno; /* the first that does not, or 0 */
+	const char *bad_why;     /* its reason when not errno's */
 	char *bad;
 } entries;
 
@@ -39,7 +41,7 @@ slurp(const char *path)
 	size_t n = 0;
 	int fd;
 
-	if ((fd = open(path, O_RDONLY | O_CLOEXEC)) < 0)
+	if ((fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0)
 		return NULL;
 	if (fstat(fd, &st) < 0 || !S_ISREG(st.st_mode) || st.st_size < 1 ||
 	    st.st_size > LIST_MAX || (t = malloc((size_t)st.st_size + 1)) ==
@@ -59,12 +61,26 @@ slurp(const char *path)
 	return t;
 }
 
+const char *
+dem_name(const char *path, char *buf)
+{
+	size_t n = strlen(path), tail = DEM_NAME / 2;
+
+	if (n < DEM_NAME)
+		memcpy(buf, path, n + 1);
+	else
+		snprintf(buf, DEM_NAME, "%.*s...%s", (int)(DEM_NAME - tail - 4),
+		    path, path + n - tail);
+	return buf;
+}
+
 /* One line: its entry resolved, and whether it names a file. */
 static int
 add(entries *l, const char *base, char *line, int lineno, tl_err *e)
 {
 	struct stat st;
 	char *ent = tl_list_entry(line), *p, **np;
+	int there;
 
 	if (ent == NULL)
 		return 0;
@@ -76,10 +92,22 @@ add(entries *l, const char *base, char *line, int lineno, tl_err *e)
 	}
 	l->paths = np;
 	l->paths[l->n++] = p;
-	if (stat(p, &st) == 0)
+	/* GDAL's virtual file systems (/vsizip/...): GDAL's to open */
+	if (strncmp(p, "/vsi", 4) == 0)
+		return 0;
+	if ((there = stat(p, &st) == 0))
 		l->found++;
-	else if (l->bad_line == 0)
+	if (l->bad_line > 0)
+		return 0;
+	if (!there)
 		l->bad_line = lineno, l->bad_errno = errno, l->bad = p;
+	/* GDAL would wait on a FIFO for ever */
+	else if (!S_ISREG(st.st_mode))
+		l->bad_line = lineno, l->bad = p, l->bad_why =
+		    S_ISDIR(st.st_mode) ? "a directory, not a DEM file" :
+		    S_ISFIFO(st.st_mode) ? "a FIFO, not a regular file: list "
+		    "DEM files only" : "a device or socket, not a regular file: "
+		    "list DEM files only";
 	return 0;
 }
 
@@ -88,6 +116,10 @@ parse(entries *l, const char *base, tl_err *e)
 {
 	char *line = l->text, *nl;
 	int lineno = 1;
+
+	/* a UTF-8 byte order mark (Windows editors write one) is no path */
+	if (strncmp(line, "\xef\xbb\xbf", 3) == 0)
+		line += 3;
 
 	for (; line != NULL; line = nl, lineno++) {
 		if ((nl = strchr(line, '\n')) != NULL)
@@ -141,8 +173,12 @@ dem_read_list(dem_load *L, georef *g, const char *path, const char *base,
 	if (l.found == 0) /* text, but no list */
 		r = 1;
 	else if (l.bad_line > 0) {
+		char name[DEM_NAME];
+		dem_name(l.bad, name);
 		errno = l.bad_errno;
-		r = tl_failsys(e, "%s: line %d: %s", L->what, l.bad_line, l.bad);
+		r = l.bad_why != NULL ? tl_fail(e, "%s: line %d: %s: %s",
+		    L->what, l.bad_line, name, l.bad_why) :
+		    tl_failsys(e, "%s: line %d: %s", L->what, l.bad_line, name);
 	} else
 		r = dem_read_mosaic(L, g, l.paths, l.n, o, e);
 out:

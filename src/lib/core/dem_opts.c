@@ -1,5 +1,5 @@
 /* dem_opts.c - the DEM options every program reading a DEM takes (dem.h:
- * -e -N -n -s -H -D). Apart from the DEM reader on purpose: cli.c calls
+ * -e -N -n -s -H -D --resample). Apart from the DEM reader on purpose: cli.c calls
  * dem_option for every program, so this file must not reference GDAL,
  * PROJ or the reader, or every program would link them. */
 #include <stdio.h>
@@ -75,6 +75,9 @@ dem_option(dem_opts *o, int c, const char *arg, tl_err *e)
 		if (*arg == '\0')
 			return tl_fail(e, "-D: empty datum");
 		o->vdatum = arg;
+		return 1;
+	case DEM_RESAMPLE:
+		o->resample = 1;
 		return 1;
 	}
 	return 0;

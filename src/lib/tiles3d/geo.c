@@ -74,12 +74,23 @@ int
 t3_proj_geo(t3_proj *p, double *x, double *y, double *z, int n, tl_err *e)
 {
 	size_t s = sizeof(double);
+	double x0, y0;
 
+	/* a NaN height is damage, not a CRS's limit: say which */
+	for (int k = 0; k < n; k++)
+		if (!isfinite(x[k]) || !isfinite(y[k]) || !isfinite(z[k]))
+			return tl_fail(e, "vertex %d of %d: position %g, %g, "
+			    "height %g: not finite, a damaged block or index "
+			    "(tilecheck names it; rebuild the pyramid)", k, n,
+			    x[k], y[k], z[k]);
+	x0 = x[0], y0 = y[0];
 	proj_trans_generic(p->op, PJ_FWD, x, s, (size_t)n, y, s, (size_t)n,
 	    z, s, (size_t)n, NULL, 0, 0);
 	for (int k = 0; k < n; k++)
 		if (!isfinite(x[k]) || !isfinite(y[k]) || !isfinite(z[k]))
-			return tl_fail(e, "PROJ: a point has no WGS 84 position");
+			return tl_fail(e, "PROJ: vertex %d of %d has no WGS 84 "
+			    "position (the first is at %g, %g in the DEM's CRS): "
+			    "outside the CRS's area?", k, n, x0, y0);
 	return 0;
 }
 
