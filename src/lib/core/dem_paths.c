@@ -1,7 +1,7 @@
 /* dem_paths.c - the files a DEM is read from, for the outputs to keep off
  * them (dem.h, paths.h): the DEM, a list's entries, and what GDAL says
- * each dataset reads (GDALGetFileList: a VRT's sources, a world file),
- * VRTs within VRTs followed. */
+ * the DEM reads (GDALGetFileList: a VRT's sources, a world file), VRTs
+ * within VRTs and VRT entries of a list followed. */
 #include <cpl_string.h>
 #include <fcntl.h>
 #include <stdlib.h>
@@ -89,7 +89,9 @@ dem_paths(tl_paths *s, const char *path, tl_err *e)
 		if (r == 0)
 			r = tl_paths_add(s, ent[k], 0, e, "%s, an entry of the "
 			    "input DEM list %s", ent[k], path);
-		if (r == 0)
+		/* a VRT's sources; other tiles' sidecars are not worth
+		 * opening every tile again (the reader does already) */
+		if (r == 0 && is_vrt(ent[k]))
 			r = gdal_files(s, ent[k], path, 1, e) < 0 ? -1 : 0;
 		free(ent[k]);
 	}
