@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #define TREE_DEPTH 8
+#define BANDS_MAX (1 << 24) /* bytes: a band list's reader refuses more */
 
 struct tl_path_in {
 	char *path, *desc;
@@ -320,15 +321,21 @@ static int
 add_bands(tl_paths *s, const char *path, const char *what, tl_err *e)
 {
 	const char *slash = strrchr(path, '/');
-	char *text = NULL, *dir = NULL, *line, *nl;
+	char head[12], *text = NULL, *dir = NULL, *line, *nl;
+	struct stat st;
 	size_t n = 0;
 	FILE *f;
 	int r = 0;
 
-	if ((f = fopen(path, "re")) == NULL)
+	/* a FIFO is never opened here: that would let its writer go on
+	 * before its reader is there, or eat its stream; a raster is not
+	 * read past its first bytes */
+	if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size >
+	    BANDS_MAX || (f = fopen(path, "re")) == NULL)
 		return 0;
-	if (getdelim(&text, &n, '\0', f) < 0 ||
-	    strncmp(text, "fqm-bands 1\n", 12) != 0) {
+	if (fread(head, 1, sizeof head, f) != sizeof head ||
+	    memcmp(head, "fqm-bands 1\n", sizeof head) != 0 ||
+	    getdelim(&text, &n, '\0', f) < 0) {
 		free(text);
 		fclose(f);
 		return 0;
@@ -337,7 +344,7 @@ add_bands(tl_paths *s, const char *path, const char *what, tl_err *e)
 	if (slash != NULL && (dir = strndup(path, slash == path ? 1 :
 	    (size_t)(slash - path))) == NULL)
 		r = tl_fail(e, "%s: out of memory", path);
-	for (line = text + 12; r == 0 && line != NULL; line = nl) {
+	for (line = text; r == 0 && line != NULL; line = nl) {
 		char *ent, *p;
 		if ((nl = strchr(line, '\n')) != NULL)
 			*nl++ = '\0';
