@@ -138,7 +138,7 @@ guard(const options *o, tl_err *e)
 	tl_paths s = { 0 };
 	int n = 0, r;
 
-	if (!o->info && !o->save)
+	if (!o->info && !o->save && strcmp(o->out, "-") != 0)
 		outs[n++] = o->out;
 	for (int k = 0; k < o->nguard; k++)
 		outs[n++] = o->guard[k];
