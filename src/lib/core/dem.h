@@ -131,7 +131,8 @@ void dem_close(dem *d);
 
 /* Adds to s the files the DEM at path is read from, for its reader's
  * outputs to keep off (paths.h): path, a list's entries, and what GDAL
- * reads for each (a VRT's sources, followed into VRTs). "-" adds none. */
+ * reads for path and for a list's VRTs (a VRT's sources, followed into
+ * VRTs). Nothing but a regular file is opened. "-" adds none. */
 struct tl_paths;
 int dem_paths(struct tl_paths *s, const char *path, tl_err *e);
 
