@@ -119,6 +119,12 @@ trees(void)
 	    "a hard link of a file of the tree: inside it");
 	ok(rel("other.png", "pyr", TL_PATH_TREE) == TL_PATH_APART,
 	    "a file beside the tree: apart");
+	symlink(".", at("pyr/self")), symlink("self", at("pyr/self2"));
+	symlink("../../pyr", at("elsewhere/0/back"));
+	ok(rel("other.png", "elsewhere", TL_PATH_TREE) == TL_PATH_APART &&
+	    rel("pyr/x.png", "elsewhere", TL_PATH_TREE) == TL_PATH_INSIDE,
+	    "links in loops: each directory walked once, what they reach "
+	    "still found");
 }
 
 static void

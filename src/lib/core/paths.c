@@ -209,12 +209,34 @@ relate(const rpath *o, const rpath *i)
 	return by_name(o, i);
 }
 
+/* The directories a tree's links reached, each walked once (a link
+ * loop, two links to one place); past TREE_LINKS of them no more links
+ * are followed: the work stays bounded whatever the tree. */
+#define TREE_LINKS 64
+typedef struct {
+	fid id[TREE_LINKS];
+	int n;
+} walked;
+
+static int
+walk_once(walked *w, const struct stat *st)
+{
+	for (int k = 0; k < w->n; k++)
+		if (same_id(&w->id[k], st))
+			return 0;
+	if (w->n == TREE_LINKS)
+		return 0;
+	w->id[w->n].dev = st->st_dev;
+	w->id[w->n++].ino = st->st_ino;
+	return 1;
+}
+
 /* What a directory's tree reaches beyond its own paths: its symbolic
  * links' targets, compared as inputs themselves (and walked when they
  * are directories), and, when out is a file with other names, its
  * files by inode. */
 static int
-tree(const rpath *o, const char *dir, int depth, tl_err *e)
+tree(const rpath *o, const char *dir, int depth, walked *w, tl_err *e)
 {
 	int links = o->exists && S_ISREG(o->st.st_mode) && o->st.st_nlink > 1;
 	char p[PATH_MAX];
@@ -241,11 +263,11 @@ tree(const rpath *o, const char *dir, int depth, tl_err *e)
 				return -1;
 			}
 			if (i.exists && (rel = relate(o, &i)) == TL_PATH_APART &&
-			    S_ISDIR(i.st.st_mode))
-				rel = tree(o, i.real, depth + 1, e);
+			    S_ISDIR(i.st.st_mode) && walk_once(w, &i.st))
+				rel = tree(o, i.real, depth + 1, w, e);
 			free(i.anc);
 		} else if (t == DT_DIR) {
-			rel = tree(o, p, depth + 1, e);
+			rel = tree(o, p, depth + 1, w, e);
 		} else if (t == DT_REG && links && stat(p, &st) == 0 &&
 		    st.st_dev == o->st.st_dev && st.st_ino == o->st.st_ino) {
 			rel = TL_PATH_INSIDE;
@@ -258,6 +280,7 @@ tree(const rpath *o, const char *dir, int depth, tl_err *e)
 static int
 relation(const rpath *o, const char *in, int flags, tl_err *e)
 {
+	walked w = { .n = 0 };
 	rpath i;
 	int rel = TL_PATH_APART;
 
@@ -266,8 +289,8 @@ relation(const rpath *o, const char *in, int flags, tl_err *e)
 	if (i.exists || (flags & TL_PATH_OUT))
 		rel = relate(o, &i);
 	if (rel == TL_PATH_APART && i.exists && (flags & TL_PATH_TREE) &&
-	    S_ISDIR(i.st.st_mode))
-		rel = tree(o, i.real, 1, e);
+	    S_ISDIR(i.st.st_mode) && walk_once(&w, &i.st))
+		rel = tree(o, i.real, 1, &w, e);
 	free(i.anc);
 	return rel;
 }

@@ -23,8 +23,9 @@ enum tl_path_rel {
 /* Flags of an input. */
 #define TL_PATH_TREE 1 /* a directory read whole (a pyramid): the files
                         * and directories its symbolic links reach, at
-                        * any depth up to 8, are inside it too, and so is
-                        * a hard link to one of its files */
+                        * any depth up to 8 (64 linked directories at
+                        * most), are inside it too, and so is a hard
+                        * link to one of its files */
 #define TL_PATH_OUT 2  /* another output (plan and pyramid), compared
                         * even when neither exists yet; an input that
                         * does not exist is never at risk */
