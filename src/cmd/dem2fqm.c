@@ -4,6 +4,7 @@
 
 #include "core/cli.h"
 #include "core/fqm0.h"
+#include "core/paths.h"
 #include "core/rowpipe.h"
 #include "core/stamp.h"
 
@@ -11,7 +12,7 @@ static const char usage[] =
     "[-I] [-D datum] [-e encoding] [-F filled] [-H datum] [-N nodata]\n"
     "               [-n name] [-s dx[,dy]] [-W filled] [-w a,b] "
     "[-z compression]\n"
-    "               [dem [out]]\n"
+    "               [--guard path] [--resample] [dem [out]]\n"
     "       dem2fqm --stamp file dem ...\n"
     "       dem2fqm -W filled --fill-pass 1|2 --rows y0,y1 [DEM options] "
     "dem\n"
@@ -49,9 +50,14 @@ static const char usage[] =
     "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
     "  --resample      let GDAL resample a VRT's scaled sources, not refuse "
     "them\n"
+    "  --guard path    fail if path is, holds or lies inside a file the DEM "
+    "is\n"
+    "                  read from (what dem2vgis(1) writes)\n"
     "  dem             any raster GDAL reads, EXR, or a list of DEM files (a\n"
     "                  mosaic); - (stdin, default)\n"
     "  out             level-0 FQM: EXR file or - (stream, default)\n";
+
+#define MAXGUARD 4
 
 typedef struct {
 	int info; /* -I given: 1 the header, 2 (-II) the voids too */
@@ -63,11 +69,13 @@ typedef struct {
 	int rows[2], has_rows; /* --rows */
 	int band;            /* --band-rows, 0 none */
 	const char *stamp;   /* --stamp */
+	const char *guard[MAXGUARD]; /* --guard */
+	int nguard;
 } options;
 
 /* --fill-pass: the parts of a filled DEM made in row bands */
 enum { PASS_1 = 1, PASS_JOIN, PASS_2, PASS_COMMIT };
-enum { OPT_PASS = 256, OPT_ROWS, OPT_BAND_ROWS, OPT_STAMP };
+enum { OPT_PASS = 256, OPT_ROWS, OPT_BAND_ROWS, OPT_STAMP, OPT_GUARD };
 
 static int
 convert(const cli *c, const options *o, dem *d, tl_err *e)
@@ -126,11 +134,50 @@ fill_part(const cli *c, const options *o, tl_err *e)
 	}
 }
 
+/* The outputs kept off the files the DEM is read from and -F's filled
+ * DEM (paths.h), before any work: out, -W's filled DEM and the files of
+ * a fill part (filled(5)), --guard's paths. */
+static int
+guard(const options *o, tl_err *e)
+{
+	static const char *const kinds[] = { "raw", "tmp", "s", "d" };
+	char part[4][4200];
+	const char *outs[MAXGUARD + 6];
+	tl_paths s = { 0 };
+	int n = 0, r;
+
+	if (!o->info && !o->save && strcmp(o->out, "-") != 0)
+		outs[n++] = o->out;
+	for (int k = 0; k < o->nguard; k++)
+		outs[n++] = o->guard[k];
+	if (o->save)
+		outs[n++] = o->filled;
+	for (int k = 0; o->pass != 0 && k < 4; k++) {
+		snprintf(part[k], sizeof part[k], k < 2 ? "%s.%s" : "%s.%s.%d",
+		    o->filled, kinds[k], o->rows[0]);
+		if (k < 2 || o->pass == (k == 2 ? PASS_1 : PASS_2))
+			outs[n++] = part[k];
+	}
+	if (n == 0)
+		return 0;
+	r = dem_paths(&s, o->in, e);
+	if (r == 0 && o->filled != NULL && !o->save)
+		r = tl_paths_add(&s, o->filled, 0, e, "the input filled DEM %s",
+		    o->filled);
+	for (int k = 0; r == 0 && k < n; k++)
+		r = tl_paths_check(&s, outs[k], e);
+	tl_paths_free(&s);
+	return r;
+}
+
 static int
 work(const cli *c, const options *o, tl_err *e)
 {
 	dem *d;
 	int r;
+
+	if (guard(o, e) < 0)
+		return -1;
 
 	/* -I reads the header only; -II and the conversion every sample;
 	 * -F the header, the samples from the filled DEM */
@@ -167,6 +214,10 @@ long_option(const cli *c, int ch, options *o)
 		if (o->pass == 0)
 			return cli_bad(c, "--fill-pass %s: not 1, join, 2 or "
 			    "commit", optarg);
+	} else if (ch == OPT_GUARD) {
+		if (o->nguard == MAXGUARD)
+			return cli_bad(c, "--guard: %d at most", MAXGUARD);
+		o->guard[o->nguard++] = optarg;
 	} else if (ch == OPT_ROWS) {
 		if (cli_columns(optarg, o->rows) < 0)
 			return cli_bad(c, "--rows %s: not rows y0,y1 (0 <= y0 < "
@@ -211,10 +262,10 @@ main(int argc, char **argv)
 		{ "rows", required_argument, NULL, OPT_ROWS },
 		{ "band-rows", required_argument, NULL, OPT_BAND_ROWS },
 		{ "stamp", required_argument, NULL, OPT_STAMP },
+		{ "guard", required_argument, NULL, OPT_GUARD },
 		{ NULL, 0, NULL, 0 },
 	};
-	options o = { 0, { 0, 0 }, 0, NULL, 0, "-", "-", 0, { 0, 0 }, 0, 0,
-	    NULL };
+	options o = { .in = "-", .out = "-" };
 	cli c;
 	tl_err e;
 	int ch;

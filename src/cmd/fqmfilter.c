@@ -6,6 +6,7 @@
 #include "core/cli.h"
 #include "core/filter.h"
 #include "core/fqm_input.h"
+#include "core/paths.h"
 #include "core/rowpipe.h"
 
 static const char usage[] =
@@ -54,7 +55,8 @@ filter(const cli *c, const options *o, tl_err *e)
 	int r = -1;
 
 	rs_header_init(&oh, 0, 0);
-	if (fqm_input_open(&j.in, o->in, e) < 0)
+	if (tl_path_check_raster(o->out, o->in, "FQM", e) < 0 ||
+	    fqm_input_open(&j.in, o->in, e) < 0)
 		goto done;
 	h = j.in.h;
 	if (h->width <= 2 && h->height <= 2) {

@@ -6,6 +6,7 @@
 
 #include "core/cli.h"
 #include "core/fqm_input.h"
+#include "core/paths.h"
 #include "core/pool.h"
 #include "core/rowpipe.h"
 #include "core/solve.h"
@@ -70,7 +71,8 @@ solve(const cli *c, const options *o, tl_err *e)
 
 	rs_header_init(&oh, 0, 0);
 	j.oh = &oh;
-	if (fqm_input_open(&j.in, o->in, e) < 0 ||
+	if (tl_path_check_raster(o->out, o->in, "FQM", e) < 0 ||
+	    fqm_input_open(&j.in, o->in, e) < 0 ||
 	    solve_init(&j.s, o->mode, j.in.fi.level, j.in.h->width,
 	    j.in.h->height, &j.in.m, e) < 0 ||
 	    solve_header(&oh, j.in.h, o->mode, e) < 0)

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "core/cli.h"
+#include "core/paths.h"
 #include "pyramid/pack.h"
 
 static const char usage[] =
@@ -58,12 +59,33 @@ typedef struct {
 	int quiet;
 } mode;
 
+/* dir kept off every input before any work (paths.h): the DEM's files,
+ * the vertex maps (a band list's bands too), the gather's work. */
+static int
+guard(const pack_args *a, const mode *md, tl_err *e)
+{
+	tl_paths s = { 0 };
+	int r = dem_paths(&s, a->dem_path, e);
+
+	for (int l = 0; r == 0 && l < a->nlevels; l++)
+		r = tl_paths_add_raster(&s, a->levels[l], "vertex map", e);
+	if (r == 0 && md->gather != NULL)
+		r = tl_paths_add(&s, md->gather, TL_PATH_TREE, e,
+		    "the input work directory %s", md->gather);
+	if (r == 0)
+		r = tl_paths_check(&s, a->dir, e);
+	tl_paths_free(&s);
+	return r;
+}
+
 static int
 pack(const cli *c, const pack_args *a, const mode *md, tl_err *e)
 {
 	pack_level *lev;
 	int r = -1;
 
+	if (!md->list && guard(a, md, e) < 0)
+		return -1;
 	if (md->piece)
 		return pack_piece(a, md->level, md->b0, md->b1, md->y0, md->y1,
 		    e);

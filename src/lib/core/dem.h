@@ -133,6 +133,13 @@ int dem_read_span(dem *d, int j, int x0, int n, float *z,
     unsigned char *valid, tl_err *e);
 void dem_close(dem *d);
 
+/* Adds to s the files the DEM at path is read from, for its reader's
+ * outputs to keep off (paths.h): path, a list's entries, and what GDAL
+ * reads for path and for a list's VRTs (a VRT's sources, followed into
+ * VRTs). Nothing but a regular file is opened. "-" adds none. */
+struct tl_paths;
+int dem_paths(struct tl_paths *s, const char *path, tl_err *e);
+
 /* dem2fqm -I: what a user needs to trust the result and a script to plan
  * a pyramid, as "key value" lines on f (dem2fqm(1)); "voids N" only when
  * they are known (a DEM from dem_open, not dem_open_info). */

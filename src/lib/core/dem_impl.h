@@ -174,6 +174,10 @@ int dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o,
  * are relative to base, NULL for the list's own directory. */
 int dem_read_list(dem_load *L, georef *g, const char *path,
     const char *base, const dem_opts *o, tl_err *e);
+/* The entries of the list path, resolved as dem_read_list resolves
+ * them, into *paths (n, each malloc'd, the array too): 0, 1 when path
+ * is no list, -1. */
+int dem_list_files(const char *path, char ***paths, int *n, tl_err *e);
 int dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
     const dem_opts *o, tl_err *e);
 

@@ -186,3 +186,23 @@ out:
 	free(dir);
 	return r;
 }
+
+int
+dem_list_files(const char *path, char ***paths, int *n, tl_err *e)
+{
+	entries l = { 0 };
+	char *dir = NULL;
+	int r = 1;
+
+	if ((l.text = slurp(path)) == NULL)
+		return 1;
+	if ((dir = list_dir(path, e)) == NULL || parse(&l, dir, e) < 0)
+		r = -1;
+	else if (l.found > 0) {
+		*paths = l.paths, *n = l.n, r = 0;
+		l.paths = NULL, l.n = 0;
+	}
+	entries_free(&l);
+	free(dir);
+	return r;
+}

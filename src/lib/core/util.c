@@ -92,8 +92,11 @@ tl_operands(const char *prog, int argc, char **argv, const char **in,
 		return 1;
 	}
 	if (same_file(*in, *out)) {
-		tl_warn(prog, "%s: is both the input and the output: refusing "
-		    "to replace the input", tl_name(*out, 1));
+		tl_warn(prog, "%s: is both the input and the output%s%s%s: "
+		    "refusing to replace the input", tl_name(*out, 1),
+		    strcmp(*in, *out) != 0 ? " (the input " : "",
+		    strcmp(*in, *out) != 0 ? tl_name(*in, 0) : "",
+		    strcmp(*in, *out) != 0 ? ")" : "");
 		return 1;
 	}
 	return 0;

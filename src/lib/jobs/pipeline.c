@@ -11,6 +11,7 @@
 
 #include "core/fqm.h"
 #include "core/outfile.h"
+#include "core/paths.h"
 #include "core/progress.h"
 #include "jobs/graph.h"
 #include "jobs/pipeline.h"
@@ -220,6 +221,11 @@ level_count(const pipeline_opts *o, const char *dem, int *levels,
 	if (o->name != NULL && strcmp(o->dem, "-") != 0)
 		say(&a, "-n"), say(&a, o->name);
 	say(&a, "-I");
+	/* the reader keeps the outputs off the DEM's files (a list's
+	 * entries, a VRT's sources), which it alone can tell */
+	say(&a, "--guard"), say(&a, o->out);
+	if (o->plan != NULL)
+		say(&a, "--guard"), say(&a, o->plan);
 	if (strcmp(o->dem, "-") == 0 && o->name == NULL) {
 		/* its messages say stdin, as the user gave it */
 		say(&a, "-");
@@ -614,6 +620,35 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 	return r;
 }
 
+/* The outputs (OUT, the plan) kept off the inputs given here and off
+ * each other, before any work (paths.h); level_count has the reader
+ * check what the DEM is read from. */
+static int
+guard(const pipeline_opts *o, tl_err *e)
+{
+	const char *plan = o->plan;
+	char *const *dem = o->ndem > 1 ? o->dems : (char *const *)&o->dem;
+	tl_paths s = { 0 };
+	int r = 0;
+
+	for (int k = 0; r == 0 && k < (o->ndem > 1 ? o->ndem : 1); k++)
+		r = tl_paths_add(&s, dem[k], 0, e, "the input DEM %s", dem[k]);
+	if (r == 0 && o->fill != NULL)
+		r = tl_paths_add(&s, o->fill, 0, e, "the input filled DEM %s",
+		    o->fill);
+	if (r == 0 && o->from != NULL)
+		r = tl_paths_add_raster(&s, o->from, "FQM", e);
+	if (r == 0)
+		r = tl_paths_check(&s, o->out, e);
+	if (r == 0 && plan != NULL && (r = tl_paths_check(&s, plan, e)) == 0)
+		r = tl_paths_add(&s, o->out, TL_PATH_OUT, e, "the output "
+		    "directory %s", o->out);
+	if (r == 0 && plan != NULL)
+		r = tl_paths_check(&s, plan, e);
+	tl_paths_free(&s);
+	return r < 0 ? ours(o, e) : 0;
+}
+
 /* A relative name beginning with '-' would be an option to the stages
  * it is given to: "./" before it. */
 static const char *
@@ -638,7 +673,8 @@ pipeline_run(const pipeline_opts *opts, int *status, tl_err *e)
 	q.dem = undashed(opts->dem, dem, sizeof dem);
 	q.out = undashed(opts->out, out, sizeof out);
 
-	if (precheck(o, status, e) < 0)
+	*status = 1;
+	if (guard(o, e) < 0 || precheck(o, status, e) < 0)
 		return -1;
 	*status = 1;
 	if ((vpath = tl_alloc(MAXLEVELS, sizeof *vpath, e)) == NULL)

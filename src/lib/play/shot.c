@@ -5,6 +5,7 @@
 
 #include "core/outfile.h"
 #include "core/oiio_plugin.h"
+#include "core/paths.h"
 
 /* Level-0 sample (i, j)'s height, read from its block. */
 static int
@@ -86,7 +87,9 @@ shot_run(const scene_opts *so, const shot_opts *o, double t0, tl_err *e)
 	scene sc;
 	int r;
 
-	if ((rgb = tl_alloc((size_t)so->width * so->height, 3, e)) == NULL)
+	/* the picture kept off the pyramid's files (paths.h) */
+	if (tl_path_check(o->path, so->dir, "pyramid", TL_PATH_TREE, e) < 0 ||
+	    (rgb = tl_alloc((size_t)so->width * so->height, 3, e)) == NULL)
 		return -1;
 	if (scene_open(&sc, so, 1, e) < 0) {
 		free(rgb);

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "core/outfile.h"
+#include "core/paths.h"
 #include "core/pool.h"
 #include "core/progress.h"
 #include "tiles3d/t3_impl.h"
@@ -143,7 +144,9 @@ t3_run(const t3_args *a, t3_report *rep, tl_err *e)
 	int r = -1, ready = 0;
 
 	memset(rep, 0, sizeof *rep);
-	if (pyramid_index_read(a->dir, &ix, e) < 0)
+	/* OUTDIR kept off the pyramid before any work (paths.h) */
+	if (tl_path_check(a->out, a->dir, "pyramid", TL_PATH_TREE, e) < 0 ||
+	    pyramid_index_read(a->dir, &ix, e) < 0)
 		return -1;
 	if (pyramid_levels_probe(a->dir, &ix, e) < 0) {
 		pyramid_index_free(&ix);
