@@ -166,7 +166,7 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 			o->demopt[o->ndemopt++] = "--resample";
 			break;
 		default:
-			if (ch < OPT_BAND || ch > OPT_PART_SAMPLES)
+			if (ch < OPT_BAND || ch > OPT_CHECK_STAMP)
 				return cli_usage_error(c);
 			if (parse_band(c, ch, o) != 0)
 				return CLI_USAGE;

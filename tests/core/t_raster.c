@@ -560,14 +560,14 @@ test_spans(void)
 	ok(check_piped(src, &h, 21, &e) == 0, "stream on a pipe %s", e.msg);
 	/* a stream file one byte short: no spans by pread, whole rows read,
 	 * the truncation found where it is */
-	/* a flipped byte in row 4's checksum: spans read by pread skip the
-	 * checksums (the data is intact), whole rows see it */
+	/* a flipped byte in row 4's checksum: a span by pread checks the
+	 * row it reads as whole rows do (fqm(5): damage reported by row) */
 	damage(src, cut, file_size(src), file_size(src) - 16 -
 	    36 * (3 * 300 * 4 + 4) - 2);
-	ok(check_spans(cut, 17, 5, 21, &e) == 0 &&
-	    check_file(cut, &h, 21, &e) < 0 && strstr(e.msg, "row 4") != NULL,
-	    "spans of a stream file come by pread: a bad row checksum is "
-	    "not read (whole rows: %s)", e.msg);
+	ok(check_spans(cut, 17, 5, 21, &e) < 0 && strstr(e.msg, "row 4") !=
+	    NULL && check_file(cut, &h, 21, &e) < 0 &&
+	    strstr(e.msg, "row 4") != NULL, "spans of a stream file come by "
+	    "pread: a bad row checksum is reported by row (%s)", e.msg);
 	damage(src, cut, file_size(src) - 1, -1);
 	ok(check_spans(cut, 17, 5, 21, &e) < 0 &&
 	    strstr(e.msg, "trailer") != NULL, "a truncated stream file: "
