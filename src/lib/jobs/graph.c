@@ -93,7 +93,7 @@ int
 graph_pipe(graph *g, int fd[2], tl_err *e)
 {
 	if (pipe2(fd, O_CLOEXEC) < 0)
-		return tl_failsys(e, "pipe");
+		return tl_failsys(e, "%s: pipe", g->prog);
 	/* 1 MiB, the unprivileged limit: rows of level-0 quadrics (52 bytes
 	 * a vertex) pass in a few wake-ups, not one per 64 KiB; the default
 	 * stays when refused */
@@ -115,7 +115,7 @@ graph_open(graph *g, const char *path, int flags, int mode, tl_err *e)
 	int fd = open(path, flags | O_CLOEXEC, mode);
 
 	if (fd < 0)
-		return tl_failsys(e, "%s", path);
+		return tl_failsys(e, "%s: %s", g->prog, path);
 	return own(g, fd, e);
 }
 
@@ -171,7 +171,7 @@ graph_capture(graph *g, int k, char *buf, size_t n, tl_err *e)
 
 	assert(k >= 0 && k < g->n && n > 0);
 	if (pipe2(fd, O_CLOEXEC) < 0)
-		return tl_failsys(e, "pipe");
+		return tl_failsys(e, "%s: pipe", g->prog);
 	if (own(g, fd[1], e) < 0) {
 		close(fd[0]);
 		return -1;
@@ -208,7 +208,7 @@ start(graph *g, stage *s, tl_err *e)
 	int errp[2];
 
 	if (pipe2(errp, O_CLOEXEC) < 0)
-		return tl_failsys(e, "pipe");
+		return tl_failsys(e, "%s: pipe", g->prog);
 	/* Signals wait until the child has its default dispositions back:
 	 * a SIGTERM for it (its parent's death) must not run the handler
 	 * it inherited from us and be lost. */
@@ -217,7 +217,7 @@ start(graph *g, stage *s, tl_err *e)
 	if ((s->pid = fork()) < 0) {
 		sigprocmask(SIG_SETMASK, &old, NULL);
 		close(errp[0]), close(errp[1]);
-		return tl_failsys(e, "fork");
+		return tl_failsys(e, "%s: fork", g->prog);
 	}
 	if (s->pid == 0)
 		graph_child(g, s, errp[1]);
@@ -242,7 +242,7 @@ graph_run(graph *g, int *status, tl_err *e)
 	for (int i = 0; i < 3; i++)
 		sigaction(sigs[i], &sa, NULL);
 	if (g->progress != NULL && pipe2(g->prog_fd, O_CLOEXEC) < 0)
-		r = tl_failsys(e, "pipe");
+		r = tl_failsys(e, "%s: pipe", g->prog);
 	for (int k = 0; k < g->n; k++)
 		g->st[k].up = g->st[k].in >= 0 ? writer_of(g, k) : -1;
 	for (int k = 0; k < g->n && r == 0 && !stop_signal; k++)
