@@ -482,10 +482,31 @@ out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
 	return 0;
 }
 
+/* The fatal signals wait while a temporary is created, locked and
+ * registered: one arriving between the creation and the registration
+ * would leave a temporary neither the handler nor a sweep of another
+ * name removes. */
+static void
+fatal_block(sigset_t *old)
+{
+	sigset_t s;
+
+	sigemptyset(&s);
+	sigaddset(&s, SIGINT), sigaddset(&s, SIGTERM);
+	sigaddset(&s, SIGHUP), sigaddset(&s, SIGPIPE);
+	pthread_sigmask(SIG_BLOCK, &s, old);
+}
+
 int
 tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 {
-	return out_begin(o, path, 0, e);
+	sigset_t old;
+	int r;
+
+	fatal_block(&old);
+	r = out_begin(o, path, 0, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
 }
 
 void
@@ -511,7 +532,13 @@ tl_out_sweep_dir(const char *dir)
 int
 tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
 {
-	return out_begin(o, path, 1, e);
+	sigset_t old;
+	int r;
+
+	fatal_block(&old);
+	r = out_begin(o, path, 1, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
 }
 
 int
@@ -581,8 +608,8 @@ dir_lock(const char *t, int *again, tl_err *e)
 	return fd;
 }
 
-int
-tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
+static int
+outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 {
 	int again = 0;
 
@@ -623,6 +650,18 @@ tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 		return -1;
 	}
 	return 0;
+}
+
+int
+tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	sigset_t old;
+	int r;
+
+	fatal_block(&old);
+	r = outdir_begin(o, path, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
 }
 
 /* The lock released and the tree's descriptor state cleared. */
