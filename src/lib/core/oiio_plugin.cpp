@@ -162,7 +162,7 @@ static int
 write_all(const char *path, const std::vector<unsigned char> &buf,
     char *err, size_t errlen)
 {
-	int fd = open(path, O_WRONLY | O_TRUNC | O_CLOEXEC);
+	int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
 	size_t off = 0;
 
 	while (fd >= 0 && off < buf.size()) {

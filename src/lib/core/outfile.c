@@ -438,7 +438,7 @@ lock_new(int fd)
 }
 
 static int
-out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
+out_begin(tl_outfile *o, const char *path, tl_err *e)
 {
 	struct stat st;
 	int held = -1;
@@ -447,8 +447,6 @@ out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
 	o->fd = -1;
 	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
 		return tl_fail(e, "%s: is a directory", path);
-	if (!fresh)
-		sweep(path, 0);
 	for (int tries = 0;; tries++) {
 		if ((o->path = strdup(path)) == NULL ||
 		    (o->tmp = tmp_name(path, e)) == NULL) {
@@ -483,9 +481,9 @@ out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
 }
 
 /* The fatal signals wait while a temporary is created, locked and
- * registered: one arriving between the creation and the registration
- * would leave a temporary neither the handler nor a sweep of another
- * name removes. */
+ * registered (not while the directory is swept): one arriving between
+ * the creation and the registration would leave a temporary neither the
+ * handler nor a sweep of another name removes. */
 static void
 fatal_block(sigset_t *old)
 {
@@ -503,8 +501,9 @@ tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 	sigset_t old;
 	int r;
 
+	sweep(path, 0);
 	fatal_block(&old);
-	r = out_begin(o, path, 0, e);
+	r = out_begin(o, path, e);
 	pthread_sigmask(SIG_SETMASK, &old, NULL);
 	return r;
 }
@@ -536,7 +535,7 @@ tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
 	int r;
 
 	fatal_block(&old);
-	r = out_begin(o, path, 1, e);
+	r = out_begin(o, path, e);
 	pthread_sigmask(SIG_SETMASK, &old, NULL);
 	return r;
 }
@@ -615,7 +614,6 @@ outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 
 	memset(o, 0, sizeof *o);
 	o->fd = -1;
-	sweep(path, 1);
 	for (int tries = 0;; tries++) {
 		if ((o->path = strdup(path)) == NULL ||
 		    (o->tmp = tmp_name(path, e)) == NULL) {
@@ -658,6 +656,7 @@ tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 	sigset_t old;
 	int r;
 
+	sweep(path, 1);
 	fatal_block(&old);
 	r = outdir_begin(o, path, e);
 	pthread_sigmask(SIG_SETMASK, &old, NULL);
