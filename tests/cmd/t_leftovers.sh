@@ -11,7 +11,7 @@ s=$T/s.tif m=$T/m.tif
 gdal_translate -q -srcwin 0 0 300 300 "$dem" "$s" &&
     gdal_translate -q -srcwin 0 0 1201 600 "$dem" "$m" &&
     dem2vgis -q "$s" "$T/p" && dem2vgis -q -M "$m" "$T/vm" &&
-    dem2vgis -q -M "$s" "$T/svm" &&
+    dem2vgis -q -M "$s" "$T/svm" && dem2vgis -q "$m" "$T/pm" &&
     dem2fqm "$s" "$T/l0.exr" || { ok 1 "fixtures"; done_testing; exit 1; }
 vm=$(ls "$T"/vm/v*.fqm | sort -V) svm=$(ls "$T"/svm/v*.fqm | sort -V)
 TMPDIR=$T/tmp; export TMPDIR; mkdir "$TMPDIR"
@@ -55,7 +55,7 @@ D=$T/k1; mkdir "$D"
 tilepack -q -j 1 "$m" "$D/pyr" $vm 2>/dev/null & pid=$!
 killed "tilepack" pyr dem2fqm "$s" "$D/other.exr"
 D=$T/k2; mkdir "$D"
-vgis2tiles -q -j 1 "$T/p" "$D/tiles" 2>/dev/null & pid=$!
+vgis2tiles -q -j 1 "$T/pm" "$D/tiles" 2>/dev/null & pid=$!
 killed "vgis2tiles" tiles tilepack -q "$s" "$D/pyr2" $svm
 D=$T/k3; mkdir "$D"
 dem2fqm "$m" "$D/l0.exr" 2>/dev/null & pid=$!
