@@ -125,6 +125,7 @@ static void
 rmtree_at(int parent, const char *name)
 {
 	char sub[256];
+	int late = 0;
 
 	/* an empty directory goes without a descriptor */
 	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR ||
@@ -145,12 +146,13 @@ rmtree_at(int parent, const char *name)
 		}
 		if (fd >= 0)
 			close(fd);
-		if (depth == 0) {
-			if (r == 0)
-				unlinkat(parent, name, AT_REMOVEDIR);
+		/* filled again meanwhile (a signal's removal while the
+		 * owner's other threads still write): another walk */
+		if (depth == 0 && (r != 0 || unlinkat(parent, name,
+		    AT_REMOVEDIR) == 0 || (errno != ENOTEMPTY &&
+		    errno != EEXIST) || ++late > 1000))
 			return;
-		}
-		if (removed == 0)
+		if (depth > 0 && removed == 0)
 			return;
 	}
 }
