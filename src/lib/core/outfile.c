@@ -162,10 +162,11 @@ on_signal(int sig)
 {
 	for (int i = 0; i < MAXTMP; i++) {
 		const char *p = __atomic_load_n(&tmps[i].path, __ATOMIC_ACQUIRE);
+		int lk = __atomic_load_n(&tmps[i].lock, __ATOMIC_ACQUIRE);
 		if (p == NULL)
 			continue;
-		if (tmps[i].dir && tmps[i].lock >= 0)
-			close(tmps[i].lock); /* the owner dies: no lock needed */
+		if (tmps[i].dir && lk >= 0)
+			close(lk); /* the owner dies: no lock needed */
 		if (tmps[i].dir)
 			rmtree_at(AT_FDCWD, p);
 		else
@@ -216,7 +217,8 @@ tmp_register(const char *path, int dir, int lock, tl_err *e)
 	for (i = 0; i < MAXTMP && tmps[i].path != NULL; i++)
 		;
 	if (i < MAXTMP) {
-		tmps[i].dir = dir, tmps[i].lock = lock;
+		tmps[i].dir = dir;
+		__atomic_store_n(&tmps[i].lock, lock, __ATOMIC_RELEASE);
 		__atomic_store_n(&tmps[i].path, path, __ATOMIC_RELEASE);
 	}
 	tmps_leave(&old);
@@ -245,7 +247,7 @@ tmp_unlock(const char *path)
 	tmps_enter(&old);
 	for (int i = 0; i < MAXTMP; i++)
 		if (tmps[i].path == path)
-			tmps[i].lock = -1;
+			__atomic_store_n(&tmps[i].lock, -1, __ATOMIC_RELEASE);
 	tmps_leave(&old);
 }
 
