@@ -3,10 +3,12 @@
 #include <assert.h>
 #include <errno.h>
 #include <limits.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/cli.h"
 
@@ -16,10 +18,40 @@ static const struct option shared_long[] = {
 	{ "resample", no_argument, NULL, DEM_RESAMPLE }, /* CLI_DEM only */
 };
 
+/* The program's name for the check of stdout at exit, and whether a
+ * failure was already reported (its status is 1 already). */
+static const char *exit_prog;
+static int exit_failed;
+
+/* What went to stdout (a report, a listing, --help) must have arrived: a
+ * write that failed (a full disk, /dev/full, EIO), now or earlier in a
+ * flush, turns the exit into a failure with the reason, as gnulib's
+ * close_stdout does. Runs at exit. */
+static void
+check_stdout(void)
+{
+	int err = 0;
+
+	if (fflush(stdout) != 0)
+		err = errno;
+	else if (ferror(stdout))
+		err = -1;
+	if (fclose(stdout) != 0 && err == 0 && errno != EBADF)
+		err = errno;
+	if (err == 0 || exit_failed)
+		return;
+	if (err < 0)
+		fprintf(stderr, "%s: stdout: write error\n", exit_prog);
+	else
+		fprintf(stderr, "%s: stdout: %s\n", exit_prog, strerror(err));
+	_exit(CLI_FAIL);
+}
+
 void
 cli_init(cli *c, char **argv, const char *usage, int sets)
 {
 	const char *slash = strrchr(argv[0], '/');
+	static int once;
 
 	memset(c, 0, sizeof *c);
 	c->prog = slash != NULL && slash[1] != '\0' ? slash + 1 : argv[0];
@@ -28,6 +60,13 @@ cli_init(cli *c, char **argv, const char *usage, int sets)
 	c->sets = sets;
 	c->comp = RS_ZIP;
 	c->status = -1;
+	exit_prog = c->prog;
+	if (once++ == 0)
+		atexit(check_stdout);
+	/* over the file size limit (ulimit -f) a write fails with EFBIG
+	 * instead of killing the process: the failure path removes the
+	 * temporaries and says why */
+	signal(SIGXFSZ, SIG_IGN);
 }
 
 /* The program's options and the shared ones, in one optstring and one
@@ -175,9 +214,19 @@ cli_filter_args(const cli *c, int argc, char **argv, const char **in,
 int
 cli_exit(const cli *c, int r, const tl_err *e)
 {
+	static const int limits[] = { EMFILE, EFBIG };
+	const char *hint = "";
+
 	if (r >= 0)
 		return CLI_OK;
-	cli_warn(c, "%s", e->msg);
+	/* the reason from a library's own words (OpenEXR, dlopen) says
+	 * which limit to raise too */
+	for (int k = 0; k < 2; k++)
+		if (strstr(e->msg, strerror(limits[k])) != NULL &&
+		    strstr(e->msg, tl_errno_hint(limits[k])) == NULL)
+			hint = tl_errno_hint(limits[k]);
+	cli_warn(c, "%s%s", e->msg, hint);
+	exit_failed = 1; /* a write to stdout that failed has been told */
 	return CLI_FAIL;
 }
 

@@ -35,7 +35,11 @@ typedef struct {
 
 /* Names the program after argv[0]'s last component and sets argv[0] to
  * it, so that getopt's messages and ours say the same name. usage is the
- * text after "usage: prog ": the synopsis and the option list. */
+ * text after "usage: prog ": the synopsis and the option list. Ignores
+ * SIGXFSZ (a write over ulimit -f fails with EFBIG, and the failure path
+ * cleans up) and checks at exit that stdout took every write: when one
+ * failed, "prog: stdout: why" and exit status 1, unless cli_exit has
+ * reported a failure already. */
 void cli_init(cli *c, char **argv, const char *usage, int sets);
 
 /* getopt_long over the program's options (optstring, and longopts ending

@@ -165,6 +165,9 @@ crs_name(OGRSpatialReferenceH h, georef *g, const char *what, tl_err *e)
 		snprintf(g->crs, sizeof g->crs, "EPSG:%d", g->epsg);
 		return 0;
 	}
+	/* PROJ names no code when it cannot open its database either */
+	if (tl_fds_exhausted())
+		return tl_fail_fds(e, what, "PROJ's database");
 	if (OSRExportToWktEx(h, &wkt, opts) != OGRERR_NONE || wkt == NULL)
 		return tl_fail(e, "%s: cannot describe its CRS", what);
 	if (strlen(wkt) >= sizeof g->crs) {

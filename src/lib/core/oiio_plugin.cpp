@@ -2,11 +2,17 @@
 // oiio_plugin.h. Every entry catches everything; errors become strings.
 #include "core/oiio_plugin.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 struct tl_oiio_img {
@@ -151,6 +157,34 @@ img_close(tl_oiio_img *img)
 	delete img;
 }
 
+// The encoded file written out, every write checked: 0, or -1 + err.
+static int
+write_all(const char *path, const std::vector<unsigned char> &buf,
+    char *err, size_t errlen)
+{
+	int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+	size_t off = 0;
+
+	while (fd >= 0 && off < buf.size()) {
+		ssize_t n = write(fd, buf.data() + off, buf.size() - off);
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0) {
+			int saved = errno;
+			close(fd);
+			errno = saved;
+			fd = -1;
+			break;
+		}
+		off += (size_t)n;
+	}
+	if (fd < 0 || close(fd) != 0) {
+		seterr(err, errlen, std::string("write: ") + strerror(errno));
+		return -1;
+	}
+	return 0;
+}
+
 static int
 img_write_u8(const char *path, const char *format, int w, int h, int nch,
     const unsigned char *px, char *err, size_t errlen)
@@ -162,14 +196,22 @@ img_write_u8(const char *path, const char *format, int w, int h, int nch,
 			seterr(err, errlen, OIIO::geterror());
 			return -1;
 		}
+		// Encoded in memory where the format allows, then written
+		// here: OpenImageIO's writers (PNG) ignore a failed write (a
+		// full disk, ulimit -f) and report success on a cut file.
+		std::vector<unsigned char> buf;
+		OIIO::Filesystem::IOVecOutput vec(buf);
+		bool mem = out->supports("ioproxy") != 0;
 		OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::UINT8);
+		if (mem && !out->set_ioproxy(&vec))
+			mem = false;
 		if (!out->open(path, spec) ||
 		    !out->write_image(OIIO::TypeDesc::UINT8, px) ||
 		    !out->close()) {
 			seterr(err, errlen, out->geterror());
 			return -1;
 		}
-		return 0;
+		return mem ? write_all(path, buf, err, errlen) : 0;
 	} catch (const std::exception &x) {
 		seterr(err, errlen, x.what());
 	} catch (...) {

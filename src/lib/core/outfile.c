@@ -19,6 +19,7 @@
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
+#include <sys/xattr.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -33,8 +34,16 @@
 static struct {
 	const char *path; /* owned by the tl_outfile; atomic */
 	int dir;
+	int lock;         /* a tree's lock file: closed first, for a
+	                   * descriptor to remove the tree with */
 } tmps[MAXTMP];
 static pthread_mutex_t tmps_lock = PTHREAD_MUTEX_INITIALIZER;
+
+/* A descriptor kept in reserve for removing a tree when the process has
+ * none left: the failure being cleaned up may be that one (EMFILE). The
+ * first removal that needs it gives it up; atomic, as the handler takes
+ * it too. */
+static int reserve = -1;
 
 /* Directory entries with system calls only (readdir may allocate). */
 struct dent {
@@ -46,6 +55,21 @@ struct dent {
 };
 
 #define DIRFLAGS (O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)
+
+/* The directory name in fd, the reserve given up when no descriptor is
+ * left. */
+static int
+open_dir(int fd, const char *name)
+{
+	int d = openat(fd, name, DIRFLAGS), r;
+
+	if (d < 0 && errno == EMFILE &&
+	    (r = __atomic_exchange_n(&reserve, -1, __ATOMIC_ACQ_REL)) >= 0) {
+		close(r);
+		d = openat(fd, name, DIRFLAGS);
+	}
+	return d;
+}
 
 /* Empties the directory fd as far as it can without descending: removes
  * every entry that is not a directory and every empty directory, in
@@ -101,17 +125,20 @@ static void
 rmtree_at(int parent, const char *name)
 {
 	char sub[256];
+	int late = 0;
 
-	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR)
+	/* an empty directory goes without a descriptor */
+	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR ||
+	    unlinkat(parent, name, AT_REMOVEDIR) == 0)
 		return;
 	for (;;) {
-		int fd = openat(parent, name, DIRFLAGS), depth = 0, removed = 0;
+		int fd = open_dir(parent, name), depth = 0, removed = 0;
 		int r = -1;
 
 		if (fd < 0)
 			return;
 		while ((r = rmtree_clear(fd, sub, &removed)) == 1) {
-			int c = openat(fd, sub, DIRFLAGS);
+			int c = open_dir(fd, sub);
 			close(fd);
 			if ((fd = c) < 0)
 				break;
@@ -119,12 +146,13 @@ rmtree_at(int parent, const char *name)
 		}
 		if (fd >= 0)
 			close(fd);
-		if (depth == 0) {
-			if (r == 0)
-				unlinkat(parent, name, AT_REMOVEDIR);
+		/* filled again meanwhile (a signal's removal while the
+		 * owner's other threads still write): another walk */
+		if (depth == 0 && (r != 0 || unlinkat(parent, name,
+		    AT_REMOVEDIR) == 0 || (errno != ENOTEMPTY &&
+		    errno != EEXIST) || ++late > 1000))
 			return;
-		}
-		if (removed == 0)
+		if (depth > 0 && removed == 0)
 			return;
 	}
 }
@@ -134,8 +162,11 @@ on_signal(int sig)
 {
 	for (int i = 0; i < MAXTMP; i++) {
 		const char *p = __atomic_load_n(&tmps[i].path, __ATOMIC_ACQUIRE);
+		int lk = __atomic_load_n(&tmps[i].lock, __ATOMIC_ACQUIRE);
 		if (p == NULL)
 			continue;
+		if (tmps[i].dir && lk >= 0)
+			close(lk); /* the owner dies: no lock needed */
 		if (tmps[i].dir)
 			rmtree_at(AT_FDCWD, p);
 		else
@@ -164,9 +195,10 @@ tmps_leave(const sigset_t *old)
 }
 
 /* -1 (e set) when the registry is full: an output that a signal could
- * leave behind is refused rather than silently unguarded. */
+ * leave behind is refused rather than silently unguarded. lock: a tree's
+ * lock file, or -1. */
 static int
-tmp_register(const char *path, int dir, tl_err *e)
+tmp_register(const char *path, int dir, int lock, tl_err *e)
 {
 	static const int sigs[] = { SIGINT, SIGTERM, SIGHUP, SIGPIPE };
 	struct sigaction sa;
@@ -179,10 +211,14 @@ tmp_register(const char *path, int dir, tl_err *e)
 	tmps_enter(&old);
 	for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++)
 		sigaction(sigs[k], &sa, NULL);
+	if (__atomic_load_n(&reserve, __ATOMIC_ACQUIRE) < 0)
+		__atomic_store_n(&reserve, open("/dev/null", O_RDONLY |
+		    O_CLOEXEC), __ATOMIC_RELEASE);
 	for (i = 0; i < MAXTMP && tmps[i].path != NULL; i++)
 		;
 	if (i < MAXTMP) {
 		tmps[i].dir = dir;
+		__atomic_store_n(&tmps[i].lock, lock, __ATOMIC_RELEASE);
 		__atomic_store_n(&tmps[i].path, path, __ATOMIC_RELEASE);
 	}
 	tmps_leave(&old);
@@ -199,6 +235,19 @@ tmp_unregister(const char *path)
 	for (int i = 0; i < MAXTMP; i++)
 		if (tmps[i].path == path)
 			__atomic_store_n(&tmps[i].path, NULL, __ATOMIC_RELEASE);
+	tmps_leave(&old);
+}
+
+/* The registry forgets a tree's lock file before its owner closes it. */
+static void
+tmp_unlock(const char *path)
+{
+	sigset_t old;
+
+	tmps_enter(&old);
+	for (int i = 0; i < MAXTMP; i++)
+		if (tmps[i].path == path)
+			__atomic_store_n(&tmps[i].lock, -1, __ATOMIC_RELEASE);
 	tmps_leave(&old);
 }
 
@@ -232,8 +281,17 @@ tmp_name(const char *path, tl_err *e)
  * temporaries, so each one says whether its owner lives: the owner holds
  * an flock(2) on it (a file) or on the lock file LOCKNAME inside it (a
  * directory) for as long as it works, and the kernel drops the lock when
- * the owner dies, however it dies. Whoever begins an output to the same
- * path first sweeps the sibling temporaries whose lock it can take.
+ * the owner dies, however it dies. Whoever begins an output first sweeps
+ * the temporaries in its directory whose lock it can take: those of the
+ * same path, and those of any other name that carry MARK.
+ *
+ * The name and a free lock prove a temporary ours only for the path we
+ * are about to replace anyway: other tools name theirs ".NAME.XXXXXX" too
+ * (rsync), and hold no lock while they write. So the owner marks its
+ * temporary with the extended attribute MARK once it holds the lock, and
+ * removes the mark before the rename; another name's temporary is swept
+ * only marked (where the file system has no user attributes, only by the
+ * next output to its own path, as before).
  *
  * The owner creates the temporary, then waits for its lock (flock without
  * LOCK_NB): a sweeper may hold it for a moment, and if it has removed the
@@ -242,6 +300,7 @@ tmp_name(const char *path, tl_err *e)
  * believe in a temporary that is being removed. */
 
 #define LOCKNAME ".lock"
+#define MARK "user.terrain-lod.tmp"
 #define STALE 60 /* seconds: a directory without a lock file (a killed run
                   * of an older version, or one killed between mkdtemp and
                   * its lock) is taken as abandoned after this long */
@@ -267,9 +326,19 @@ is_tmp_of(const char *name, const char *base, size_t blen)
 	    strlen(name) == blen + 8 && has_tmp_tail(name, blen + 8);
 }
 
-/* A temporary file whose lock can be taken: its owner is dead. */
+/* 1 when fd carries our mark. */
+static int
+marked(int fd)
+{
+	char v[8];
+
+	return fgetxattr(fd, MARK, v, sizeof v) >= 0;
+}
+
+/* A temporary file whose lock can be taken: its owner is dead. Another
+ * path's (same 0) only when marked. */
 static void
-sweep_file(int pfd, const char *name)
+sweep_file(int pfd, const char *name, int same)
 {
 	int fd = openat(pfd, name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK |
 	    O_CLOEXEC);
@@ -277,7 +346,8 @@ sweep_file(int pfd, const char *name)
 
 	if (fd < 0)
 		return;
-	if (flock(fd, LOCK_EX | LOCK_NB) == 0 && fstat(fd, &a) == 0 &&
+	if ((same || marked(fd)) &&
+	    flock(fd, LOCK_EX | LOCK_NB) == 0 && fstat(fd, &a) == 0 &&
 	    S_ISREG(a.st_mode) && fstatat(pfd, name, &b,
 	    AT_SYMLINK_NOFOLLOW) == 0 && a.st_dev == b.st_dev &&
 	    a.st_ino == b.st_ino)
@@ -285,29 +355,36 @@ sweep_file(int pfd, const char *name)
 	close(fd); /* the lock goes with it */
 }
 
-/* A temporary directory whose lock file's lock can be taken, or that has
- * no lock file and is older than STALE seconds. */
+/* A temporary directory whose lock file's lock can be taken, or, of the
+ * same path, that has no lock file and is older than STALE seconds.
+ * Another path's (same 0) only when marked. */
 static void
-sweep_dir(int pfd, const char *name, const struct stat *st)
+sweep_dir(int pfd, const char *name, const struct stat *st, int same)
 {
 	int d = openat(pfd, name, DIRFLAGS), lk;
 
 	if (d < 0)
 		return;
+	if (!same && !marked(d)) {
+		close(d);
+		return;
+	}
 	lk = openat(d, LOCKNAME, O_RDONLY | O_NOFOLLOW | O_NONBLOCK |
 	    O_CLOEXEC);
 	if (lk >= 0) {
 		if (flock(lk, LOCK_EX | LOCK_NB) == 0)
 			rmtree_at(pfd, name);
 		close(lk);
-	} else if (errno == ENOENT && time(NULL) - st->st_mtime > STALE) {
+	} else if (same && errno == ENOENT &&
+	    time(NULL) - st->st_mtime > STALE) {
 		rmtree_at(pfd, name);
 	}
 	close(d);
 }
 
-/* Sweeps the hidden temporaries ".BASE.XXXXXX" beside path (directories
- * or files) that killed runs left. Best effort: what cannot be read or
+/* Sweeps the hidden temporaries ".NAME.XXXXXX" that killed runs left in
+ * path's directory: path's own of its kind (dir: directories, else
+ * files), and any other marked one. Best effort: what cannot be read or
  * removed stays, silently. */
 static void
 sweep(const char *path, int dir)
@@ -333,19 +410,25 @@ sweep(const char *path, int dir)
 		return;
 	}
 	while ((de = readdir(D)) != NULL) {
-		if (!is_tmp_of(de->d_name, base, blen) || fstatat(pfd,
-		    de->d_name, &st, AT_SYMLINK_NOFOLLOW) != 0)
+		size_t n = strlen(de->d_name);
+		int same;
+		/* ".N.XXXXXX" at least */
+		if (de->d_name[0] != '.' || n < 9 ||
+		    !has_tmp_tail(de->d_name, n) || fstatat(pfd, de->d_name,
+		    &st, AT_SYMLINK_NOFOLLOW) != 0)
 			continue;
-		if (dir && S_ISDIR(st.st_mode))
-			sweep_dir(pfd, de->d_name, &st);
-		else if (!dir && S_ISREG(st.st_mode))
-			sweep_file(pfd, de->d_name);
+		same = is_tmp_of(de->d_name, base, blen);
+		if (S_ISDIR(st.st_mode))
+			sweep_dir(pfd, de->d_name, &st, same && dir);
+		else if (S_ISREG(st.st_mode))
+			sweep_file(pfd, de->d_name, same && !dir);
 	}
 	closedir(D);
 }
 
 /* Waits for the lock on fd, the temporary's (or its lock file's) just
- * created: 0, or 1 when a sweeper removed it meanwhile (try again). */
+ * created: 0 held, 1 when a sweeper removed it meanwhile (try again), -1
+ * no locks here. */
 static int
 lock_new(int fd)
 {
@@ -353,22 +436,21 @@ lock_new(int fd)
 
 	while (flock(fd, LOCK_EX) != 0)
 		if (errno != EINTR)
-			return 0; /* no locks here (some network file
-			           * systems): unguarded, as before */
+			return -1; /* no locks here (some network file
+			            * systems): unguarded, as before */
 	return fstat(fd, &st) == 0 && st.st_nlink == 0;
 }
 
 static int
-out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
+out_begin(tl_outfile *o, const char *path, tl_err *e)
 {
 	struct stat st;
+	int held = -1;
 
 	memset(o, 0, sizeof *o);
 	o->fd = -1;
 	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
 		return tl_fail(e, "%s: is a directory", path);
-	if (!fresh)
-		sweep(path, 0);
 	for (int tries = 0;; tries++) {
 		if ((o->path = strdup(path)) == NULL ||
 		    (o->tmp = tmp_name(path, e)) == NULL) {
@@ -383,13 +465,15 @@ out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
 			o->path = o->tmp = NULL;
 			return -1;
 		}
-		if (!lock_new(o->fd) || tries == 8)
+		if ((held = lock_new(o->fd)) != 1 || tries == 8)
 			break;
 		close(o->fd); /* swept before we held it */
 		free(o->path), free(o->tmp);
 	}
 	fchmod(o->fd, 0666 & ~current_umask());
-	if (tmp_register(o->tmp, 0, e) < 0) {
+	if (held == 0) /* ours, and its owner alive while it holds the lock */
+		fsetxattr(o->fd, MARK, "1", 1, 0);
+	if (tmp_register(o->tmp, 0, -1, e) < 0) {
 		close(o->fd);
 		unlink(o->tmp);
 		free(o->path), free(o->tmp);
@@ -400,10 +484,32 @@ out_begin(tl_outfile *o, const char *path, int fresh, tl_err *e)
 	return 0;
 }
 
+/* The fatal signals wait while a temporary is created, locked and
+ * registered (not while the directory is swept): one arriving between
+ * the creation and the registration would leave a temporary neither the
+ * handler nor a sweep of another name removes. */
+static void
+fatal_block(sigset_t *old)
+{
+	sigset_t s;
+
+	sigemptyset(&s);
+	sigaddset(&s, SIGINT), sigaddset(&s, SIGTERM);
+	sigaddset(&s, SIGHUP), sigaddset(&s, SIGPIPE);
+	pthread_sigmask(SIG_BLOCK, &s, old);
+}
+
 int
 tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 {
-	return out_begin(o, path, 0, e);
+	sigset_t old;
+	int r;
+
+	sweep(path, 0);
+	fatal_block(&old);
+	r = out_begin(o, path, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
 }
 
 void
@@ -422,14 +528,20 @@ tl_out_sweep_dir(const char *dir)
 	while ((de = readdir(D)) != NULL)
 		if (de->d_name[0] == '.' &&
 		    has_tmp_tail(de->d_name, strlen(de->d_name)))
-			sweep_file(pfd, de->d_name);
+			sweep_file(pfd, de->d_name, 1); /* all ours here */
 	closedir(D);
 }
 
 int
 tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
 {
-	return out_begin(o, path, 1, e);
+	sigset_t old;
+	int r;
+
+	fatal_block(&old);
+	r = out_begin(o, path, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
 }
 
 int
@@ -439,6 +551,8 @@ tl_out_commit(tl_outfile *o, tl_err *e)
 	 * a sweeper finds the locked temporary or the committed file */
 	int lk = o->fd >= 0 ? fcntl(o->fd, F_DUPFD_CLOEXEC, 0) : -1, r = 0;
 
+	if (o->fd >= 0)
+		fremovexattr(o->fd, MARK); /* the result is no temporary */
 	if (o->fd >= 0 && close(o->fd) != 0)
 		r = tl_failsys(e, "%s: write", o->path);
 	o->fd = -1;
@@ -483,21 +597,27 @@ dir_lock(const char *t, int *again, tl_err *e)
 	}
 	fd = open(p, O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC,
 	    0600);
-	if (fd >= 0 && (*again = lock_new(fd)) != 0) {
+	if (fd < 0)
+		return -1;
+	switch (lock_new(fd)) {
+	case 1:
+		*again = 1;
 		close(fd);
 		return -1;
+	case 0: /* see out_begin */
+		lsetxattr(t, MARK, "1", 1, 0);
+		break;
 	}
 	return fd;
 }
 
-int
-tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
+static int
+outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 {
 	int again = 0;
 
 	memset(o, 0, sizeof *o);
 	o->fd = -1;
-	sweep(path, 1);
 	for (int tries = 0;; tries++) {
 		if ((o->path = strdup(path)) == NULL ||
 		    (o->tmp = tmp_name(path, e)) == NULL) {
@@ -523,7 +643,7 @@ tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 		free(o->path), free(o->tmp); /* swept before we held it */
 	}
 	chmod(o->tmp, 0777 & ~current_umask());
-	if (tmp_register(o->tmp, 1, e) < 0) {
+	if (tmp_register(o->tmp, 1, o->fd, e) < 0) {
 		rmtree_at(AT_FDCWD, o->tmp);
 		close(o->fd);
 		free(o->path), free(o->tmp);
@@ -532,6 +652,19 @@ tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 		return -1;
 	}
 	return 0;
+}
+
+int
+tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	sigset_t old;
+	int r;
+
+	sweep(path, 1);
+	fatal_block(&old);
+	r = outdir_begin(o, path, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
 }
 
 /* The lock released and the tree's descriptor state cleared. */
@@ -585,6 +718,7 @@ tl_outdir_commit(tl_outfile *o, tl_err *e)
 	if ((size_t)snprintf(lock, sizeof lock, "%s/%s", o->tmp, LOCKNAME) <
 	    sizeof lock && unlink(lock) != 0 && errno != ENOENT)
 		r = tl_failsys(e, "%s: remove", lock);
+	lremovexattr(o->tmp, MARK); /* the result is no temporary */
 	if (r == 0)
 		r = tl_dir_install(o->tmp, o->path, e);
 	if (r != 0)
@@ -598,6 +732,13 @@ tl_outdir_abort(tl_outfile *o)
 {
 	if (o->tmp == NULL)
 		return;
+	/* the lock first: a descriptor for the removal, which may follow
+	 * a failure for want of one */
+	if (o->fd >= 0) {
+		tmp_unlock(o->tmp);
+		close(o->fd);
+		o->fd = -1;
+	}
 	rmtree_at(AT_FDCWD, o->tmp);
 	outdir_end(o);
 }

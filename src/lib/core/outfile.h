@@ -1,7 +1,8 @@
 /* outfile.h - outputs that appear complete or not at all: files and
  * directory trees built under hidden temporary names beside their final
  * paths and renamed at the end; removed on failure, on a fatal signal,
- * and, after a SIGKILL or a crash, by the next output to the same place. */
+ * and, after a SIGKILL or a crash, by the next output begun in the same
+ * directory. */
 #ifndef TL_OUTFILE_H
 #define TL_OUTFILE_H
 
@@ -11,10 +12,14 @@
  * and renamed onto it by tl_out_commit. A signal (INT, TERM, HUP, PIPE)
  * removes every uncommitted temporary before the process dies: that
  * registry is process-wide by nature, hence the one piece of static state.
- * What a signal cannot cover (SIGKILL, a crash) the next output to the
- * same path removes: the builder holds an flock(2) on its temporary for
- * as long as it lives, and tl_out_begin first removes the sibling
- * temporaries ".NAME.XXXXXX" whose lock it can take (their owner died). */
+ * What a signal cannot cover (SIGKILL, a crash) the next output begun in
+ * the same directory removes: the builder holds an flock(2) on its
+ * temporary for as long as it lives and marks it (the extended attribute
+ * user.terrain-lod.tmp, removed before the rename), and tl_out_begin first
+ * removes the temporaries ".NAME.XXXXXX" there whose lock it can take
+ * (their owner died): its own path's, and any other marked one; another
+ * tool's, unmarked, are never touched. The fatal signals wait while a
+ * temporary is created, locked and registered. */
 typedef struct {
 	char *path; /* final name */
 	char *tmp;  /* temporary name, same directory */
@@ -37,8 +42,10 @@ void tl_out_abort(tl_outfile *o);            /* close + unlink, never fails */
  * may be replaced. While it is built the tree holds a lock file ".lock",
  * flock(2)ed by the builder and removed before the commit, so the result
  * holds exactly what the caller put there. tl_outdir_begin first removes
- * the sibling trees ".NAME.XXXXXX" of dead builders: those whose lock can
- * be taken, and those without a lock file older than a minute. */
+ * the temporaries of dead builders as tl_out_begin does, and its own
+ * path's trees without a lock file older than a minute. An abort closes
+ * the lock first and a descriptor is held in reserve, so that a failure
+ * for want of descriptors (EMFILE) still removes the tree. */
 int tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e);
 /* Removes the temporaries ".NAME.XXXXXX" of dead writers (those whose
  * lock can be taken) from dir: once, before writing into a directory

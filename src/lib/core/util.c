@@ -34,6 +34,19 @@ tl_fail(tl_err *e, const char *fmt, ...)
 	return -1;
 }
 
+const char *
+tl_errno_hint(int errnum)
+{
+	/* where the limit is the user's, what to do about it */
+	switch (errnum) {
+	case EMFILE:
+		return " (too few descriptors: raise ulimit -n)";
+	case EFBIG:
+		return " (over ulimit -f or the file system's largest file)";
+	}
+	return "";
+}
+
 int
 tl_failsys(tl_err *e, const char *fmt, ...)
 {
@@ -47,7 +60,8 @@ tl_failsys(tl_err *e, const char *fmt, ...)
 	vsnprintf(e->msg, sizeof e->msg, fmt, ap);
 	va_end(ap);
 	n = strlen(e->msg);
-	snprintf(e->msg + n, sizeof e->msg - n, ": %s", strerror(saved));
+	snprintf(e->msg + n, sizeof e->msg - n, ": %s%s", strerror(saved),
+	    tl_errno_hint(saved));
 	errno = saved;
 	return -1;
 }
@@ -189,6 +203,24 @@ tl_scratch(tl_err *e)
 		return tl_failsys(e, "%s: cannot create a scratch file", dir);
 	unlink(path);
 	return fd;
+}
+
+int
+tl_fds_exhausted(void)
+{
+	int fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
+
+	if (fd >= 0)
+		close(fd);
+	return fd < 0 && (errno == EMFILE || errno == ENFILE);
+}
+
+int
+tl_fail_fds(tl_err *e, const char *what, const char *needed)
+{
+	errno = EMFILE;
+	return tl_failsys(e, "%s: no descriptor left to open %s", what,
+	    needed);
 }
 
 int

@@ -17,9 +17,12 @@ typedef struct {
 
 int tl_fail(tl_err *e, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
-/* Like tl_fail, appending ": strerror(errno)". */
+/* Like tl_fail, appending ": strerror(errno)" and tl_errno_hint. */
 int tl_failsys(tl_err *e, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+/* For EMFILE and EFBIG, the limit to raise, " (... ulimit -n)", " (...
+ * ulimit -f ...)"; "" for the others. */
+const char *tl_errno_hint(int errnum);
 
 /* For programs only: "prog: message" on stderr. */
 void tl_warn(const char *prog, const char *fmt, ...)
@@ -47,6 +50,14 @@ FILE *tl_fopen_regular(const char *path, tl_err *e);
 
 /* An anonymous scratch file (unlinked at once) in $TMPDIR or /tmp. */
 int tl_scratch(tl_err *e);
+
+/* 1 when this process cannot open one more descriptor (EMFILE, ENFILE):
+ * a library that failed for want of one (PROJ opening its database) is
+ * then reported for that, not for its input. */
+int tl_fds_exhausted(void);
+/* The message for it, "what: no descriptor left to open PROJ's database
+ * (too few descriptors: raise ulimit -n)", always -1. */
+int tl_fail_fds(tl_err *e, const char *what, const char *needed);
 
 /* pread/pwrite that loop over short transfers; -1 with message on error,
  * pread also fails on a short file (what names the file). */

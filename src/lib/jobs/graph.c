@@ -86,9 +86,8 @@ sysfail(const graph *g, const char *what, tl_err *e)
 	int no = errno;
 
 	return tl_fail(e, "%s: %s: %s%s", g->prog, what, strerror(no),
-	    no == EMFILE || no == ENFILE ? " (raise the limit of open files, "
-	    "ulimit -n)" : no == EAGAIN && strcmp(what, "fork") == 0 ?
-	    " (raise the limit of processes, ulimit -u)" : "");
+	    no == EAGAIN && strcmp(what, "fork") == 0 ?
+	    " (raise the limit of processes, ulimit -u)" : tl_errno_hint(no));
 }
 
 static int

@@ -112,6 +112,18 @@ place(int fd, int target, int flags)
 	return dup2(fd, target) < 0 ? -1 : 0;
 }
 
+/* The stage could not get its descriptors in place (too few left): said,
+ * on the supervisor's pipe when it got there, as an exec failure is. */
+static void __attribute__((noreturn))
+setup_failed(const graph *g, const stage *s)
+{
+	int saved = errno;
+
+	dprintf(2, "%s: %s: %s%s\n", g->prog, s->kind == TEE ? "tee" :
+	    s->argv[0], strerror(saved), tl_errno_hint(saved));
+	_exit(1);
+}
+
 void
 graph_child(const graph *g, const stage *s, int errw)
 {
@@ -126,10 +138,10 @@ graph_child(const graph *g, const stage *s, int errw)
 	if (dup2(errw, 2) < 0 || place(s->in, 0, O_RDONLY) < 0 ||
 	    place(s->out, 1, O_WRONLY) < 0 ||
 	    (s->kind == TEE && place(s->out2, 3, O_WRONLY) < 0))
-		_exit(1);
+		setup_failed(g, s);
 	if (s->kind == EXEC && g->prog_fd[1] >= 0) {
 		if (place(g->prog_fd[1], PROGRESS_FD, O_WRONLY) < 0)
-			_exit(1);
+			setup_failed(g, s);
 		setenv("TL_PROGRESS_FD", "3", 1);
 	} else
 		unsetenv("TL_PROGRESS_FD"); /* not the supervisor's own */

@@ -1,10 +1,8 @@
 /* scratch.c - per-run scratch directories and the sweep of dead runs'
  * (scratch.h). */
-#define _XOPEN_SOURCE 700 /* nftw; the rest is _DEFAULT_SOURCE */
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +11,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/outfile.h"
 #include "jobs/scratch.h"
 
 static const char *
@@ -23,19 +22,16 @@ tmpdir(void)
 	return t != NULL && t[0] != '\0' ? t : "/tmp";
 }
 
-static int
-rm_one(const char *path, const struct stat *st, int flag, struct FTW *f)
-{
-	(void)st, (void)f;
-	return (flag == FTW_DP ? rmdir(path) : unlink(path)) < 0 &&
-	    errno != ENOENT ? -1 : 0;
-}
-
 int
 scratch_rmtree(const char *path)
 {
-	/* depth first, physical: no symlink is followed, no depth limit */
-	return nftw(path, rm_one, 16, FTW_DEPTH | FTW_PHYS);
+	struct stat st;
+
+	/* outfile.h's: no symlink followed, no depth limit, two descriptors
+	 * at most and one in reserve (it runs after failures for want of
+	 * them); nftw needs one a level */
+	tl_rmtree(path);
+	return lstat(path, &st) == 0 ? -1 : 0;
 }
 
 /* Whether the run that made dir is dead: its lock can be taken, or it has
@@ -106,10 +102,11 @@ scratch_begin(scratch *s, const char *prefix, tl_err *e)
 void
 scratch_end(scratch *s)
 {
-	if (s->path[0] != '\0')
-		scratch_rmtree(s->path);
+	/* the lock first: one more descriptor for the removal */
 	if (s->lock >= 0)
 		close(s->lock);
 	s->lock = -1;
+	if (s->path[0] != '\0')
+		scratch_rmtree(s->path);
 	s->path[0] = '\0';
 }

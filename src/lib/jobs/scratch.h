@@ -26,7 +26,8 @@ void scratch_end(scratch *s);
  * (directories without a lock file count when older than a minute). */
 int scratch_sweep(const char *prefix);
 
-/* rm -r, not following symbolic links; 0 or -1 (errno set). */
+/* rm -r, not following symbolic links (tl_rmtree); 0, or -1 when some
+ * of it stays. */
 int scratch_rmtree(const char *path);
 
 #endif

@@ -2,6 +2,7 @@
  * gl_ctx.h). */
 #include "play/gl_ctx.h"
 
+#include <dlfcn.h>
 #include <stdlib.h>
 
 #include <epoxy/egl.h>
@@ -34,6 +35,19 @@ egl_fail(tl_err *e, const char *what)
 	    (unsigned)eglGetError());
 }
 
+/* libepoxy opens libEGL and the GL library on first use and aborts when
+ * it cannot (too few descriptors: ulimit -n): opened here first, with the
+ * reason told; epoxy then finds them loaded. */
+static int
+gl_libs(tl_err *e)
+{
+	if (dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL) == NULL ||
+	    (dlopen("libOpenGL.so.0", RTLD_LAZY | RTLD_GLOBAL) == NULL &&
+	    dlopen("libGL.so.1", RTLD_LAZY | RTLD_GLOBAL) == NULL))
+		return tl_fail(e, "headless OpenGL (EGL): %s", dlerror());
+	return 0;
+}
+
 static int
 egl_context(gl_ctx *g, tl_err *e)
 {
@@ -51,6 +65,8 @@ egl_context(gl_ctx *g, tl_err *e)
 	EGLConfig conf;
 	EGLint major, minor, n;
 
+	if (gl_libs(e) < 0)
+		return -1;
 	/* Mesa's surfaceless platform needs no display server at all */
 	if (!epoxy_has_egl_extension(EGL_NO_DISPLAY,
 	    "EGL_MESA_platform_surfaceless"))

@@ -54,7 +54,11 @@ t3_proj_open(t3_proj *p, const georef *g, tl_err *e)
 	p->op = op ? proj_normalize_for_visualization(p->ctx, op) : NULL;
 	proj_destroy(op), proj_destroy(src), proj_destroy(dst);
 	if (p->op == NULL) {
+		/* PROJ fails alike when it cannot open proj.db */
+		int fds = tl_fds_exhausted();
 		t3_proj_close(p);
+		if (fds)
+			return tl_fail_fds(e, "PROJ", "its database");
 		return tl_fail(e, "CRS %.200s: PROJ has no way to WGS 84 "
 		    "(EPSG:4979)", g->crs);
 	}

@@ -98,7 +98,7 @@ t3_glb_write(FILE *f, const float *pos, const float *nrm, int nv,
 	    3 * (size_t)nv || fwrite(nrm, 4, 3 * (size_t)nv, f) !=
 	    3 * (size_t)nv || fwrite(idx, 2, (size_t)ni, f) != (size_t)ni ||
 	    fwrite(pad, 1, bin - 2 * vb - ib, f) != bin - 2 * vb - ib)
-		tl_failsys(e, "glb");
+		tl_failsys(e, "write");
 	else
 		r = 0, *bytes = (long long)total;
 	free(js);

@@ -283,8 +283,10 @@ write_glb(t3_work *w, const char *path, int nv, int ni, tl_err *e)
 	if (f == NULL)
 		return tl_failsys(e, "%s", path);
 	if (t3_glb_write(f, w->pos, w->nrm, nv, w->idx, ni, &bytes, e) < 0) {
+		char why[sizeof e->msg];
 		fclose(f);
-		return -1;
+		snprintf(why, sizeof why, "%s", e->msg);
+		return tl_fail(e, "%s: %s", path, why);
 	}
 	if (ferror(f) | fclose(f))
 		return tl_failsys(e, "%s", path);
