@@ -21,12 +21,23 @@ nothing() { [ -z "$(hidden "$1")" ] && [ -z "$(ls -A "$TMPDIR")" ]; }
 marked() { /usr/bin/python3 -c 'import os, sys
 sys.exit(0 if "user.terrain-lod.tmp" in os.listxattr(sys.argv[1], follow_symlinks=False) else 1)' "$1"; }
 
-# wait_tmp DIR NAME PID: until .NAME.XXXXXX is in DIR (or PID ended), then
-# SIGSTOP PID; 0 when the temporary is there
+# whether $T's file system keeps user attributes (else nothing is marked)
+: >"$T/.xa"
+/usr/bin/python3 -c 'import os, sys
+os.setxattr(sys.argv[1], "user.t", b"1")' "$T/.xa" 2>/dev/null && _xa=0 || _xa=1
+rm -f "$T/.xa"
+xattrs() { return $_xa; }
+
+# wait_tmp DIR NAME PID: until .NAME.XXXXXX is in DIR and marked as ours
+# (or PID ended), then SIGSTOP PID; 0 when the temporary is there. A kill
+# between its creation and its mark (microseconds) leaves one that only
+# the next output of the same name removes (outfile.h): not what is
+# tested here.
 wait_tmp() {
 	_i=0
 	while [ $_i -lt 2000 ] && kill -0 "$3" 2>/dev/null; do
-		if hidden "$1" | grep -q "^\.$2\.......\$"; then
+		_f=$(hidden "$1" | grep "^\.$2\.......\$" | head -1)
+		if [ -n "$_f" ] && { ! xattrs || marked "$1/$_f"; }; then
 			kill -STOP "$3"; return 0
 		fi
 		sleep 0.01; _i=$((_i + 1))
