@@ -1,6 +1,9 @@
 # lib.sh - shared helpers for the shell tests in tests/*/ (sourced). TAP
 # lines on stdout.
 set -u
+# the tests run make themselves (plans): not as jobs of the make that runs
+# the suite, whose jobserver they would not reach (make -j check)
+unset MAKEFLAGS MFLAGS MAKELEVEL
 TOP=$(cd "$(dirname "$0")/../.." && pwd)
 # the build to test: build/, or another (TL_BUILD=build-x, e.g. make B=build-x)
 B=$(cd "$TOP" && cd "${TL_BUILD:-build}" && pwd)
