@@ -21,49 +21,75 @@ CFLAGS  ?= -O2 -g
 CXXFLAGS ?= -O2 -g
 WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 
-# The library is five layers, each an archive, dependencies one way:
-# core (rasters, DEM input, georeferencing, quadrics) <- pyramid (bintree,
-# blocks, checker) <- play (camera, meshes, cache, GL); pyramid <- tiles3d
-# (the 3D Tiles export: glTF, tileset.json); core <- jobs (the
-# supervisor of process graphs, scratch, the DEM-to-pyramid pipeline). A
-# program links the layers it uses and their packages only
-# (tests/cmd/t_layers.sh checks includes, archives and links). Package flags are resolved when a recipe runs, i.e. after
-# $(B)/.deps has installed them.
-CORE_PKGS := OpenEXR gdal geographiclib proj libdeflate
-PYR_PKGS  := jansson
-PLAY_PKGS := egl epoxy glfw3 stb
+# The library's layers, bottom up: the one table. Each is a folder of
+# src/lib, an archive build/libNAME.a, a folder of tests/, and the only
+# owner of its foreign packages. uses_L: the layers L's files may include
+# (directly; what those use comes with them); pkgs_L: its packages.
+# Link lines, test rules and tests/cmd/t_layers.sh (make print-layers)
+# all derive from it.
+LAYERS := base geo raster dem qem pyramid pack verify play tiles3d jobs
+uses_base    :=
+uses_geo     := base
+uses_raster  := base geo
+uses_dem     := base geo raster
+uses_qem     := base geo raster dem
+uses_pyramid := base geo raster
+uses_pack    := base geo raster dem qem pyramid
+uses_verify  := base geo raster dem pyramid
+uses_play    := base geo raster pyramid
+uses_tiles3d := base geo pyramid
+uses_jobs    := base raster qem
+pkgs_geo     := proj geographiclib
+pkgs_raster  := OpenEXR libdeflate
+libs_raster  := -lOpenEXRCore-3_1
+pkgs_dem     := gdal
+pkgs_pyramid := jansson
+pkgs_tiles3d := jansson
+pkgs_play    := egl epoxy glfw3 stb
+# the programs: the layers each uses (cli.c, their shared start-up, uses
+# uses_cli)
+uses_cli        := base raster dem
+uses_dem2fqm    := qem
+uses_fqmfilter  := qem
+uses_fqmsolve   := qem
+uses_tilepack   := pack
+uses_tilecheck  := verify
+uses_tileplay   := play verify
+uses_dem2vgis   := jobs
+uses_vgis2tiles := tiles3d
+# what a layer's tests use beside it: the packer's results are checked by
+# the independent checker
+tests_pack      := verify
 TEST_PKGS := libtiff-4 jansson zlib
-PKGS    := $(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS) OpenImageIO
+LAYER_PKGS = $(sort $(foreach l,$(LAYERS),$(pkgs_$(l))))
+PKGS    := $(LAYER_PKGS) $(TEST_PKGS) OpenImageIO
 pkgcf    = $(shell pkg-config --cflags $(1))
 pkglibs  = $(shell pkg-config --libs $(1))
 ALLCFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) \
-            $(call pkgcf,$(CORE_PKGS) $(PYR_PKGS) $(PLAY_PKGS) $(TEST_PKGS)) \
+            $(call pkgcf,$(LAYER_PKGS) $(TEST_PKGS)) \
             -Isrc/lib -DTL_LIBDIR='"$(LIBDIR)"'
 ALLCXXFLAGS = -std=c++17 -Wall -Wextra $(CXXFLAGS) -Isrc/lib \
             $(call pkgcf,geographiclib gdal)
 SYSLIBS  = -lstdc++ -lm -lpthread -ldl
 
-LAYERS  := core pyramid play jobs tiles3d
+# closure LAYERS: them and every layer below them they use
+closure  = $(sort $(foreach l,$(1),$(l) $(call closure,$(uses_$(l)))))
+reverse  = $(if $(1),$(call reverse,$(wordlist 2,$(words $(1)),$(1))) $(firstword $(1)))
+# archives LAYERS: their archives and those below, top down (link order)
+archives = $(foreach l,$(call reverse,$(LAYERS)),$(if $(filter $(l),$(call closure,$(1))),$(B)/lib$(l).a))
+# ld LAYERS: the link line of a program or test using LAYERS
+ld       = $(call archives,$(1)) -Wl,--as-needed \
+           $(call pkglibs,$(sort $(foreach l,$(call closure,$(1)),$(pkgs_$(l))))) \
+           $(foreach l,$(call closure,$(1)),$(libs_$(l))) $(SYSLIBS)
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
-CORE_A  := $(B)/libcore.a
-PYR_A   := $(B)/libpyramid.a
-PLAY_A  := $(B)/libplay.a
-JOBS_A  := $(B)/libjobs.a
-T3_A    := $(B)/libtiles3d.a
-CORE_LD  = $(CORE_A) -Wl,--as-needed $(call pkglibs,$(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
-PYR_LD   = $(PYR_A) $(CORE_A) -Wl,--as-needed $(call pkglibs,$(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
-PLAY_LD  = $(PLAY_A) $(PYR_A) $(CORE_A) -Wl,--as-needed \
-           $(call pkglibs,$(PLAY_PKGS) $(PYR_PKGS) $(CORE_PKGS)) -lOpenEXRCore-3_1 $(SYSLIBS)
-JOBS_LD  = $(JOBS_A) $(CORE_LD)
-T3_LD    = $(T3_A) $(PYR_LD)
 
 PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
 # tests/<layer>/t_<module>.c, one per module, linked with their layer;
-# tests/cmd/t_*.sh run the programs
+# tests/cmd/t_*.c with cli.o; tests/cmd/t_*.sh run the programs
 TESTC   := $(wildcard tests/*/t_*.c)
 TESTBIN := $(TESTC:tests/%.c=$(B)/tests/%)
 TOOLC   := $(wildcard tests/tools/*.c)
@@ -72,6 +98,9 @@ MAN1    := $(PROGS:%=man/%.1)
 MAN5    := $(wildcard man/*.5)
 
 all: $(PROGS:%=$(B)/%) $(PLUGIN)
+
+print-layers:
+	@$(foreach l,$(LAYERS),echo "$(l): $(call closure,$(l)): $(pkgs_$(l))";)
 
 # Install the Debian packages the build needs, once, when one is missing.
 $(B)/.deps:
@@ -93,16 +122,12 @@ $(B)/lib/%.o: src/lib/%.cpp | $(B)/.deps
 	@mkdir -p $(@D)
 	$(CXX) $(ALLCXXFLAGS) -MMD -MP -c $< -o $@
 
-$(PLUGIN): src/lib/core/oiio_plugin.cpp src/lib/core/oiio_plugin.h | $(B)/.deps
+$(PLUGIN): src/lib/raster/oiio_plugin.cpp src/lib/raster/oiio_plugin.h | $(B)/.deps
 	$(CXX) -shared -fPIC $(ALLCXXFLAGS) $(call pkgcf,OpenImageIO) -o $@ $< \
 	    $(call pkglibs,OpenImageIO)
 
-$(CORE_A): $(call objs,core)
-$(PYR_A): $(call objs,pyramid)
-$(PLAY_A): $(call objs,play)
-$(JOBS_A): $(call objs,jobs)
-$(T3_A): $(call objs,tiles3d)
-$(CORE_A) $(PYR_A) $(PLAY_A) $(JOBS_A) $(T3_A):
+$(foreach l,$(LAYERS),$(eval $(B)/lib$(l).a: $(call objs,$(l))))
+$(LAYERS:%=$(B)/lib%.a):
 	rm -f $@
 	ar rcs $@ $^
 
@@ -110,39 +135,31 @@ $(B)/cmd/%.o: src/cmd/%.c | $(B)/.deps
 	@mkdir -p $(@D)
 	$(CC) $(ALLCFLAGS) -MMD -MP -c $< -o $@
 
-# Each program with the layers it uses.
-$(B)/dem2fqm $(B)/fqmfilter $(B)/fqmsolve: $(B)/%: $(B)/cmd/%.o $(CORE_A)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(CORE_LD)
-$(B)/tilepack $(B)/tilecheck: $(B)/%: $(B)/cmd/%.o $(PYR_A) $(CORE_A)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PYR_LD)
-$(B)/tileplay: $(B)/%: $(B)/cmd/%.o $(PLAY_A) $(PYR_A) $(CORE_A)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD)
-$(B)/dem2vgis: $(B)/%: $(B)/cmd/%.o $(JOBS_A) $(CORE_A)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(JOBS_LD)
-$(B)/vgis2tiles: $(B)/%: $(B)/cmd/%.o $(T3_A) $(PYR_A) $(CORE_A)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(T3_LD)
+# Each program with cli.o and the layers it uses.
+define prog_rule
+$(B)/$(1): $(B)/cmd/$(1).o $(B)/cmd/cli.o $(call archives,$(uses_$(1)) $(uses_cli))
+	$$(CC) $$(CFLAGS) $$(LDFLAGS) -o $$@ $(B)/cmd/$(1).o $(B)/cmd/cli.o \
+	    $$(call ld,$(uses_$(1)) $(uses_cli))
+endef
+$(foreach p,$(PROGS),$(eval $(call prog_rule,$(p))))
 
 TESTFLAGS = $(ALLCFLAGS) -Itests -MMD -MP
 TEST_LD  = $(call pkglibs,$(TEST_PKGS))
-$(B)/tests/core/%: tests/core/%.c tests/tap.h $(CORE_A)
+# tests/LAYER/t_*.c with LAYER and what it uses
+define test_rule
+$(B)/tests/$(1)/%: tests/$(1)/%.c tests/tap.h $(call archives,$(1) $(tests_$(1)))
+	@mkdir -p $$(@D)
+	$$(CC) $$(TESTFLAGS) $$(LDFLAGS) -o $$@ $$< $$(call ld,$(1) $(tests_$(1))) $$(TEST_LD)
+endef
+$(foreach l,$(LAYERS),$(eval $(call test_rule,$(l))))
+$(B)/tests/cmd/%: tests/cmd/%.c tests/tap.h $(B)/cmd/cli.o $(call archives,$(uses_cli))
 	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(CORE_LD) $(TEST_LD)
-$(B)/tests/pyramid/%: tests/pyramid/%.c tests/tap.h $(PYR_A) $(CORE_A)
-	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(PYR_LD) $(TEST_LD)
-$(B)/tests/play/%: tests/play/%.c tests/tap.h $(PLAY_A) $(PYR_A) $(CORE_A)
-	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD) $(TEST_LD)
-$(B)/tests/jobs/%: tests/jobs/%.c tests/tap.h $(JOBS_A) $(CORE_A)
-	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(JOBS_LD) $(TEST_LD)
-$(B)/tests/tiles3d/%: tests/tiles3d/%.c tests/tap.h $(T3_A) $(PYR_A) $(CORE_A)
-	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) $(LDFLAGS) -o $@ $< $(T3_LD) $(TEST_LD)
+	$(CC) $(TESTFLAGS) -Isrc/cmd $(LDFLAGS) -o $@ $< $(B)/cmd/cli.o \
+	    $(call ld,$(uses_cli)) $(TEST_LD)
 
-$(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
+$(B)/tools/%: tests/tools/%.c $(call archives,$(LAYERS))
 	@mkdir -p $(@D)
-	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(PLAY_LD) $(TEST_LD)
+	$(CC) $(ALLCFLAGS) $(LDFLAGS) -o $@ $< $(call ld,$(LAYERS)) $(TEST_LD)
 
 # Fuzz targets (tests/fuzz/fz_*.c): in make check each is replayed over its
 # seeds and regression inputs by an ordinary build (replay.c); make fuzz
@@ -151,11 +168,12 @@ $(B)/tools/%: tests/tools/%.c $(PLAY_A) $(PYR_A) $(CORE_A)
 FUZZC   := $(wildcard tests/fuzz/fz_*.c)
 FUZZ    := $(FUZZC:tests/fuzz/fz_%.c=%)
 FUZZREPLAY := $(FUZZ:%=$(B)/tests/fuzz/fz_%)
+FUZZ_USES := verify pack $(uses_cli)
 $(B)/tests/fuzz/fz_%: tests/fuzz/fz_%.c tests/fuzz/fuzz.c tests/fuzz/replay.c \
-    tests/fuzz/fuzz.h $(PYR_A) $(CORE_A)
+    tests/fuzz/fuzz.h $(B)/cmd/cli.o $(call archives,$(FUZZ_USES))
 	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) -Itests/fuzz $(LDFLAGS) -o $@ $< tests/fuzz/fuzz.c \
-	    tests/fuzz/replay.c $(PYR_LD)
+	$(CC) $(TESTFLAGS) -Itests/fuzz -Isrc/cmd $(LDFLAGS) -o $@ $< tests/fuzz/fuzz.c \
+	    tests/fuzz/replay.c $(B)/cmd/cli.o $(call ld,$(FUZZ_USES))
 
 # The validators of tests/js (npm, locked), installed once.
 NODE_DEPS := tests/js/node_modules/.package-lock.json
@@ -211,10 +229,10 @@ fuzz:
 
 fuzz-targets: all $(FUZZ:%=$(B)/fuzz/fz_%)
 $(B)/fuzz/fz_%: tests/fuzz/fz_%.c tests/fuzz/fuzz.c tests/fuzz/fuzz.h \
-    $(PYR_A) $(CORE_A)
+    $(B)/cmd/cli.o $(call archives,$(FUZZ_USES))
 	@mkdir -p $(@D)
-	$(CC) $(TESTFLAGS) -Itests/fuzz -fsanitize=fuzzer -o $@ $< \
-	    tests/fuzz/fuzz.c $(PYR_LD)
+	$(CC) $(TESTFLAGS) -Itests/fuzz -Isrc/cmd -fsanitize=fuzzer -o $@ $< \
+	    tests/fuzz/fuzz.c $(B)/cmd/cli.o $(call ld,$(FUZZ_USES))
 
 # The whole suite on an AddressSanitizer + UndefinedBehaviorSanitizer build
 # of its own (build-asan/): any report fails the test that caused it. It
@@ -232,5 +250,5 @@ check-asan:
 
 -include $(shell find $(B) -name '*.d' 2>/dev/null)
 
-.PHONY: all tests check check-tsan check-asan fuzz fuzz-targets example bench install clean
+.PHONY: all print-layers tests check check-tsan check-asan fuzz fuzz-targets example bench install clean
 .SECONDARY:

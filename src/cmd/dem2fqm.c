@@ -2,11 +2,11 @@
  * the area-weighted plane quadrics of its triangles, in its own frame. */
 #include <string.h>
 
-#include "core/cli.h"
-#include "core/fqm0.h"
-#include "core/paths.h"
-#include "core/rowpipe.h"
-#include "core/stamp.h"
+#include "cli.h"
+#include "qem/fqm0.h"
+#include "base/paths.h"
+#include "raster/rowpipe.h"
+#include "base/stamp.h"
 
 static const char usage[] =
     "[-I] [-D datum] [-e encoding] [-F filled] [-H datum] [-N nodata]\n"

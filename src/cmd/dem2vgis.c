@@ -7,8 +7,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "core/cli.h"
-#include "core/stamp.h"
+#include "cli.h"
+#include "base/stamp.h"
 #include "jobs/graph.h"
 #include "jobs/pipeline.h"
 

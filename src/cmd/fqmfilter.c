@@ -3,11 +3,11 @@
  * frame, sub-sampled by 2). */
 #include <stdlib.h>
 
-#include "core/cli.h"
-#include "core/filter.h"
-#include "core/fqm_input.h"
-#include "core/paths.h"
-#include "core/rowpipe.h"
+#include "cli.h"
+#include "qem/filter.h"
+#include "qem/fqm_input.h"
+#include "base/paths.h"
+#include "raster/rowpipe.h"
 
 static const char usage[] =
     "[-C a,b] [-k kernel] [-z compression] [in [out]]\n"

@@ -4,12 +4,12 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "core/cli.h"
-#include "core/fqm_input.h"
-#include "core/paths.h"
-#include "core/pool.h"
-#include "core/rowpipe.h"
-#include "core/solve.h"
+#include "cli.h"
+#include "qem/fqm_input.h"
+#include "base/paths.h"
+#include "base/pool.h"
+#include "raster/rowpipe.h"
+#include "qem/solve.h"
 
 static const char usage[] =
     "[-v] [-C a,b] [-j jobs] [-m mode] [-r cut] [-z compression] "

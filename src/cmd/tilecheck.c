@@ -1,8 +1,8 @@
 /* tilecheck - the brute-force checker of a VGIS pyramid (pyramid/verify.h):
  * its options into a vf_args, then vf_run, which prints the report. No GL.
  * Exit 0 pass, 1 violations, 2 usage, 3 cannot check (as cmp(1) has it). */
-#include "core/cli.h"
-#include "pyramid/verify.h"
+#include "cli.h"
+#include "verify/verify.h"
 
 enum { CANNOT_CHECK = 3 };
 

@@ -6,9 +6,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "core/cli.h"
-#include "core/paths.h"
-#include "pyramid/pack.h"
+#include "cli.h"
+#include "base/paths.h"
+#include "pack/pack.h"
 
 static const char usage[] =
     "[-flq] [-b samples] [-D datum] [-e encoding] [-g work | -p piece]\n"

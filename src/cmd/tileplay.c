@@ -7,11 +7,11 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/cli.h"
+#include "cli.h"
 #include "play/fly.h"
 #include "play/shot.h"
 #include "play/window.h"
-#include "pyramid/verify.h"
+#include "verify/verify.h"
 
 enum { WINDOW = 1, SHOT = 2, FLY = 4, VERIFY = 8, NMODE = 4 };
 #define CAMERA (WINDOW | SHOT)        /* where the camera is the user's */

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "core/cli.h"
+#include "cli.h"
 #include "tiles3d/tiles3d.h"
 
 static const char usage[] =

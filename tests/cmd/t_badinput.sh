@@ -132,7 +132,7 @@ for p in dem2fqm fqmfilter fqmsolve; do
 	ok $? "$p --help prints usage on stdout, exit 0"
 	$p -h >"$T/h" && cmp -s "$T/h" "$T/help"
 	ok $? "$p -h is --help"
-	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/core/util.h")" ] &&
+	[ "$($p --version)" = "$p $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/base/util.h")" ] &&
 	    [ "$($p -V)" = "$($p --version)" ]
 	ok $? "$p --version and -V"
 	# called by a path: getopt's message and ours name it the same way

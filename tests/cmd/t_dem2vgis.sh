@@ -32,7 +32,7 @@ fails "one operand: usage" 2 "^usage: dem2vgis " dv "$dem"
 dv --help >"$T/h" 2>&1; s=$?
 [ $s -eq 0 ] && grep -q "^usage: dem2vgis" "$T/h" && [ "$(grep -c '^  -' "$T/h")" -ge 7 ]
 ok $? "--help: usage and every option on stdout, exit 0"
-[ "$(dv -V)" = "dem2vgis $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/core/util.h")" ]
+[ "$(dv -V)" = "dem2vgis $(sed -n 's/^#define TL_VERSION "\(.*\)"/\1/p' "$TOP/src/lib/base/util.h")" ]
 ok $? "-V: name and version"
 
 # a reference build, then stdin (the copy named by -n) gives the same

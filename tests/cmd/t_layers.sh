@@ -1,74 +1,113 @@
-# t_layers - the library's layers depend one way: core <- pyramid <- play,
-# pyramid <- tiles3d (the 3D Tiles export), core <- jobs (the supervisor),
-# and the programs above them. Checked on the sources (project #includes), on the
-# archives (no symbol a lower layer needs is defined by a higher one) and on
-# the programs (each links only its layers' libraries: no GL or JSON where
-# no layer asks for it).
+# t_layers - the library's layers depend one way, as the Makefile's one
+# table says (make print-layers: each layer, what it may use, its
+# packages). Checked on the sources (project #includes by layer path,
+# foreign headers only in the layer owning their package, each package
+# owned by one layer), on the archives (no symbol a lower layer needs is
+# defined by a higher one) and on the programs (each links only its
+# layers' libraries: no GL or JSON where no layer asks for it).
 . "$(dirname "$0")/../lib.sh"
 
 L=$TOP/src/lib
-allowed() {	# allowed LAYER: the layers its files may include
+make -s -C "$TOP" print-layers >"$T/layers" 2>/dev/null
+[ -s "$T/layers" ]; ok $? "make print-layers: the layer table ($(wc -l <"$T/layers") layers)"
+layers=$(cut -d: -f1 "$T/layers")
+uses() { grep "^$1:" "$T/layers" | cut -d: -f2; }
+pkgs() { grep "^$1:" "$T/layers" | cut -d: -f3; }
+
+# every folder of src/lib is a layer of the table
+for d in "$L"/*/; do
+	d=$(basename "$d")
+	echo "$layers" | grep -qx "$d"; ok $? "src/lib/$d is a layer of the table"
+done
+
+# A package's headers, as the sources include them.
+headers() {
 	case $1 in
-	core) echo "core" ;;
-	pyramid) echo "core pyramid" ;;
-	play) echo "core pyramid play" ;;
-	jobs) echo "core jobs" ;;
-	tiles3d) echo "core pyramid tiles3d" ;;
+	proj) echo 'proj\.h|proj_experimental\.h' ;;
+	geographiclib) echo 'GeographicLib/' ;;
+	OpenEXR) echo 'openexr[a-z_]*\.h|Imf[A-Za-z]*\.h' ;;
+	libdeflate) echo 'libdeflate\.h' ;;
+	gdal) echo 'gdal[a-z_]*\.h|cpl_[a-z_]*\.h|ogr_[a-z_]*\.h' ;;
+	jansson) echo 'jansson\.h' ;;
+	egl) echo 'EGL/' ;;
+	epoxy) echo 'epoxy/' ;;
+	glfw3) echo 'GLFW/' ;;
+	stb) echo 'stb_[a-z_]*\.h' ;;
+	OpenImageIO) echo 'OpenImageIO/' ;;
+	*) echo "unknown-package-$1" ;;
 	esac
 }
-for layer in core pyramid play jobs tiles3d; do
-	bad=""
+allpkgs=$(cut -d: -f3 "$T/layers" | tr ' ' '\n' | sed '/^$/d')
+dup=$(echo "$allpkgs" | sort | uniq -d | tr '\n' ' ')
+[ -z "$dup" ]; ok $? "each foreign package is owned by one layer only ($dup)"
+
+for layer in $layers; do
+	bad="" foreign=""
 	for f in "$L/$layer"/*.[ch] "$L/$layer"/*.cpp; do
 		[ -e "$f" ] || continue
 		for inc in $(sed -n 's/^#include "\([^"]*\)".*/\1/p' "$f"); do
-			case " $(allowed $layer) " in
+			case " $(uses "$layer") " in
 			*" ${inc%%/*} "*) ;;
 			*) bad="$bad $(basename "$f"):$inc" ;;
 			esac
 		done
+		# the OIIO plugin is built apart, linked by nothing
+		case $f in */oiio_plugin.cpp) continue ;; esac
+		for p in $allpkgs; do
+			case " $(pkgs "$layer") " in *" $p "*) continue ;; esac
+			grep -qE "^#include <($(headers "$p"))" "$f" &&
+			    foreign="$foreign $(basename "$f"):$p"
+		done
 	done
 	[ -z "$bad" ] || echo "#   $layer includes:$bad"
-	[ -z "$bad" ]; ok $? "src/lib/$layer includes only $(allowed $layer | tr ' ' ',') headers, by layer path"
+	[ -z "$bad" ]; ok $? "src/lib/$layer includes only $(uses "$layer" | sed 's/^ //; s/ /,/g') headers, by layer path"
+	[ -z "$foreign" ] || echo "#   $layer includes foreign headers:$foreign"
+	[ -z "$foreign" ]; ok $? "src/lib/$layer includes no other layer's foreign package"
 done
+# the programs: cli.c and the layers they use; no foreign header
+foreign=$(grep -lE "^#include <($(for p in $allpkgs; do headers "$p"; done | tr '\n' '|' | sed 's/|$//'))" \
+    "$TOP"/src/cmd/*.c | tr '\n' ' ')
+[ -z "$foreign" ]; ok $? "src/cmd includes no foreign package ($foreign)"
 
 # A header named in a folder it is not in would not resolve: every project
 # include names an existing file.
-missing=$(cd "$TOP/src" && grep -ho '^#include "[^"]*"' lib/*/*.[ch] lib/*/*.cpp cmd/*.c |
+missing=$(cd "$TOP/src" && grep -ho '^#include "[^"]*"' lib/*/*.[ch] lib/*/*.cpp cmd/*.[ch] |
     sed 's/#include "\(.*\)"/\1/' | sort -u | while read -r h; do
-	[ -f "lib/$h" ] || echo "$h"; done)
-[ -z "$missing" ]; ok $? "every project #include names a file under src/lib ($missing)"
+	[ -f "lib/$h" ] || [ -f "cmd/$h" ] || echo "$h"; done)
+[ -z "$missing" ]; ok $? "every project #include names a file under src/lib or src/cmd ($missing)"
 
-# archives: symbols each layer leaves undefined are not defined above it
+# archives: symbols each layer leaves undefined are not defined by a
+# layer it may not use
 defined() { nm -g --defined-only "$1" 2>/dev/null | awk 'NF == 3 { print $3 }' | sort -u; }
 undef() { nm -g --undefined-only "$1" 2>/dev/null | awk '{ print $NF }' | sort -u; }
-check_up() {	# check_up LOWER HIGHER...
-	low=$1; shift
-	for high in "$@"; do
-		up=$(comm -12 "$T/u.$low" "$T/d.$high" | head -5 | tr '\n' ' ')
-		[ -z "$up" ] || echo "#   lib$low.a needs from lib$high.a: $up"
-		[ -z "$up" ]; ok $? "lib$low.a needs nothing from lib$high.a"
-	done
-}
-for layer in core pyramid play jobs tiles3d; do
+for layer in $layers; do
 	a=$B/lib$layer.a
-	[ -f "$a" ]; ok $? "build/lib$layer.a exists"
+	[ -f "$a" ]; ok $? "$B/lib$layer.a exists"
 	defined "$a" >"$T/d.$layer"
 	undef "$a" >"$T/u.$layer"
 done
-check_up core pyramid play jobs tiles3d
-check_up pyramid play jobs tiles3d
-check_up jobs pyramid play tiles3d
-check_up tiles3d play jobs
+for low in $layers; do
+	bad=""
+	for high in $layers; do
+		case " $(uses "$low") " in *" $high "*) continue ;; esac
+		up=$(comm -12 "$T/u.$low" "$T/d.$high" | head -3 | tr '\n' ' ')
+		[ -z "$up" ] || bad="$bad lib$high.a($up)"
+	done
+	[ -z "$bad" ] || echo "#   lib$low.a needs:$bad"
+	[ -z "$bad" ]; ok $? "lib$low.a needs nothing from a layer it may not use"
+done
 
 # programs: the shared libraries they need
 needs() { readelf -d "$B/$1" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p'; }
 for p in dem2fqm fqmfilter fqmsolve dem2vgis; do
 	n=$(needs $p | grep -E 'jansson|glfw|epoxy|EGL|GL\.' | tr '\n' ' ')
-	[ -z "$n" ]; ok $? "$p (core) links no JSON or GL library ($n)"
+	[ -z "$n" ]; ok $? "$p links no JSON or GL library ($n)"
 done
+n=$(needs dem2vgis | grep -E 'gdal' | tr '\n' ' ')
+[ -z "$n" ]; ok $? "dem2vgis (the supervisor) links no GDAL ($n)"
 for p in tilepack tilecheck; do
 	n=$(needs $p | grep -E 'glfw|epoxy|EGL|GL\.' | tr '\n' ' ')
-	[ -z "$n" ]; ok $? "$p (pyramid) links no GL library ($n)"
+	[ -z "$n" ]; ok $? "$p links no GL library ($n)"
 done
 needs tileplay | grep -q glfw; ok $? "tileplay (play) links GLFW"
 n=$(needs vgis2tiles | grep -E 'glfw|epoxy|EGL|GL\.|gdal' | tr '\n' ' ')

@@ -1,7 +1,7 @@
 # t_verify - the checker on real pyramids: tileplay --verify's usage (the
 # alias), then every DEM's pyramids made by dem2vgis (1D and QEM-3D,
 # projected and geographic with voids) passing every check of tilecheck
-# against their DEM. (tests/pyramid/t_verify*.c test the checker itself
+# against their DEM. (tests/verify/t_verify*.c test the checker itself
 # on hand-built and corrupted pyramids, t_tilecheck.sh its program.)
 . "$(dirname "$0")/../lib.sh"
 

@@ -9,7 +9,7 @@
 
 #include "fuzz.h"
 #include "pyramid/pyramid.h"
-#include "pyramid/verify.h"
+#include "verify/verify.h"
 
 /* A one-level, one-block index, written by the producer's own writer
  * once per process: a 129x129 DEM without georeferencing. */

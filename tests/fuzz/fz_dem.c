@@ -3,7 +3,7 @@
  * since GDAL and the reader go by it for .hgt and .asc; then every row. */
 #include <stdlib.h>
 
-#include "core/dem.h"
+#include "dem/dem.h"
 #include "fuzz.h"
 
 int

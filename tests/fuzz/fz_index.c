@@ -5,7 +5,7 @@
 
 #include "fuzz.h"
 #include "pyramid/pyramid.h"
-#include "pyramid/verify.h"
+#include "verify/verify.h"
 
 int
 LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/cli.h"
+#include "cli.h"
 #include "fuzz.h"
 
 #define MAXW 24

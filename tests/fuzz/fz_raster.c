@@ -4,8 +4,8 @@
  * fqm_layout_of) and every row. */
 #include <stdlib.h>
 
-#include "core/fqm.h"
-#include "core/raster.h"
+#include "qem/fqm.h"
+#include "raster/raster.h"
 #include "fuzz.h"
 
 int

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/raster.h"
+#include "raster/raster.h"
 #include "fuzz.h"
 
 /* Every row whole into a (w x nch x h floats); 0 when all were read. */

@@ -4,7 +4,7 @@
  * message, before any work; a missing or unreadable DEM fails with one
  * clear message; nothing is left in TMPDIR. */
 #include "jobs/pipeline.h"
-#include "jobs/scratch.h"
+#include "base/scratch.h"
 #include "tap.h"
 
 #include <dirent.h>

@@ -12,7 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "core/fqm.h"
+#include "qem/fqm.h"
 #include "indextext.h"
 #include "pyramid/pyramid.h"
 #include "tap.h"

@@ -14,9 +14,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "core/dem.h"
-#include "core/fqm.h"
-#include "core/raster.h"
+#include "dem/dem.h"
+#include "qem/fqm.h"
+#include "raster/raster.h"
 
 /* error histogram: bins of 0.1 % relative width from 1 micrometre */
 #define HBINS 30000

@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "core/raster.h"
+#include "raster/raster.h"
 
 /* A test tool exits right after its work: its own leaks are not what
  * make check-asan looks for (the programs' and the library's are). */

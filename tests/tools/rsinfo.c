@@ -17,7 +17,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "core/raster.h"
+#include "raster/raster.h"
 
 static void
 print_attr(const rs_attr *a)

@@ -11,7 +11,7 @@
 #ifndef TL_GRAPH_H
 #define TL_GRAPH_H
 
-#include "core/util.h"
+#include "base/util.h"
 
 #define GRAPH_MAXSTAGES 96
 

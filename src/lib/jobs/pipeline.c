@@ -9,14 +9,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "core/fqm.h"
-#include "core/outfile.h"
-#include "core/paths.h"
-#include "core/progress.h"
+#include "qem/fqm.h"
+#include "base/outfile.h"
+#include "base/paths.h"
+#include "base/progress.h"
 #include "jobs/graph.h"
 #include "jobs/pipeline.h"
 #include "jobs/plan.h"
-#include "jobs/scratch.h"
+#include "base/scratch.h"
 
 #define MAXLEVELS 32 /* levels of a DEM of 2^31 x 2^31 samples: 25 */
 #define MAXWORDS (PIPELINE_MAXOPTS + MAXLEVELS + 16)
@@ -254,7 +254,7 @@ level_count(const pipeline_opts *o, const char *dem, int *levels,
 static void
 band_cols(const pipeline_opts *o, int w, int l, char *buf, size_t n)
 {
-	int b = o->band[1] >= w ? fqm_level_size(w, l) : o->band[1] >> l;
+	int b = o->band[1] >= w ? geo_level_size(w, l) : o->band[1] >> l;
 
 	snprintf(buf, n, "%d,%d", o->band[0] >> l, b);
 }

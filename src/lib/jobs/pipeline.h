@@ -13,8 +13,8 @@
 #ifndef TL_PIPELINE_H
 #define TL_PIPELINE_H
 
-#include "core/filter.h"
-#include "core/util.h"
+#include "qem/filter.h"
+#include "base/util.h"
 
 #define PIPELINE_MAXOPTS 32
 

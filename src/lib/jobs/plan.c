@@ -7,7 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "core/outfile.h"
+#include "base/outfile.h"
 
 /* A word for the shell, single-quoted; for a Makefile also as make
  * reads a variable's value: $ doubled, and a '#' (a comment) escaped by a

@@ -17,7 +17,7 @@
 #ifndef TL_PLAN_H
 #define TL_PLAN_H
 
-#include "core/util.h"
+#include "base/util.h"
 
 typedef struct {
 	const char *prog;

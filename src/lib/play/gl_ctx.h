@@ -8,7 +8,7 @@
 
 #include <epoxy/gl.h>
 
-#include "core/util.h"
+#include "base/util.h"
 
 typedef struct gl_ctx gl_ctx;
 

@@ -3,7 +3,7 @@
 #ifndef TL_GL_TEXT_H
 #define TL_GL_TEXT_H
 
-#include "core/util.h"
+#include "base/util.h"
 
 typedef struct gl_text gl_text;
 

@@ -3,9 +3,9 @@
 
 #include <stdlib.h>
 
-#include "core/outfile.h"
-#include "core/oiio_plugin.h"
-#include "core/paths.h"
+#include "base/outfile.h"
+#include "raster/oiio_plugin.h"
+#include "base/paths.h"
 
 /* Level-0 sample (i, j)'s height, read from its block. */
 static int

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/attr.h"
+#include "raster/attr_names.h"
 
 int
 pyramid_nblocks(int n)
@@ -285,7 +285,7 @@ block_origin(const rs_header *h, const char *path, const pyramid_index *ix,
 	int lv, s0[2];
 	georef g;
 
-	if (geo_from_header(&g, h, e) < 0)
+	if (rs_get_georef(&g, h, e) < 0)
 		return -1;
 	if ((what = geo_differs(&g, &ix->geo)) != NULL)
 		return tl_fail(e, "%s: geo:%s differs from the index's georef",

@@ -10,8 +10,8 @@
 #ifndef TL_PYRAMID_H
 #define TL_PYRAMID_H
 
-#include "core/georef.h"
-#include "core/raster.h"
+#include "geo/georef.h"
+#include "raster/raster.h"
 #include "pyramid/bintree.h"
 #include "pyramid/vgis.h"
 

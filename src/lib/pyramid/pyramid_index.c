@@ -13,8 +13,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "core/outfile.h"
-#include "core/fqm.h"
+#include "base/outfile.h"
+#include "geo/levels.h"
 
 void
 pyramid_index_free(pyramid_index *ix)
@@ -299,13 +299,13 @@ level_from_json(json_t *o, pyramid_level *L, int want, const int size0[2],
 		return tl_fail(e, "%s: levels[%d]: level, size, blocks, "
 		    "displaced, mode or kernel missing, out of range or not of "
 		    "its type", what, want);
-	if (level != want || sz[0] != fqm_level_size(size0[0], level) ||
-	    sz[1] != fqm_level_size(size0[1], level))
+	if (level != want || sz[0] != geo_level_size(size0[0], level) ||
+	    sz[1] != geo_level_size(size0[1], level))
 		return tl_fail(e, "%s: levels[%d]: level %d, size %dx%d; level "
 		    "%d of a %dx%d DEM is %dx%d", what, want, level, sz[0],
 		    sz[1], want, size0[0], size0[1],
-		    fqm_level_size(size0[0], want),
-		    fqm_level_size(size0[1], want));
+		    geo_level_size(size0[0], want),
+		    geo_level_size(size0[1], want));
 	if (bl[0] != pyramid_nblocks(sz[0]) || bl[1] != pyramid_nblocks(sz[1]))
 		return tl_fail(e, "%s: levels[%d].blocks: %dx%d, a %dx%d level "
 		    "has %dx%d", what, want, bl[0], bl[1], sz[0], sz[1],
@@ -326,12 +326,12 @@ level_from_json(json_t *o, pyramid_level *L, int want, const int size0[2],
 static void
 index_need(int w, int h, long long *blocks, long long *bytes)
 {
-	int nl = fqm_levels(w, h);
+	int nl = geo_levels(w, h);
 
 	*blocks = 0;
 	for (int l = 0; l < nl; l++)
-		*blocks += (long long)pyramid_nblocks(fqm_level_size(w, l)) *
-		    pyramid_nblocks(fqm_level_size(h, l));
+		*blocks += (long long)pyramid_nblocks(geo_level_size(w, l)) *
+		    pyramid_nblocks(geo_level_size(h, l));
 	*bytes = (64 << 10) + (2 << 10) * (long long)nl + 4 * 48 * *blocks;
 }
 
@@ -421,7 +421,7 @@ pyramid_index_bounded(const char *text, size_t n, const char *what,
 		return tl_fail(e, "%s: %zu bytes, more than the index of a "
 		    "%dx%d pyramid (%lld blocks) can need (%lld): damaged or "
 		    "forged", what, n, s0[0], s0[1], nb, need);
-	if (commas > 4 * nb + 64 * fqm_levels(s0[0], s0[1]) + 256 ||
+	if (commas > 4 * nb + 64 * geo_levels(s0[0], s0[1]) + 256 ||
 	    commas < 4 * nb - 4)
 		return tl_fail(e, "%s: %lld values, the index of a %dx%d "
 		    "pyramid (%lld blocks) holds 4 a block: damaged or forged",
@@ -498,10 +498,10 @@ pyramid_index_parse(const char *text, size_t n, const char *what,
 	}
 	ix->geo.width = ix->size0[0], ix->geo.height = ix->size0[1];
 	if (json_array_size(levels) !=
-	    (size_t)fqm_levels(ix->size0[0], ix->size0[1])) {
+	    (size_t)geo_levels(ix->size0[0], ix->size0[1])) {
 		tl_fail(e, "%s: levels: %zu, a %dx%d pyramid has %d", what,
 		    json_array_size(levels), ix->size0[0], ix->size0[1],
-		    fqm_levels(ix->size0[0], ix->size0[1]));
+		    geo_levels(ix->size0[0], ix->size0[1]));
 		goto done;
 	}
 	if ((ix->lev = tl_alloc(json_array_size(levels), sizeof *ix->lev,

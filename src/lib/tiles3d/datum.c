@@ -5,7 +5,7 @@
  * bounding something else. */
 #include <stdio.h>
 
-#include "core/vdatum.h"
+#include "geo/vdatum.h"
 #include "tiles3d/t3_impl.h"
 
 int

@@ -7,10 +7,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "core/outfile.h"
-#include "core/paths.h"
-#include "core/pool.h"
-#include "core/progress.h"
+#include "base/outfile.h"
+#include "base/paths.h"
+#include "base/pool.h"
+#include "base/progress.h"
 #include "tiles3d/t3_impl.h"
 
 typedef struct {

@@ -6,7 +6,7 @@
 #ifndef TL_TILES3D_H
 #define TL_TILES3D_H
 
-#include "core/util.h"
+#include "base/util.h"
 
 #define T3_TAU0 1.0 /* metres: level 0's tolerance, doubled per level */
 #define T3_MAXJOBS 64

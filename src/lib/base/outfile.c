@@ -1,0 +1,744 @@
+/* outfile.c - outputs that appear complete or not at all, the registry
+ * of temporaries a fatal signal removes, and the sweep of those that
+ * killed runs left (outfile.h). */
+#define _GNU_SOURCE
+#include "base/outfile.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <math.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/xattr.h>
+#include <time.h>
+#include <unistd.h>
+
+
+/* --- temporaries removed on a fatal signal ---------------------------- */
+
+/* The registry the signal handler walks. Threads change it under a lock
+ * with signals blocked; a slot's path is published last with an atomic
+ * store and read with an atomic load, so the handler (which cannot lock)
+ * sees each slot empty or complete, never half-written. */
+#define MAXTMP 64
+static struct {
+	const char *path; /* owned by the tl_outfile; atomic */
+	int dir;
+	int lock;         /* a tree's lock file: closed first, for a
+	                   * descriptor to remove the tree with */
+} tmps[MAXTMP];
+static pthread_mutex_t tmps_lock = PTHREAD_MUTEX_INITIALIZER;
+
+/* A descriptor kept in reserve for removing a tree when the process has
+ * none left: the failure being cleaned up may be that one (EMFILE). The
+ * first removal that needs it gives it up; atomic, as the handler takes
+ * it too. */
+static int reserve = -1;
+
+/* Directory entries with system calls only (readdir may allocate). */
+struct dent {
+	uint64_t ino;
+	int64_t off;
+	unsigned short reclen;
+	unsigned char type;
+	char name[];
+};
+
+#define DIRFLAGS (O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)
+
+/* The directory name in fd, the reserve given up when no descriptor is
+ * left. */
+static int
+open_dir(int fd, const char *name)
+{
+	int d = openat(fd, name, DIRFLAGS), r;
+
+	if (d < 0 && errno == EMFILE &&
+	    (r = __atomic_exchange_n(&reserve, -1, __ATOMIC_ACQ_REL)) >= 0) {
+		close(r);
+		d = openat(fd, name, DIRFLAGS);
+	}
+	return d;
+}
+
+/* Empties the directory fd as far as it can without descending: removes
+ * every entry that is not a directory and every empty directory, in
+ * passes from the start until one removes nothing (removal while reading
+ * may hide entries). Returns 1 with the name of a non-empty
+ * subdirectory in sub (256 bytes) as soon as it meets one, 0 when fd is
+ * empty, -1 when an entry cannot be removed. *removed counts. */
+static int
+rmtree_clear(int fd, char *sub, int *removed)
+{
+	char buf[4096];
+	long n;
+	int stuck = 0, gone = 1;
+
+	while (gone) {
+		gone = stuck = 0;
+		lseek(fd, 0, SEEK_SET);
+		while ((n = syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0)
+			for (long off = 0; off < n; off += ((struct dent *)
+			    (void *)(buf + off))->reclen) {
+				const char *name = ((struct dent *)(void *)
+				    (buf + off))->name;
+				if (strcmp(name, ".") == 0 ||
+				    strcmp(name, "..") == 0)
+					continue;
+				/* a symbolic link goes like a file: its
+				 * target is never touched */
+				if (unlinkat(fd, name, 0) == 0 ||
+				    (errno == EISDIR &&
+				    unlinkat(fd, name, AT_REMOVEDIR) == 0)) {
+					gone = 1, ++*removed;
+				} else if (errno == ENOTEMPTY || errno == EEXIST) {
+					size_t k = strlen(name);
+					memcpy(sub, name, k + 1 < 256 ? k + 1 : 256);
+					sub[255] = '\0';
+					return 1;
+				} else if (errno != ENOENT) {
+					stuck = 1;
+				}
+			}
+	}
+	return stuck ? -1 : 0;
+}
+
+/* Removes name (relative to parent) and everything under it, at any
+ * depth, never following a symbolic link nor entering a mount point, with
+ * system calls only (async-signal-safe: the signal handler uses it), no
+ * recursion and two descriptors at most. Each walk goes down from the top
+ * to the first directory without non-empty subdirectories and empties it;
+ * its parent removes it on the next walk. A walk that removes nothing
+ * ends it (something there cannot be removed): the rest stays. */
+static void
+rmtree_at(int parent, const char *name)
+{
+	char sub[256];
+	int late = 0;
+
+	/* an empty directory goes without a descriptor */
+	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR ||
+	    unlinkat(parent, name, AT_REMOVEDIR) == 0)
+		return;
+	for (;;) {
+		int fd = open_dir(parent, name), depth = 0, removed = 0;
+		int r = -1;
+
+		if (fd < 0)
+			return;
+		while ((r = rmtree_clear(fd, sub, &removed)) == 1) {
+			int c = open_dir(fd, sub);
+			close(fd);
+			if ((fd = c) < 0)
+				break;
+			depth++;
+		}
+		if (fd >= 0)
+			close(fd);
+		/* filled again meanwhile (a signal's removal while the
+		 * owner's other threads still write): another walk */
+		if (depth == 0 && (r != 0 || unlinkat(parent, name,
+		    AT_REMOVEDIR) == 0 || (errno != ENOTEMPTY &&
+		    errno != EEXIST) || ++late > 1000))
+			return;
+		if (depth > 0 && removed == 0)
+			return;
+	}
+}
+
+static void
+on_signal(int sig)
+{
+	for (int i = 0; i < MAXTMP; i++) {
+		const char *p = __atomic_load_n(&tmps[i].path, __ATOMIC_ACQUIRE);
+		int lk = __atomic_load_n(&tmps[i].lock, __ATOMIC_ACQUIRE);
+		if (p == NULL)
+			continue;
+		if (tmps[i].dir && lk >= 0)
+			close(lk); /* the owner dies: no lock needed */
+		if (tmps[i].dir)
+			rmtree_at(AT_FDCWD, p);
+		else
+			unlink(p);
+	}
+	signal(sig, SIG_DFL);
+	raise(sig);
+}
+
+/* Blocks the signals whose handler reads the registry, takes the lock. */
+static void
+tmps_enter(sigset_t *old)
+{
+	sigset_t all;
+
+	sigfillset(&all);
+	pthread_sigmask(SIG_BLOCK, &all, old);
+	pthread_mutex_lock(&tmps_lock);
+}
+
+static void
+tmps_leave(const sigset_t *old)
+{
+	pthread_mutex_unlock(&tmps_lock);
+	pthread_sigmask(SIG_SETMASK, old, NULL);
+}
+
+/* -1 (e set) when the registry is full: an output that a signal could
+ * leave behind is refused rather than silently unguarded. lock: a tree's
+ * lock file, or -1. */
+static int
+tmp_register(const char *path, int dir, int lock, tl_err *e)
+{
+	static const int sigs[] = { SIGINT, SIGTERM, SIGHUP, SIGPIPE };
+	struct sigaction sa;
+	sigset_t old;
+	int i;
+
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigfillset(&sa.sa_mask);
+	tmps_enter(&old);
+	for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++)
+		sigaction(sigs[k], &sa, NULL);
+	if (__atomic_load_n(&reserve, __ATOMIC_ACQUIRE) < 0)
+		__atomic_store_n(&reserve, open("/dev/null", O_RDONLY |
+		    O_CLOEXEC), __ATOMIC_RELEASE);
+	for (i = 0; i < MAXTMP && tmps[i].path != NULL; i++)
+		;
+	if (i < MAXTMP) {
+		tmps[i].dir = dir;
+		__atomic_store_n(&tmps[i].lock, lock, __ATOMIC_RELEASE);
+		__atomic_store_n(&tmps[i].path, path, __ATOMIC_RELEASE);
+	}
+	tmps_leave(&old);
+	return i < MAXTMP ? 0 : tl_fail(e, "%s: more than %d temporary "
+	    "outputs at once", path, MAXTMP);
+}
+
+static void
+tmp_unregister(const char *path)
+{
+	sigset_t old;
+
+	tmps_enter(&old);
+	for (int i = 0; i < MAXTMP; i++)
+		if (tmps[i].path == path)
+			__atomic_store_n(&tmps[i].path, NULL, __ATOMIC_RELEASE);
+	tmps_leave(&old);
+}
+
+/* The registry forgets a tree's lock file before its owner closes it. */
+static void
+tmp_unlock(const char *path)
+{
+	sigset_t old;
+
+	tmps_enter(&old);
+	for (int i = 0; i < MAXTMP; i++)
+		if (tmps[i].path == path)
+			__atomic_store_n(&tmps[i].lock, -1, __ATOMIC_RELEASE);
+	tmps_leave(&old);
+}
+
+static mode_t
+current_umask(void)
+{
+	mode_t m = umask(022);
+
+	umask(m);
+	return m;
+}
+
+/* "dir/.base.XXXXXX" beside path. */
+static char *
+tmp_name(const char *path, tl_err *e)
+{
+	const char *slash = strrchr(path, '/');
+	size_t dlen = slash ? (size_t)(slash - path + 1) : 0;
+	size_t n = strlen(path) + 16;
+	char *t = tl_alloc(n, 1, e);
+
+	if (t == NULL)
+		return NULL;
+	snprintf(t, n, "%.*s.%s.XXXXXX", (int)dlen, path, path + dlen);
+	return t;
+}
+
+/* --- the temporaries of killed runs --------------------------------------
+ *
+ * A process killed outright (SIGKILL, a crash, power) cannot remove its
+ * temporaries, so each one says whether its owner lives: the owner holds
+ * an flock(2) on it (a file) or on the lock file LOCKNAME inside it (a
+ * directory) for as long as it works, and the kernel drops the lock when
+ * the owner dies, however it dies. Whoever begins an output first sweeps
+ * the temporaries in its directory whose lock it can take: those of the
+ * same path, and those of any other name that carry MARK.
+ *
+ * The name and a free lock prove a temporary ours only for the path we
+ * are about to replace anyway: other tools name theirs ".NAME.XXXXXX" too
+ * (rsync), and hold no lock while they write. So the owner marks its
+ * temporary with the extended attribute MARK once it holds the lock, and
+ * removes the mark before the rename; another name's temporary is swept
+ * only marked (where the file system has no user attributes, only by the
+ * next output to its own path, as before).
+ *
+ * The owner creates the temporary, then waits for its lock (flock without
+ * LOCK_NB): a sweeper may hold it for a moment, and if it has removed the
+ * temporary meanwhile (no links left), the owner starts again under a new
+ * name. A sweeper removes while holding the lock, so no owner can
+ * believe in a temporary that is being removed. */
+
+#define LOCKNAME ".lock"
+#define MARK "user.terrain-lod.tmp"
+#define STALE 60 /* seconds: a directory without a lock file (a killed run
+                  * of an older version, or one killed between mkdtemp and
+                  * its lock) is taken as abandoned after this long */
+
+/* 1 when x ends in ".XXXXXX", mkstemp's six letters and digits. */
+static int
+has_tmp_tail(const char *x, size_t n)
+{
+	if (n < 7 || x[n - 7] != '.')
+		return 0;
+	for (size_t i = n - 6; i < n; i++)
+		if (!((x[i] >= 'a' && x[i] <= 'z') || (x[i] >= 'A' &&
+		    x[i] <= 'Z') || (x[i] >= '0' && x[i] <= '9')))
+			return 0;
+	return 1;
+}
+
+/* 1 when name is ".BASE.XXXXXX". */
+static int
+is_tmp_of(const char *name, const char *base, size_t blen)
+{
+	return name[0] == '.' && strncmp(name + 1, base, blen) == 0 &&
+	    strlen(name) == blen + 8 && has_tmp_tail(name, blen + 8);
+}
+
+/* 1 when fd carries our mark. */
+static int
+marked(int fd)
+{
+	char v[8];
+
+	return fgetxattr(fd, MARK, v, sizeof v) >= 0;
+}
+
+/* A temporary file whose lock can be taken: its owner is dead. Another
+ * path's (same 0) only when marked. */
+static void
+sweep_file(int pfd, const char *name, int same)
+{
+	int fd = openat(pfd, name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK |
+	    O_CLOEXEC);
+	struct stat a, b;
+
+	if (fd < 0)
+		return;
+	if ((same || marked(fd)) &&
+	    flock(fd, LOCK_EX | LOCK_NB) == 0 && fstat(fd, &a) == 0 &&
+	    S_ISREG(a.st_mode) && fstatat(pfd, name, &b,
+	    AT_SYMLINK_NOFOLLOW) == 0 && a.st_dev == b.st_dev &&
+	    a.st_ino == b.st_ino)
+		unlinkat(pfd, name, 0);
+	close(fd); /* the lock goes with it */
+}
+
+/* A temporary directory whose lock file's lock can be taken, or, of the
+ * same path, that has no lock file and is older than STALE seconds.
+ * Another path's (same 0) only when marked. */
+static void
+sweep_dir(int pfd, const char *name, const struct stat *st, int same)
+{
+	int d = openat(pfd, name, DIRFLAGS), lk;
+
+	if (d < 0)
+		return;
+	if (!same && !marked(d)) {
+		close(d);
+		return;
+	}
+	lk = openat(d, LOCKNAME, O_RDONLY | O_NOFOLLOW | O_NONBLOCK |
+	    O_CLOEXEC);
+	if (lk >= 0) {
+		if (flock(lk, LOCK_EX | LOCK_NB) == 0)
+			rmtree_at(pfd, name);
+		close(lk);
+	} else if (same && errno == ENOENT &&
+	    time(NULL) - st->st_mtime > STALE) {
+		rmtree_at(pfd, name);
+	}
+	close(d);
+}
+
+/* Sweeps the hidden temporaries ".NAME.XXXXXX" that killed runs left in
+ * path's directory: path's own of its kind (dir: directories, else
+ * files), and any other marked one. Best effort: what cannot be read or
+ * removed stays, silently. */
+static void
+sweep(const char *path, int dir)
+{
+	const char *slash = strrchr(path, '/'), *base;
+	char parent[PATH_MAX];
+	struct dirent *de;
+	struct stat st;
+	size_t blen;
+	DIR *D;
+	int pfd;
+
+	base = slash != NULL ? slash + 1 : path;
+	if (slash == NULL)
+		snprintf(parent, sizeof parent, ".");
+	else if ((size_t)snprintf(parent, sizeof parent, "%.*s",
+	    slash == path ? 1 : (int)(slash - path), path) >= sizeof parent)
+		return;
+	if ((blen = strlen(base)) == 0 || (pfd = open(parent, DIRFLAGS)) < 0)
+		return;
+	if ((D = fdopendir(pfd)) == NULL) {
+		close(pfd);
+		return;
+	}
+	while ((de = readdir(D)) != NULL) {
+		size_t n = strlen(de->d_name);
+		int same;
+		/* ".N.XXXXXX" at least */
+		if (de->d_name[0] != '.' || n < 9 ||
+		    !has_tmp_tail(de->d_name, n) || fstatat(pfd, de->d_name,
+		    &st, AT_SYMLINK_NOFOLLOW) != 0)
+			continue;
+		same = is_tmp_of(de->d_name, base, blen);
+		if (S_ISDIR(st.st_mode))
+			sweep_dir(pfd, de->d_name, &st, same && dir);
+		else if (S_ISREG(st.st_mode))
+			sweep_file(pfd, de->d_name, same && !dir);
+	}
+	closedir(D);
+}
+
+/* Waits for the lock on fd, the temporary's (or its lock file's) just
+ * created: 0 held, 1 when a sweeper removed it meanwhile (try again), -1
+ * no locks here. */
+static int
+lock_new(int fd)
+{
+	struct stat st;
+
+	while (flock(fd, LOCK_EX) != 0)
+		if (errno != EINTR)
+			return -1; /* no locks here (some network file
+			            * systems): unguarded, as before */
+	return fstat(fd, &st) == 0 && st.st_nlink == 0;
+}
+
+static int
+out_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	struct stat st;
+	int held = -1;
+
+	memset(o, 0, sizeof *o);
+	o->fd = -1;
+	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+		return tl_fail(e, "%s: is a directory", path);
+	for (int tries = 0;; tries++) {
+		if ((o->path = strdup(path)) == NULL ||
+		    (o->tmp = tmp_name(path, e)) == NULL) {
+			free(o->path);
+			o->path = NULL;
+			return tl_fail(e, "%s: out of memory", path);
+		}
+		o->fd = mkostemp(o->tmp, O_CLOEXEC);
+		if (o->fd < 0) {
+			tl_failsys(e, "%s: cannot create", path);
+			free(o->path), free(o->tmp);
+			o->path = o->tmp = NULL;
+			return -1;
+		}
+		if ((held = lock_new(o->fd)) != 1 || tries == 8)
+			break;
+		close(o->fd); /* swept before we held it */
+		free(o->path), free(o->tmp);
+	}
+	fchmod(o->fd, 0666 & ~current_umask());
+	if (held == 0) /* ours, and its owner alive while it holds the lock */
+		fsetxattr(o->fd, MARK, "1", 1, 0);
+	if (tmp_register(o->tmp, 0, -1, e) < 0) {
+		close(o->fd);
+		unlink(o->tmp);
+		free(o->path), free(o->tmp);
+		o->path = o->tmp = NULL;
+		o->fd = -1;
+		return -1;
+	}
+	return 0;
+}
+
+/* The fatal signals wait while a temporary is created, locked and
+ * registered (not while the directory is swept): one arriving between
+ * the creation and the registration would leave a temporary neither the
+ * handler nor a sweep of another name removes. */
+static void
+fatal_block(sigset_t *old)
+{
+	sigset_t s;
+
+	sigemptyset(&s);
+	sigaddset(&s, SIGINT), sigaddset(&s, SIGTERM);
+	sigaddset(&s, SIGHUP), sigaddset(&s, SIGPIPE);
+	pthread_sigmask(SIG_BLOCK, &s, old);
+}
+
+int
+tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	sigset_t old;
+	int r;
+
+	sweep(path, 0);
+	fatal_block(&old);
+	r = out_begin(o, path, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
+}
+
+void
+tl_out_sweep_dir(const char *dir)
+{
+	struct dirent *de;
+	DIR *D;
+	int pfd;
+
+	if ((pfd = open(dir, DIRFLAGS)) < 0)
+		return;
+	if ((D = fdopendir(pfd)) == NULL) {
+		close(pfd);
+		return;
+	}
+	while ((de = readdir(D)) != NULL)
+		if (de->d_name[0] == '.' &&
+		    has_tmp_tail(de->d_name, strlen(de->d_name)))
+			sweep_file(pfd, de->d_name, 1); /* all ours here */
+	closedir(D);
+}
+
+int
+tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
+{
+	sigset_t old;
+	int r;
+
+	fatal_block(&old);
+	r = out_begin(o, path, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
+}
+
+int
+tl_out_commit(tl_outfile *o, tl_err *e)
+{
+	/* the lock, on a second descriptor, lasts until the rename is done:
+	 * a sweeper finds the locked temporary or the committed file */
+	int lk = o->fd >= 0 ? fcntl(o->fd, F_DUPFD_CLOEXEC, 0) : -1, r = 0;
+
+	if (o->fd >= 0)
+		fremovexattr(o->fd, MARK); /* the result is no temporary */
+	if (o->fd >= 0 && close(o->fd) != 0)
+		r = tl_failsys(e, "%s: write", o->path);
+	o->fd = -1;
+	if (r == 0 && rename(o->tmp, o->path) != 0)
+		r = tl_failsys(e, "%s: rename", o->path);
+	if (r != 0)
+		unlink(o->tmp);
+	if (lk >= 0)
+		close(lk);
+	tmp_unregister(o->tmp);
+	free(o->tmp), free(o->path);
+	o->tmp = o->path = NULL;
+	return r;
+}
+
+void
+tl_out_abort(tl_outfile *o)
+{
+	if (o->tmp == NULL)
+		return;
+	unlink(o->tmp);
+	if (o->fd >= 0)
+		close(o->fd);
+	tmp_unregister(o->tmp);
+	free(o->tmp), free(o->path);
+	o->tmp = o->path = NULL;
+	o->fd = -1;
+}
+
+/* The lock file inside the new directory t, locked: its descriptor, 1 in
+ * *again when a sweeper removed the directory meanwhile, or -1. */
+static int
+dir_lock(const char *t, int *again, tl_err *e)
+{
+	char p[PATH_MAX];
+	int fd;
+
+	*again = 0;
+	if ((size_t)snprintf(p, sizeof p, "%s/%s", t, LOCKNAME) >= sizeof p) {
+		errno = ENAMETOOLONG;
+		return -1;
+	}
+	fd = open(p, O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC,
+	    0600);
+	if (fd < 0)
+		return -1;
+	switch (lock_new(fd)) {
+	case 1:
+		*again = 1;
+		close(fd);
+		return -1;
+	case 0: /* see out_begin */
+		lsetxattr(t, MARK, "1", 1, 0);
+		break;
+	}
+	return fd;
+}
+
+static int
+outdir_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	int again = 0;
+
+	memset(o, 0, sizeof *o);
+	o->fd = -1;
+	for (int tries = 0;; tries++) {
+		if ((o->path = strdup(path)) == NULL ||
+		    (o->tmp = tmp_name(path, e)) == NULL) {
+			free(o->path);
+			o->path = NULL;
+			return tl_fail(e, "%s: out of memory", path);
+		}
+		if (mkdtemp(o->tmp) == NULL) {
+			tl_failsys(e, "%s: cannot create", path);
+			free(o->path), free(o->tmp);
+			o->path = o->tmp = NULL;
+			return -1;
+		}
+		if ((o->fd = dir_lock(o->tmp, &again, e)) >= 0)
+			break;
+		if (!again || tries == 8) {
+			tl_failsys(e, "%s: cannot create", path);
+			rmtree_at(AT_FDCWD, o->tmp);
+			free(o->path), free(o->tmp);
+			o->path = o->tmp = NULL;
+			return -1;
+		}
+		free(o->path), free(o->tmp); /* swept before we held it */
+	}
+	chmod(o->tmp, 0777 & ~current_umask());
+	if (tmp_register(o->tmp, 1, o->fd, e) < 0) {
+		rmtree_at(AT_FDCWD, o->tmp);
+		close(o->fd);
+		free(o->path), free(o->tmp);
+		o->path = o->tmp = NULL;
+		o->fd = -1;
+		return -1;
+	}
+	return 0;
+}
+
+int
+tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
+{
+	sigset_t old;
+	int r;
+
+	sweep(path, 1);
+	fatal_block(&old);
+	r = outdir_begin(o, path, e);
+	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	return r;
+}
+
+/* The lock released and the tree's descriptor state cleared. */
+static void
+outdir_end(tl_outfile *o)
+{
+	tmp_unregister(o->tmp);
+	if (o->fd >= 0)
+		close(o->fd);
+	free(o->tmp), free(o->path);
+	o->tmp = o->path = NULL;
+	o->fd = -1;
+}
+
+int
+tl_dir_install(const char *tmp, const char *path, tl_err *e)
+{
+	struct stat st;
+
+	/* Replace an earlier directory by swapping the two atomically
+	 * (renameat2 RENAME_EXCHANGE), then remove the old one: readers
+	 * see the old tree or the new one, never a mix or nothing. */
+	if (lstat(path, &st) == 0) {
+		if (!S_ISDIR(st.st_mode))
+			return tl_fail(e, "%s: exists and is not a directory",
+			    path);
+		if (syscall(SYS_renameat2, AT_FDCWD, tmp, AT_FDCWD, path,
+		    2 /* RENAME_EXCHANGE */) != 0)
+			return tl_failsys(e, "%s: replace", path);
+		rmtree_at(AT_FDCWD, tmp); /* now the old tree */
+		return 0;
+	}
+	return rename(tmp, path) != 0 ? tl_failsys(e, "%s: rename", path) : 0;
+}
+
+void
+tl_rmtree(const char *path)
+{
+	rmtree_at(AT_FDCWD, path);
+}
+
+int
+tl_outdir_commit(tl_outfile *o, tl_err *e)
+{
+	char lock[PATH_MAX];
+	int r = 0;
+
+	/* The lock file leaves the tree before it is committed (the
+	 * lock itself holds on its descriptor until the rename is done):
+	 * the result holds exactly what the caller put there. */
+	if ((size_t)snprintf(lock, sizeof lock, "%s/%s", o->tmp, LOCKNAME) <
+	    sizeof lock && unlink(lock) != 0 && errno != ENOENT)
+		r = tl_failsys(e, "%s: remove", lock);
+	lremovexattr(o->tmp, MARK); /* the result is no temporary */
+	if (r == 0)
+		r = tl_dir_install(o->tmp, o->path, e);
+	if (r != 0)
+		rmtree_at(AT_FDCWD, o->tmp);
+	outdir_end(o);
+	return r;
+}
+
+void
+tl_outdir_abort(tl_outfile *o)
+{
+	if (o->tmp == NULL)
+		return;
+	/* the lock first: a descriptor for the removal, which may follow
+	 * a failure for want of one */
+	if (o->fd >= 0) {
+		tmp_unlock(o->tmp);
+		close(o->fd);
+		o->fd = -1;
+	}
+	rmtree_at(AT_FDCWD, o->tmp);
+	outdir_end(o);
+}

@@ -1,0 +1,62 @@
+/* outfile.h - outputs that appear complete or not at all: files and
+ * directory trees built under hidden temporary names beside their final
+ * paths and renamed at the end; removed on failure, on a fatal signal,
+ * and, after a SIGKILL or a crash, by the next output begun in the same
+ * directory. */
+#ifndef TL_OUTFILE_H
+#define TL_OUTFILE_H
+
+#include "base/util.h"
+
+/* An output file built under a hidden temporary name beside its final path
+ * and renamed onto it by tl_out_commit. A signal (INT, TERM, HUP, PIPE)
+ * removes every uncommitted temporary before the process dies: that
+ * registry is process-wide by nature, hence the one piece of static state.
+ * What a signal cannot cover (SIGKILL, a crash) the next output begun in
+ * the same directory removes: the builder holds an flock(2) on its
+ * temporary for as long as it lives and marks it (the extended attribute
+ * user.terrain-lod.tmp, removed before the rename), and tl_out_begin first
+ * removes the temporaries ".NAME.XXXXXX" there whose lock it can take
+ * (their owner died): its own path's, and any other marked one; another
+ * tool's, unmarked, are never touched. The fatal signals wait while a
+ * temporary is created, locked and registered. */
+typedef struct {
+	char *path; /* final name */
+	char *tmp;  /* temporary name, same directory */
+	int fd;     /* open for writing (a file); the lock (a directory) */
+} tl_outfile;
+
+int tl_out_begin(tl_outfile *o, const char *path, tl_err *e);
+/* tl_out_begin for a path inside a tree this process is building
+ * (tl_outdir_begin): no dead builder's temporaries can be there, and
+ * looking for them costs a listing of the directory per file, quadratic
+ * in a level of thousands of blocks. */
+int tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e);
+int tl_out_commit(tl_outfile *o, tl_err *e); /* fsync-free close + rename */
+void tl_out_abort(tl_outfile *o);            /* close + unlink, never fails */
+
+/* A temporary directory tree built under a hidden name and renamed at the
+ * end (tilepack), atomically replacing an earlier one; removed
+ * recursively (any depth, symbolic links removed, never followed) by
+ * abort or by a signal. The caller decides whether an existing directory
+ * may be replaced. While it is built the tree holds a lock file ".lock",
+ * flock(2)ed by the builder and removed before the commit, so the result
+ * holds exactly what the caller put there. tl_outdir_begin first removes
+ * the temporaries of dead builders as tl_out_begin does, and its own
+ * path's trees without a lock file older than a minute. An abort closes
+ * the lock first and a descriptor is held in reserve, so that a failure
+ * for want of descriptors (EMFILE) still removes the tree. */
+int tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e);
+/* Removes the temporaries ".NAME.XXXXXX" of dead writers (those whose
+ * lock can be taken) from dir: once, before writing into a directory
+ * that other processes build too (a plan's pieces). Best effort. */
+void tl_out_sweep_dir(const char *dir);
+/* The finished tree tmp becomes path, replacing an earlier directory
+ * there atomically (tl_outdir_commit's last step). */
+int tl_dir_install(const char *tmp, const char *path, tl_err *e);
+/* Removes a tree, as an abort does (symbolic links not followed). */
+void tl_rmtree(const char *path);
+int tl_outdir_commit(tl_outfile *o, tl_err *e);
+void tl_outdir_abort(tl_outfile *o);
+
+#endif

@@ -1,0 +1,547 @@
+/* dem.c - DEM input: the dem object, stdin, the conversion of source
+ * samples to metres (the options are dem_opts.c's). The formats are the
+ * adapters' business: GDAL reads every raster it knows (dem_gdal.c),
+ * OpenImageIO the EXRs GDAL 3.6 cannot read (dem_oiio.c); a list of DEM
+ * files is a mosaic of them (dem_list.c, dem_mosaic.c).
+ *
+ * The source is converted once to float32 rows in an anonymous scratch
+ * file, voids as NaN. Voids are then filled for geometry (dem_voidfill.c) and
+ * the scratch file holds the filled rows followed by a validity mask for
+ * each row that has voids, so any row can be read back in any order with
+ * O(width) memory. A dem may instead read them from a filled DEM file
+ * (dem_filled.c). */
+#include "dem/dem_impl.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "base/outfile.h"
+#include "geo/vdatum.h"
+
+/* --- conversion --------------------------------------------------------- */
+
+static double
+sample(const void *p, int t, size_t k)
+{
+	switch (t) {
+	case TL_PX_U8: return ((const uint8_t *)p)[k];
+	case TL_PX_I8: return ((const int8_t *)p)[k];
+	case TL_PX_U16: return ((const uint16_t *)p)[k];
+	case TL_PX_I16: return ((const int16_t *)p)[k];
+	case TL_PX_U32: return ((const uint32_t *)p)[k];
+	case TL_PX_I32: return ((const int32_t *)p)[k];
+	case TL_PX_F32: return ((const float *)p)[k];
+	case TL_PX_F64: return ((const double *)p)[k];
+	}
+	return NAN;
+}
+
+/* Height of pixel k (stride samples apart) in the file's unit, before
+ * the void test. The RGB encodings read the first three bytes. */
+static double
+decode(const dem_load *L, const void *p, int t, size_t k, int stride)
+{
+	const uint8_t *c = (const uint8_t *)p + k * stride;
+
+	switch (L->enc) {
+	case DEM_ENC_TERRAINRGB:
+		return (c[0] * 65536.0 + c[1] * 256.0 + c[2]) / 10 - 10000;
+	case DEM_ENC_TERRARIUM:
+		return c[0] * 256.0 + c[1] + c[2] / 256.0 - 32768;
+	default:
+		return sample(p, t, k * stride);
+	}
+}
+
+/* Nodata is a raw value (GDAL's convention), so it is tested before
+ * scale and offset. */
+static int
+is_void(const dem_load *L, double v)
+{
+	if (isnan(v))
+		return 1;
+	return L->has_nodata &&
+	    (L->f32 ? (float)v == (float)L->nodata : v == L->nodata);
+}
+
+/* Raw value to metres. Without scale and offset the expression is the
+ * one it always was, so heights stay bit-identical. */
+static double
+metres(const dem_load *L, double v)
+{
+	if (L->scale != 1 || L->offset != 0)
+		v = v * L->scale + L->offset;
+	return v * L->zunit;
+}
+
+int
+dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
+    int n, const unsigned char *mask, tl_err *e)
+{
+	int nv = 0, a, b;
+
+	if (x0 < 0 || y < 0 || n < 0 || x0 + n > L->w || y >= L->h)
+		return tl_fail(e, "%s: sample window outside the raster",
+		    L->what);
+	if (L->flip_y)
+		y = L->h - 1 - y;
+	if (L->flip_x)
+		x0 = L->w - x0 - n;
+	if (y < L->cy0 || y >= L->cy1)
+		return 0;
+	/* north-up columns a .. b-1: those of the n kept */
+	a = x0 > L->cx0 ? x0 : L->cx0;
+	b = x0 + n < L->cx1 ? x0 + n : L->cx1;
+	if (a >= b)
+		return 0;
+	for (int i = a - x0; i < b - x0; i++) {
+		int k = L->flip_x ? n - 1 - i : i;
+		double v = decode(L, p, t, (size_t)k, stride), z;
+		float *o = &L->seg[i - (a - x0)];
+		z = is_void(L, v) || (mask != NULL && mask[k] == 0) ? NAN :
+		    metres(L, v);
+		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
+			*o = NAN;
+			nv++;
+		} else {
+			*o = (float)z;
+		}
+	}
+	if (L->vd != NULL && vdatum_apply(L->vd, y, a, b - a, L->seg, e) < 0)
+		return -1;
+	if (nv > 0) {
+		L->voids += nv;
+		dem_setbit(L->rowvoid, y);
+	}
+	return tl_pwrite(L->fd, L->seg, (size_t)(b - a) * sizeof(float),
+	    ((long long)y * (L->cx1 - L->cx0) + a - L->cx0) *
+	    (long long)sizeof(float), "scratch file", e);
+}
+
+/* The vertical datum conversion, once the georeferencing is known. */
+static int
+datum(dem_load *L, georef *g, const dem_opts *o, tl_err *e)
+{
+	const char *from = o->vdatum != NULL ? o->vdatum : g->vdatum;
+
+	if (o->heights == NULL)
+		return 0;
+	if (g->model == GEO_NONE)
+		return tl_fail(e, "%s: -H %s: the DEM has no CRS, so its "
+		    "heights cannot change datum", L->what, o->heights);
+	if ((L->vd = vdatum_open(g, from, o->heights, e)) == NULL) {
+		char why[sizeof e->msg];
+		snprintf(why, sizeof why, "%s", e->msg);
+		return tl_fail(e, "%s: %s", L->what, why);
+	}
+	snprintf(g->vdatum, sizeof g->vdatum, "%s", vdatum_target_name(L->vd));
+	return 0;
+}
+
+int
+dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
+    int f32, tl_err *e)
+{
+	if (w < 1 || h < 1 || w > DEM_MAXDIM || h > DEM_MAXDIM)
+		return tl_fail(e, "%s: unsupported size %d x %d (1 .. %d a "
+		    "side)", L->what, w, h, DEM_MAXDIM);
+	if ((long long)w * h > DEM_MAXSAMPLES)
+		return tl_fail(e, "%s: %d x %d samples, more than 2^40: refused "
+		    "before reading (a damaged header, or a DEM to cut into "
+		    "tiles first)", L->what, w, h);
+	if ((long long)w * DEM_SAMPLEBYTES > DEM_MAXROW)
+		return tl_fail(e, "%s: rows of %d samples, more than %lld bytes "
+		    "each: refused before reading", L->what, w,
+		    (long long)DEM_MAXROW);
+	g->width = L->w = w;
+	g->height = L->h = h;
+	if (L->cx1 == 0)
+		L->cx0 = 0, L->cx1 = w;
+	if (L->cy1 == 0)
+		L->cy0 = 0, L->cy1 = h;
+	if (L->cy0 < 0 || L->cy0 >= L->cy1 || L->cy1 > h)
+		return tl_fail(e, "%s: rows %d .. %d outside 0 .. %d",
+		    L->what, L->cy0, L->cy1 - 1, h - 1);
+	if (L->cx0 < 0 || L->cx0 >= L->cx1 || L->cx1 > w)
+		return tl_fail(e, "%s: columns %d .. %d outside 0 .. %d",
+		    L->what, L->cx0, L->cx1 - 1, w - 1);
+	L->has_nodata = o->has_nodata ? 1 : g->has_nodata;
+	L->nodata = o->has_nodata ? o->nodata : g->nodata;
+	L->f32 = f32;
+	if (L->zunit == 0)
+		L->zunit = 1;
+	if (L->scale == 0)
+		L->scale = 1;
+	L->print = dem_fingerprint(L, g, o);
+	if (datum(L, g, o, e) < 0)
+		return -1;
+	if (L->info)
+		return 0;
+	/* dem_open_rows: the caller's file */
+	if (L->fd < 0 && (L->fd = tl_scratch(e)) < 0)
+		return -1;
+	L->seg = tl_alloc((size_t)w, sizeof(float), e);
+	L->rowvoid = tl_alloc((size_t)h / 8 + 1, 1, e);
+	return L->seg != NULL && L->rowvoid != NULL ? 0 : -1;
+}
+
+int
+dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
+    tl_err *e)
+{
+	L->enc = o->encoding;
+	if (L->enc == DEM_ENC_AUTO)
+		L->enc = type == TL_PX_U8 && nch >= 3 ? DEM_ENC_TERRAINRGB :
+		    DEM_ENC_GREY;
+	if (L->enc != DEM_ENC_GREY && (type != TL_PX_U8 || nch < 3))
+		return tl_fail(e, "%s: %s encoding needs an 8-bit image with "
+		    "3 or more channels", L->what,
+		    L->enc == DEM_ENC_TERRAINRGB ? "Terrain-RGB" : "Terrarium");
+	return 0;
+}
+
+/* --- input --------------------------------------------------------------- */
+
+/* A DEM on stdin is copied to a file in a private directory, under the
+ * name -n gives (so that GDAL recognises N44W072.hgt by its name) or
+ * "stdin"; the directory is registered for removal by a signal. */
+typedef struct {
+	tl_outfile dir;
+	char path[4096];
+} spool;
+
+static int
+spool_stdin(spool *s, const char *name, tl_err *e)
+{
+	char tmpl[4096], buf[65536];
+	const char *t = getenv("TMPDIR"), *b;
+	long long off = 0;
+	ssize_t n;
+	int fd, r = 0;
+
+	b = name != NULL && strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
+	if (b == NULL || *b == '\0' || strcmp(b, ".") == 0 ||
+	    strcmp(b, "..") == 0)
+		b = "stdin";
+	snprintf(tmpl, sizeof tmpl, "%s/dem-stdin", t && *t ? t : "/tmp");
+	if (tl_outdir_begin(&s->dir, tmpl, e) < 0)
+		return -1;
+	if ((size_t)snprintf(s->path, sizeof s->path, "%s/%s", s->dir.tmp, b) >=
+	    sizeof s->path)
+		return tl_fail(e, "-n %s: name too long", name);
+	if ((fd = open(s->path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC,
+	    0600)) < 0)
+		return tl_failsys(e, "%s: cannot create", s->path);
+	while (r == 0) {
+		n = read(STDIN_FILENO, buf, sizeof buf);
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0)
+			r = tl_failsys(e, "stdin: read");
+		else if (n == 0)
+			break;
+		else if (tl_pwrite(fd, buf, (size_t)n, off, "stdin spool",
+		    e) < 0)
+			r = -1;
+		off += n;
+	}
+	close(fd);
+	if (r == 0 && off == 0)
+		r = tl_fail(e, "stdin: empty");
+	return r;
+}
+
+/* What the first bytes say: an EXR, a format GDAL reads that we know by
+ * its magic (so that GDAL's refusal means damage), or no telling. */
+enum magic { MAGIC_NONE, MAGIC_EXR, MAGIC_KNOWN };
+
+/* A named file: refuse what cannot be a raster before GDAL guesses. */
+static int
+check_file(const char *path, enum magic *kind, tl_err *e)
+{
+	unsigned char m[8];
+	struct stat st;
+	ssize_t n;
+	int fd;
+
+	*kind = MAGIC_NONE;
+	/* O_NONBLOCK: a FIFO's open must not wait for a writer */
+	if ((fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0)
+		return tl_failsys(e, "%s: cannot open", path);
+	if (fstat(fd, &st) != 0) {
+		close(fd);
+		return tl_failsys(e, "%s: stat", path);
+	}
+	if (S_ISDIR(st.st_mode)) {
+		close(fd);
+		return tl_fail(e, "%s: is a directory", path);
+	}
+	/* GDAL would read a FIFO or a device forever, or seek in vain */
+	if (!S_ISREG(st.st_mode)) {
+		close(fd);
+		return tl_fail(e, "%s: not a regular file (%s): a DEM is read "
+		    "from a file, or from standard input as -", path,
+		    S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISSOCK(st.st_mode) ?
+		    "a socket" : "a device");
+	}
+	do
+		n = pread(fd, m, sizeof m, 0);
+	while (n < 0 && errno == EINTR);
+	close(fd);
+	if (n < 0)
+		return tl_failsys(e, "%s: read", path);
+	if (n == 0)
+		return tl_fail(e, "%s: empty file", path);
+	if (n >= 4 && memcmp(m, "\x76\x2f\x31\x01", 4) == 0)
+		*kind = MAGIC_EXR;
+	else if (n >= 4 && (memcmp(m, "II*\0", 4) == 0 ||
+	    memcmp(m, "MM\0*", 4) == 0 || memcmp(m, "II+\0", 4) == 0 ||
+	    memcmp(m, "MM\0+", 4) == 0 ||
+	    (n == 8 && memcmp(m, "\x89PNG\r\n\x1a\n", 8) == 0)))
+		*kind = MAGIC_KNOWN;
+	return 0;
+}
+
+/* EXR goes to OpenImageIO; everything else to GDAL, then, for what GDAL
+ * does not know, a list of DEM files (its relative entries relative to
+ * base, NULL: to its own directory), then OpenImageIO for the few
+ * formats only it reads. */
+static int
+read_any(dem_load *L, georef *g, const char *path, const char *base,
+    const dem_opts *o, tl_err *e)
+{
+	enum magic kind;
+	int r;
+
+	/* GDAL's virtual file systems (/vsizip/...): GDAL's alone */
+	if (strncmp(path, "/vsi", 4) == 0)
+		return (r = dem_read_gdal(L, g, path, o, e)) <= 0 ? r :
+		    tl_fail(e, "%s: not a raster GDAL reads", L->what);
+	if (check_file(path, &kind, e) < 0)
+		return -1;
+	if (kind != MAGIC_EXR && (r = dem_read_gdal(L, g, path, o, e)) <= 0)
+		return r;
+	if (kind == MAGIC_KNOWN)
+		return tl_fail(e, "%s: truncated or corrupt (GDAL cannot open "
+		    "it)", L->what);
+	if (kind == MAGIC_NONE && (r = dem_read_list(L, g, path, base, o,
+	    e)) <= 0)
+		return r;
+	if ((r = dem_read_oiio(L, g, path, kind == MAGIC_EXR, o, e)) > 0)
+		return tl_fail(e, "%s: not a raster (any format GDAL reads, "
+		    "or EXR) nor a list of DEM files%s", L->what,
+		    strcmp(L->what, "stdin") == 0 ?
+		    "; a format GDAL knows by its file name (an .hgt) needs "
+		    "that name on stdin: -n NAME" : "");
+	return r;
+}
+
+/* A failure of the anonymous scratch file (conversion, fill) names its
+ * directory and, when it is full or a limit is met, what to do: the copy
+ * takes 4 bytes a sample, the fill up to 9 more (nearest samples, masks)
+ * for each sample of a row with voids. */
+static void
+scratch_note(long long w, long long h, int voids, tl_err *e)
+{
+	const char *dir = getenv("TMPDIR");
+	char m[sizeof e->msg];
+	int full;
+
+	if (strncmp(e->msg, "scratch file", 12) != 0)
+		return;
+	if (dir == NULL || *dir == '\0')
+		dir = "/tmp";
+	full = strstr(e->msg, strerror(ENOSPC)) != NULL ||
+	    strstr(e->msg, strerror(EDQUOT)) != NULL ||
+	    strstr(e->msg, strerror(EFBIG)) != NULL;
+	snprintf(m, sizeof m, "%s", e->msg + 12);
+	tl_fail(e, "scratch file in %.200s%s%s%lld%s", dir, m, full ?
+	    " (it needs up to " : "", full ? (w * h * (voids ? 13 : 4) >>
+	    20) + 1 : 0, full ? " MiB: set TMPDIR to a directory with room, "
+	    "or raise ulimit -f)" : "");
+}
+
+/* info: the header only; cols (2 ints, or NULL): only those columns;
+ * rows (2 ints and an fd, or NULL): only those rows, into that file */
+static dem *
+open_dem(const char *path, const dem_opts *o, int info, const int *cols,
+    const int *rows, tl_err *e)
+{
+	static const dem_opts none;
+	spool sp = { { NULL, NULL, -1 }, "" };
+	dem_load L = { 0 };
+	dem *d;
+	int r;
+
+	if (o == NULL)
+		o = &none;
+	if ((d = tl_alloc(1, sizeof *d, e)) == NULL)
+		return NULL;
+	d->fd = L.fd = -1;
+	L.info = info;
+	if (cols != NULL)
+		L.cx0 = cols[0], L.cx1 = cols[1], d->unfilled = 1;
+	if (rows != NULL) {
+		L.cy0 = rows[0], L.cy1 = rows[1], d->unfilled = 1;
+		if (rows[2] >= 0 &&
+		    (L.fd = d->fd = fcntl(rows[2], F_DUPFD_CLOEXEC, 0)) < 0) {
+			tl_failsys(e, "%s: dup", path);
+			free(d);
+			return NULL;
+		}
+	}
+	dem_name(strcmp(path, "-") == 0 ? "stdin" : path, d->what);
+	L.what = d->what;
+	if (strcmp(path, "-") == 0) {
+		r = spool_stdin(&sp, o->hgt_name, e);
+		/* a list on stdin: relative to the current directory */
+		if (r == 0)
+			r = read_any(&L, &d->g, sp.path, ".", o, e);
+		if (sp.dir.tmp != NULL)
+			tl_outdir_abort(&sp.dir);
+	} else {
+		r = read_any(&L, &d->g, path, NULL, o, e);
+	}
+	free(L.seg);
+	vdatum_close(L.vd);
+	d->fd = L.fd;
+	d->rowvoid = L.rowvoid;
+	d->voids = info ? -1 : L.voids;
+	d->zunit = L.zunit;
+	d->print = L.print;
+	d->cx0 = L.cx0, d->cw = L.cx1 - L.cx0;
+	d->cy0 = L.cy0, d->cy1 = L.cy1;
+	/* a window may be all voids, and is not filled: filling reaches
+	 * across the whole DEM */
+	if (r == 0 && !info && cols == NULL && rows == NULL &&
+	    L.voids == (long long)L.w * L.h)
+		r = tl_fail(e, "%s: no valid samples (every sample is a void)",
+		    d->what);
+	if (r == 0 && !info && cols == NULL && rows == NULL && L.voids > 0)
+		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
+	if (r < 0)
+		scratch_note(L.w, L.h, L.voids > 0, e);
+	if (r < 0) {
+		dem_close(d);
+		return NULL;
+	}
+	return d;
+}
+
+dem *
+dem_open(const char *path, const dem_opts *o, tl_err *e)
+{
+	return open_dem(path, o, 0, NULL, NULL, e);
+}
+
+dem *
+dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
+    tl_err *e)
+{
+	return open_dem(path, o, 0, (const int[]){ x0, x1 }, NULL, e);
+}
+
+dem *
+dem_open_window(const char *path, const dem_opts *o, int x0, int x1, int y0,
+    int y1, tl_err *e)
+{
+	return open_dem(path, o, 0, (const int[]){ x0, x1 },
+	    (const int[]){ y0, y1, -1 }, e);
+}
+
+dem *
+dem_open_info(const char *path, const dem_opts *o, tl_err *e)
+{
+	return open_dem(path, o, 1, NULL, NULL, e);
+}
+
+dem *
+dem_open_rows(const char *path, const dem_opts *o, int y0, int y1, int fd,
+    tl_err *e)
+{
+	return open_dem(path, o, 0, NULL, (const int[]){ y0, y1, fd }, e);
+}
+
+const georef *
+dem_georef(const dem *d)
+{
+	return &d->g;
+}
+
+long long
+dem_voids(const dem *d)
+{
+	return d->voids;
+}
+
+double
+dem_zunit(const dem *d)
+{
+	return d->zunit;
+}
+
+int
+dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
+    tl_err *e)
+{
+	long long w = d->cw, h = d->g.height;
+
+	if (d->fd < 0)
+		return tl_fail(e, "%s: opened for its header only", d->what);
+	if (j < 0 || j >= h)
+		return tl_fail(e, "%s: row %d outside 0 .. %lld", d->what, j,
+		    h - 1);
+	if (d->cy1 > 0 && (j < d->cy0 || j >= d->cy1))
+		return tl_fail(e, "%s: row %d outside the rows read, %d .. %d",
+		    d->what, j, d->cy0, d->cy1 - 1);
+	if (x0 < d->cx0 || n < 0 || x0 + (long long)n > d->cx0 + w)
+		return tl_fail(e, "%s: columns %d .. %lld outside %d .. %lld",
+		    d->what, x0, x0 + (long long)n - 1, d->cx0,
+		    d->cx0 + w - 1);
+	x0 -= d->cx0;
+	if (d->file != NULL)
+		return dem_file_span(d, j, x0, n, z, valid, e);
+	if (tl_pread(d->fd, z, (size_t)n * sizeof(float),
+	    (j * w + x0) * (long long)sizeof(float), "DEM scratch file",
+	    e) < 0)
+		return -1;
+	if (valid == NULL)
+		return 0;
+	if (!dem_bit(d->rowvoid, j)) {
+		memset(valid, 1, (size_t)n);
+		return 0;
+	}
+	if (d->unfilled) {
+		for (int i = 0; i < n; i++)
+			valid[i] = !isnan(z[i]);
+		return 0;
+	}
+	return tl_pread(d->fd, valid, (size_t)n,
+	    h * w * (long long)sizeof(float) + j * w + x0, "DEM scratch file",
+	    e);
+}
+
+int
+dem_read_row(dem *d, int j, float *z, unsigned char *valid, tl_err *e)
+{
+	return dem_read_span(d, j, 0, d->g.width, z, valid, e);
+}
+
+void
+dem_close(dem *d)
+{
+	if (d == NULL)
+		return;
+	if (d->fd >= 0)
+		close(d->fd);
+	free(d->rowvoid);
+	free(d->file);
+	free(d);
+}

@@ -1,0 +1,1021 @@
+/* dem_mosaic.c - several DEM files read as one (dem2fqm(1), MOSAICS).
+ * Each tile is checked against the first: CRS, pixel size, one grid,
+ * bands, sample type, nodata, scale and offset, unit, AREA_OR_POINT;
+ * tiles that overlap (SRTM tiles share their edge row and column) are
+ * compared where they do. GDALBuildVRT then makes them one in-memory
+ * VRT, which the GDAL adapter reads like any dataset (dem_gdal.c). The
+ * checks sort (by west edge, by inode), so that thousands of tiles cost
+ * O(n log n), not a pass over every pair; a file listed twice is read
+ * once. A VRT file's sources are checked too (dem_vrt_tiles): what they
+ * say that the VRT lost, and that GDAL would not resample them.
+ *
+ * Only headers are held, one per tile: samples stream through GDAL's
+ * block cache; at most two tiles are open at once besides the VRT's own
+ * pool of open sources, which GDAL bounds. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include <cpl_minixml.h>
+#include <cpl_string.h>
+#include <gdal.h>
+#include <gdal_utils.h>
+#include <ogr_srs_api.h>
+
+#include "dem/dem_impl.h"
+
+#define GRID_TOL 1e-6          /* of a pixel: "on one grid" */
+#define CMP_SAMPLES (1 << 18)  /* per overlap window and tile */
+
+/* A tile's place in the mosaic's grid: columns col .. col+w-1, rows
+ * row .. row+h-1. */
+typedef struct {
+	const char *path;
+	int col, row, w, h;
+	int dup;           /* the earlier entry naming the same file, or -1 */
+	dev_t dev;         /* the file, to know it listed again */
+	ino_t ino;
+} tile;
+
+/* A tile's header: what every tile must share with the first. */
+typedef struct {
+	const char *path;
+	char name[DEM_NAME];       /* path for messages (dem_name) */
+	OGRSpatialReferenceH srs;  /* a clone (the file closes), NULL: none */
+	double gt[6];
+	int w, h, bh;              /* size, block height */
+	int nbands, i8, point, has_nodata;
+	GDALDataType type;
+	double nodata, scale, offset;
+	char driver[32], aop[16], unit[64];
+} head;
+
+/* --- headers ------------------------------------------------------------- */
+
+static GDALDatasetH
+tile_open(const char *path, tl_err *e)
+{
+	GDALDatasetH ds;
+	dem_gdal_msg c;
+	char name[DEM_NAME];
+
+	dem_name(path, name);
+	dem_gdal_catch(&c);
+	ds = dem_gdal_open(path);
+	dem_gdal_release();
+	if (ds == NULL && (c.msg[0] == '\0' || strstr(c.msg,
+	    "not recognized") != NULL))
+		tl_fail(e, "%s: not a raster GDAL reads (a mosaic's tiles are "
+		    "read by GDAL)", name);
+	else if (ds == NULL)
+		tl_fail(e, "%s: truncated or corrupt: %s", name, c.msg);
+	else if (GDALGetRasterCount(ds) < 1) {
+		GDALClose(ds);
+		ds = NULL;
+		tl_fail(e, "%s: no raster band", name);
+	}
+	return ds;
+}
+
+/* The tile's place on Earth: a north-up geotransform, since the VRT
+ * places tiles by it and cannot turn them. */
+static int
+head_place(GDALDatasetH ds, head *h, tl_err *e)
+{
+	double *gt = h->gt;
+
+	if (GDALGetGeoTransform(ds, gt) != CE_None)
+		return tl_fail(e, "%s: no geotransform: a mosaic places its "
+		    "tiles by theirs", h->name);
+	if (gt[2] != 0 || gt[4] != 0)
+		return tl_fail(e, "%s: rotated or sheared georeferencing is not "
+		    "supported: warp it north-up first (gdalwarp)", h->name);
+	if (!isfinite(gt[0]) || !isfinite(gt[3]) || !(gt[1] > 0) ||
+	    !(gt[5] < 0) || !isfinite(gt[1]) || !isfinite(gt[5]))
+		return tl_fail(e, "%s: pixel size %g x %g: a mosaic's tiles "
+		    "must run east and south (gdalwarp them north-up first)",
+		    h->name, gt[1], gt[5]);
+	return 0;
+}
+
+static int
+head_read(GDALDatasetH ds, const char *path, head *h, tl_err *e)
+{
+	GDALRasterBandH b = GDALGetRasterBand(ds, 1);
+	OGRSpatialReferenceH srs = GDALGetSpatialRef(ds);
+	const char *p;
+	int bx, ok;
+
+	memset(h, 0, sizeof *h);
+	h->path = path;
+	dem_name(path, h->name);
+	if (head_place(ds, h, e) < 0)
+		return -1;
+	if (srs != NULL && (h->srs = OSRClone(srs)) == NULL)
+		return tl_fail(e, "%s: out of memory", h->name);
+	h->w = GDALGetRasterXSize(ds);
+	h->h = GDALGetRasterYSize(ds);
+	GDALGetBlockSize(b, &bx, &h->bh);
+	h->nbands = GDALGetRasterCount(ds);
+	h->type = GDALGetRasterDataType(b);
+	p = GDALGetMetadataItem(b, "PIXELTYPE", "IMAGE_STRUCTURE");
+	h->i8 = h->type == GDT_Byte && p != NULL && strcmp(p, "SIGNEDBYTE") == 0;
+	h->nodata = GDALGetRasterNoDataValue(b, &h->has_nodata);
+	h->scale = GDALGetRasterScale(b, &ok);
+	h->offset = GDALGetRasterOffset(b, &ok);
+	snprintf(h->driver, sizeof h->driver, "%s",
+	    GDALGetDriverShortName(GDALGetDatasetDriver(ds)));
+	p = GDALGetMetadataItem(ds, "AREA_OR_POINT", NULL);
+	snprintf(h->aop, sizeof h->aop, "%s", p != NULL ? p : "");
+	h->point = strcasecmp(h->aop, "Point") == 0;
+	p = GDALGetRasterUnitType(b);
+	snprintf(h->unit, sizeof h->unit, "%s", p != NULL ? p : "");
+	return 0;
+}
+
+/* --- agreement with the first tile ---------------------------------------- */
+
+static const char *
+crs_label(OGRSpatialReferenceH s)
+{
+	const char *n = s != NULL ? OSRGetName(s) : NULL;
+
+	return s == NULL ? "none" : n != NULL ? n : "unnamed";
+}
+
+static void
+nodata_label(const head *h, char *buf, size_t n)
+{
+	if (!h->has_nodata)
+		snprintf(buf, n, "none");
+	else
+		snprintf(buf, n, "%.17g", h->nodata);
+}
+
+static const char *
+type_label(const head *h)
+{
+	return h->i8 ? "Int8 (signed Byte)" : GDALGetDataTypeName(h->type);
+}
+
+/* The tile's place on the first's grid (t->col, t->row): the same pixel
+ * size and an origin a whole number of pixels away. A pixel size may
+ * differ only so little that the tile's far edge stays on the grid. */
+static int
+agree_grid(const head *r, const head *h, tile *t, tl_err *e)
+{
+	double fx = (h->gt[0] - r->gt[0]) / r->gt[1];
+	double fy = (h->gt[3] - r->gt[3]) / r->gt[5];
+
+	if (fabs(h->gt[1] / r->gt[1] - 1) * h->w > GRID_TOL ||
+	    fabs(h->gt[5] / r->gt[5] - 1) * h->h > GRID_TOL)
+		return tl_fail(e, "%s: pixel size %.10g x %.10g, the first "
+		    "file's (%s) %.10g x %.10g: tiles are never resampled "
+		    "(gdalwarp -tr them to one grid first)", h->name, h->gt[1],
+		    -h->gt[5], r->name, r->gt[1], -r->gt[5]);
+	if (fabs(fx) > DEM_MAXDIM || fabs(fy) > DEM_MAXDIM)
+		return tl_fail(e, "%s: more than %d pixels from the first file "
+		    "(%s): too far for one DEM", h->name, DEM_MAXDIM, r->name);
+	if (fabs(fx - round(fx)) > GRID_TOL || fabs(fy - round(fy)) > GRID_TOL)
+		return tl_fail(e, "%s: origin off the first file's (%s) grid by "
+		    "%.3g pixel in x and %.3g in y: tiles must share one grid "
+		    "(gdalwarp them onto it first)", h->name, r->name,
+		    fx - round(fx), fy - round(fy));
+	t->col = (int)round(fx);
+	t->row = (int)round(fy);
+	t->w = h->w;
+	t->h = h->h;
+	return 0;
+}
+
+/* Nodata equal, NaN to NaN; -N overrides them all, so then it does not
+ * matter. */
+static int
+agree_nodata(const head *r, const head *h, const dem_opts *o, tl_err *e)
+{
+	char a[64], b[64];
+
+	if (o->has_nodata || (!r->has_nodata && !h->has_nodata) ||
+	    (r->has_nodata && h->has_nodata && (r->nodata == h->nodata ||
+	    (isnan(r->nodata) && isnan(h->nodata)))))
+		return 0;
+	nodata_label(h, a, sizeof a);
+	nodata_label(r, b, sizeof b);
+	return tl_fail(e, "%s: nodata %s, the first file's (%s) %s", h->name,
+	    a, r->name, b);
+}
+
+/* What the samples mean: bands, type, nodata, scale, unit, point. */
+static int
+agree_samples(const head *r, const head *h, const dem_opts *o, tl_err *e)
+{
+	if (h->nbands != r->nbands)
+		return tl_fail(e, "%s: %d bands, the first file's (%s) %d",
+		    h->name, h->nbands, r->name, r->nbands);
+	if (h->type != r->type || h->i8 != r->i8)
+		return tl_fail(e, "%s: %s samples, the first file's (%s) %s",
+		    h->name, type_label(h), r->name, type_label(r));
+	if (agree_nodata(r, h, o, e) < 0)
+		return -1;
+	if (h->scale != r->scale || h->offset != r->offset)
+		return tl_fail(e, "%s: scale %g and offset %g, the first file's "
+		    "(%s) %g and %g", h->name, h->scale, h->offset, r->name,
+		    r->scale, r->offset);
+	if (strcasecmp(h->unit, r->unit) != 0)
+		return tl_fail(e, "%s: heights in '%s', the first file's (%s) "
+		    "in '%s'", h->name, h->unit, r->name, r->unit);
+	if (h->point != r->point)
+		return tl_fail(e, "%s: pixel-is-%s, the first file's (%s) "
+		    "pixel-is-%s: their georeferencing differs by half a pixel",
+		    h->name, h->point ? "point" : "area", r->name,
+		    r->point ? "point" : "area");
+	return 0;
+}
+
+static int
+agree(const head *r, const head *h, tile *t, const dem_opts *o, tl_err *e)
+{
+	if ((r->srs == NULL) != (h->srs == NULL) ||
+	    (r->srs != NULL && !OSRIsSame(r->srs, h->srs)))
+		return tl_fail(e, "%s: CRS %s, the first file's (%s) %s",
+		    h->name, crs_label(h->srs), r->name, crs_label(r->srs));
+	if (agree_grid(r, h, t, e) < 0)
+		return -1;
+	return agree_samples(r, h, o, e);
+}
+
+/* What the tiles agree on for the reader (dem_tiles): an empty field
+ * once two differ. */
+static void
+tiles_note(dem_tiles *t, const head *h, int first)
+{
+	if (first) {
+		snprintf(t->driver, sizeof t->driver, "%s", h->driver);
+		snprintf(t->aop, sizeof t->aop, "%s", h->aop);
+		snprintf(t->unit, sizeof t->unit, "%s", h->unit);
+		t->signed_byte = h->i8;
+	}
+	if (strcmp(t->driver, h->driver) != 0)
+		t->driver[0] = '\0';
+	if (strcasecmp(t->aop, h->aop) != 0)
+		t->aop[0] = '\0';
+	if (strcasecmp(t->unit, h->unit) != 0)
+		t->unit[0] = '\0';
+	t->signed_byte &= h->i8;
+	if (h->bh > t->rows)
+		t->rows = h->bh;
+}
+
+static int head_vrt(GDALDatasetH ds, head *h, const dem_opts *o,
+    int depth, tl_err *e);
+
+/* Every tile's header against the first's (kept in r), one file open at
+ * a time; places moved so that the grid starts at (0, 0). */
+static int
+check_all(char *const *paths, int n, tile *tl, head *r, dem_tiles *dt,
+    const dem_opts *o, tl_err *e)
+{
+	int mincol = 0, minrow = 0;
+
+	for (int k = 0; k < n; k++) {
+		GDALDatasetH ds = tile_open(paths[k], e);
+		head h;
+		int rc;
+
+		if (ds == NULL)
+			return -1;
+		rc = head_read(ds, paths[k], k == 0 ? r : &h, e);
+		/* a VRT entry: what its tiles say */
+		if (rc == 0)
+			rc = head_vrt(ds, k == 0 ? r : &h, o, 0, e);
+		GDALClose(ds);
+		if (rc < 0)
+			return -1;
+		tl[k].path = paths[k];
+		rc = agree(r, k == 0 ? r : &h, &tl[k], o, e);
+		tiles_note(dt, k == 0 ? r : &h, k == 0);
+		if (k > 0 && h.srs != NULL)
+			OSRDestroySpatialReference(h.srs);
+		if (rc < 0)
+			return -1;
+		mincol = tl[k].col < mincol ? tl[k].col : mincol;
+		minrow = tl[k].row < minrow ? tl[k].row : minrow;
+	}
+	for (int k = 0; k < n; k++)
+		tl[k].col -= mincol, tl[k].row -= minrow;
+	return 0;
+}
+
+/* --- a file listed again ----------------------------------------------- */
+
+typedef struct {
+	dev_t dev;
+	ino_t ino;
+	int k;
+} ident;
+
+static int
+cmp_ident(const void *a, const void *b)
+{
+	const ident *x = a, *y = b;
+
+	if (x->dev != y->dev)
+		return x->dev < y->dev ? -1 : 1;
+	if (x->ino != y->ino)
+		return x->ino < y->ino ? -1 : 1;
+	return (x->k > y->k) - (x->k < y->k);
+}
+
+/* Marks each entry naming the file of an earlier one (by device and
+ * inode, so ./a.tif and ../d/a.tif are one), tl[k].dup: it lies where
+ * that one does with the same samples, so it is neither compared again
+ * nor read again. /vsi paths are never the same. Sorted: O(n log n). */
+static int
+mark_dups(tile *tl, int n, tl_err *e)
+{
+	ident *id = tl_alloc((size_t)n, sizeof *id, e);
+	struct stat st;
+	int m = 0;
+
+	if (id == NULL)
+		return -1;
+	for (int k = 0; k < n; k++) {
+		tl[k].dup = -1;
+		if (strncmp(tl[k].path, "/vsi", 4) != 0 &&
+		    stat(tl[k].path, &st) == 0)
+			id[m].dev = st.st_dev, id[m].ino = st.st_ino,
+			    id[m++].k = k;
+	}
+	qsort(id, (size_t)m, sizeof *id, cmp_ident);
+	for (int k = 1; k < m; k++)
+		if (id[k].dev == id[k - 1].dev && id[k].ino == id[k - 1].ino)
+			tl[id[k].k].dup = tl[id[k - 1].k].dup >= 0 ?
+			    tl[id[k - 1].k].dup : id[k - 1].k;
+	free(id);
+	return 0;
+}
+
+/* --- gaps ---------------------------------------------------------------- */
+
+typedef struct {
+	int lo, hi;
+} span;
+
+/* A tile by one of its edges (or a span by its start), and its index. */
+typedef struct {
+	int at, k;
+} key;
+
+static int
+cmp_key(const void *a, const void *b)
+{
+	const key *x = a, *y = b;
+
+	return x->at != y->at ? (x->at > y->at) - (x->at < y->at) :
+	    (x->k > y->k) - (x->k < y->k);
+}
+
+static int
+cmp_int(const void *a, const void *b)
+{
+	int x = *(const int *)a, y = *(const int *)b;
+
+	return (x > y) - (x < y);
+}
+
+static int
+cmp_span(const void *a, const void *b)
+{
+	return cmp_int(&((const span *)a)->lo, &((const span *)b)->lo);
+}
+
+/* Whether the m row spans v (of the tiles over one column slab) cover
+ * rows 0 .. h. */
+static int
+rows_covered(span *v, int m, int h)
+{
+	int reach = 0;
+
+	qsort(v, (size_t)m, sizeof *v, cmp_span);
+	for (int k = 0; k < m && reach < h; k++) {
+		if (v[k].lo > reach)
+			return 0;
+		reach = v[k].hi > reach ? v[k].hi : reach;
+	}
+	return reach >= h;
+}
+
+/* Whether the tiles leave a hole in the rectangle they span: a sweep over
+ * the column slabs between tiles' edges, tiles sorted by their west edge
+ * and only those over a slab (the active ones) looked at: O(n log n) for
+ * tiles on a grid, headers only. */
+static int
+has_gaps(const tile *tl, int n, tl_err *e)
+{
+	key *west = tl_alloc((size_t)n, sizeof *west, e);
+	int *xs = tl_alloc((size_t)n * 2, sizeof *xs, e);
+	int *act = tl_alloc((size_t)n, sizeof *act, e);
+	span *v = tl_alloc((size_t)n, sizeof *v, e);
+	int h = 0, gap = 0, nx = 0, na = 0, next = 0;
+
+	if (west == NULL || xs == NULL || act == NULL || v == NULL)
+		gap = -1;
+	for (int k = 0; k < n && gap == 0; k++) {
+		west[k].at = tl[k].col, west[k].k = k;
+		xs[nx++] = tl[k].col, xs[nx++] = tl[k].col + tl[k].w;
+		h = tl[k].row + tl[k].h > h ? tl[k].row + tl[k].h : h;
+	}
+	if (gap == 0) {
+		qsort(west, (size_t)n, sizeof *west, cmp_key);
+		qsort(xs, (size_t)nx, sizeof *xs, cmp_int);
+	}
+	for (int k = 0; gap == 0 && k + 1 < nx; k++) {
+		int m = 0, keep = 0;
+		if (xs[k] == xs[k + 1])
+			continue;
+		/* no edge lies inside the slab: a tile over its west edge
+		 * covers it whole */
+		while (next < n && west[next].at <= xs[k])
+			act[na++] = west[next++].k;
+		for (int a = 0; a < na; a++)
+			if (tl[act[a]].col + tl[act[a]].w > xs[k])
+				act[keep++] = act[a];
+		na = keep;
+		for (int a = 0; a < na; a++)
+			v[m].lo = tl[act[a]].row, v[m++].hi = tl[act[a]].row +
+			    tl[act[a]].h;
+		gap = !rows_covered(v, m, h);
+	}
+	free(west), free(xs), free(act), free(v);
+	return gap;
+}
+
+/* --- overlaps ---------------------------------------------------------- */
+
+typedef struct {
+	int has_nodata, f32, masks;
+	double nodata;
+	double *pa, *pb;           /* a window of each tile */
+	unsigned char *ma, *mb;    /* their masks, when the tiles have some */
+} cmpbuf;
+
+/* Two overlapping tiles, open. */
+typedef struct {
+	const tile *a, *b;
+	GDALDatasetH da, db;
+} pair;
+
+static int
+void_at(const cmpbuf *c, const double *p, const unsigned char *m, size_t k)
+{
+	double v = p[k];
+
+	if (isnan(v) || (c->masks && m[k] == 0))
+		return 1;
+	return c->has_nodata &&
+	    (c->f32 ? (float)v == (float)c->nodata : v == c->nodata);
+}
+
+/* A real mask (alpha, per dataset, explicit), not one nodata makes. */
+static int
+has_mask(GDALDatasetH ds)
+{
+	return !(GDALGetMaskFlags(GDALGetRasterBand(ds, 1)) &
+	    (GMF_ALL_VALID | GMF_NODATA));
+}
+
+static int
+read_win(const cmpbuf *c, GDALDatasetH ds, const tile *t, int band,
+    const int win[4], double *p, unsigned char *m, tl_err *e)
+{
+	GDALRasterBandH b = GDALGetRasterBand(ds, band);
+	int x = win[0] - t->col, y = win[1] - t->row;
+	dem_gdal_msg g;
+	char name[DEM_NAME];
+	CPLErr err;
+
+	dem_gdal_catch(&g);
+	err = GDALRasterIO(b, GF_Read, x, y, win[2], win[3], p, win[2],
+	    win[3], GDT_Float64, 0, 0);
+	if (err == CE_None && c->masks)
+		err = GDALRasterIO(GDALGetMaskBand(b), GF_Read, x, y, win[2],
+		    win[3], m, win[2], win[3], GDT_Byte, 0, 0);
+	dem_gdal_release();
+	return err == CE_None ? 0 : tl_fail(e, "%s: truncated or corrupt: %s",
+	    dem_name(t->path, name), g.msg[0] ? g.msg : "GDAL cannot read it");
+}
+
+static void
+value_label(const cmpbuf *c, const double *p, const unsigned char *m,
+    size_t k, char *buf, size_t n)
+{
+	if (void_at(c, p, m, k))
+		snprintf(buf, n, "void");
+	else
+		snprintf(buf, n, "%.17g", p[k]);
+}
+
+/* The first sample of window win (x, y, width, height) where the tiles
+ * differ, as read: a void equals a void, whatever says so (NaN, nodata,
+ * mask). */
+static int
+differ(const cmpbuf *c, const pair *p, int band, const int win[4],
+    tl_err *e)
+{
+	size_t n = (size_t)win[2] * win[3];
+	char va[40], vb[40], na[DEM_NAME], nb[DEM_NAME];
+
+	for (size_t k = 0; k < n; k++) {
+		int i = win[0] + (int)(k % win[2]);
+		int j = win[1] + (int)(k / win[2]);
+		int da = void_at(c, c->pa, c->ma, k);
+		int db = void_at(c, c->pb, c->mb, k);
+		if (da == db && (da || c->pa[k] == c->pb[k]))
+			continue;
+		value_label(c, c->pa, c->ma, k, va, sizeof va);
+		value_label(c, c->pb, c->mb, k, vb, sizeof vb);
+		return tl_fail(e, "%s: sample %d,%d%s is %s where it overlaps "
+		    "%s, whose sample %d,%d is %s: overlapping tiles must agree",
+		    dem_name(p->b->path, nb), i - p->b->col, j - p->b->row,
+		    band > 1 ? " of a band past the first" : "", vb,
+		    dem_name(p->a->path, na),
+		    i - p->a->col, j - p->a->row, va);
+	}
+	return 0;
+}
+
+static int
+compare_win(cmpbuf *c, const pair *p, int band, const int win[4],
+    tl_err *e)
+{
+	if (read_win(c, p->da, p->a, band, win, c->pa, c->ma, e) < 0 ||
+	    read_win(c, p->db, p->b, band, win, c->pb, c->mb, e) < 0)
+		return -1;
+	return differ(c, p, band, win, e);
+}
+
+/* The pair where it overlaps, band by band, window by window. */
+static int
+compare_pair(cmpbuf *c, const pair *p, int nbands, tl_err *e)
+{
+	const tile *a = p->a, *b = p->b;
+	int x0 = a->col > b->col ? a->col : b->col;
+	int y0 = a->row > b->row ? a->row : b->row;
+	int x1 = a->col + a->w < b->col + b->w ? a->col + a->w : b->col + b->w;
+	int y1 = a->row + a->h < b->row + b->h ? a->row + a->h : b->row + b->h;
+	int cw = x1 - x0 < CMP_SAMPLES ? x1 - x0 : CMP_SAMPLES;
+	int ch = CMP_SAMPLES / cw, win[4];
+
+	c->masks = has_mask(p->da) || has_mask(p->db);
+	for (int band = 1; band <= nbands; band++)
+		for (win[1] = y0; win[1] < y1; win[1] += ch)
+			for (win[0] = x0; win[0] < x1; win[0] += cw) {
+				win[2] = x1 - win[0] < cw ? x1 - win[0] : cw;
+				win[3] = y1 - win[1] < ch ? y1 - win[1] : ch;
+				if (compare_win(c, p, band, win, e) < 0)
+					return -1;
+			}
+	return 0;
+}
+
+static int
+overlap(const tile *a, const tile *b)
+{
+	return a->col < b->col + b->w && b->col < a->col + a->w &&
+	    a->row < b->row + b->h && b->row < a->row + a->h;
+}
+
+/* Appends the pair i < j to *v (*n of them, room for *cap). */
+static int
+pair_add(key **v, size_t *n, size_t *cap, int i, int j, tl_err *e)
+{
+	key *nv;
+
+	if (*n == *cap) {
+		*cap = *cap ? 2 * *cap : 1024;
+		if ((nv = realloc(*v, *cap * sizeof *nv)) == NULL)
+			return tl_fail(e, "out of memory (overlapping tiles)");
+		*v = nv;
+	}
+	(*v)[*n].at = i < j ? i : j;
+	(*v)[(*n)++].k = i < j ? j : i;
+	return 0;
+}
+
+/* Every pair of tiles that overlap (a tile listed again, dup, is left
+ * out: it is the same file in the same place), in the order i < j, by i
+ * then j, that the check has always taken: tiles sorted by their west
+ * edge, each paired only with those that start before it ends, so that
+ * tiles on a grid cost O(n log n), not n^2. */
+static key *
+overlap_pairs(const tile *tl, int n, size_t *np, tl_err *e)
+{
+	key *west = tl_alloc((size_t)n, sizeof *west, e), *v = NULL;
+	size_t cap = 0;
+	int m = 0, bad = west == NULL;
+
+	*np = 0;
+	for (int k = 0; !bad && k < n; k++)
+		if (tl[k].dup < 0)
+			west[m].at = tl[k].col, west[m++].k = k;
+	if (!bad)
+		qsort(west, (size_t)m, sizeof *west, cmp_key);
+	for (int a = 0; !bad && a < m; a++) {
+		const tile *t = &tl[west[a].k];
+		for (int b = a + 1; !bad && b < m && west[b].at < t->col + t->w;
+		    b++)
+			if (overlap(t, &tl[west[b].k]) && pair_add(&v, np, &cap,
+			    west[a].k, west[b].k, e) < 0)
+				bad = 1;
+	}
+	free(west);
+	if (bad) {
+		free(v);
+		return NULL;
+	}
+	if (*np > 0)
+		qsort(v, *np, sizeof *v, cmp_key);
+	return v != NULL ? v : tl_alloc(1, sizeof *v, e);
+}
+
+/* The pairs v[0 .. n-1] compared, each first tile opened once for its
+ * run of pairs. */
+static int
+compare_pairs(cmpbuf *c, const tile *tl, const key *v, size_t n,
+    int nbands, tl_err *e)
+{
+	pair p = { NULL, NULL, NULL, NULL };
+	int rc = 0;
+
+	for (size_t k = 0; k < n && rc == 0; k++) {
+		if (p.a != &tl[v[k].at]) {
+			if (p.da != NULL)
+				GDALClose(p.da);
+			p.a = &tl[v[k].at];
+			if ((p.da = tile_open(p.a->path, e)) == NULL)
+				return -1;
+		}
+		p.b = &tl[v[k].k];
+		if ((p.db = tile_open(p.b->path, e)) == NULL) {
+			rc = -1;
+			break;
+		}
+		rc = compare_pair(c, &p, nbands, e);
+		GDALClose(p.db);
+	}
+	if (p.da != NULL)
+		GDALClose(p.da);
+	return rc;
+}
+
+/* Every pair of tiles that overlap, compared there. */
+static int
+overlaps(const tile *tl, int n, const head *r, const dem_opts *o,
+    tl_err *e)
+{
+	cmpbuf c = { 0 };
+	size_t np = 0;
+	key *v = overlap_pairs(tl, n, &np, e);
+	int rc = v == NULL ? -1 : 0;
+
+	c.has_nodata = o->has_nodata ? 1 : r->has_nodata;
+	c.nodata = o->has_nodata ? o->nodata : r->nodata;
+	c.f32 = r->type == GDT_Float32;
+	c.pa = tl_alloc(CMP_SAMPLES, sizeof *c.pa, e);
+	c.pb = tl_alloc(CMP_SAMPLES, sizeof *c.pb, e);
+	c.ma = tl_alloc(CMP_SAMPLES, 1, e);
+	c.mb = tl_alloc(CMP_SAMPLES, 1, e);
+	if (c.pa == NULL || c.pb == NULL || c.ma == NULL || c.mb == NULL)
+		rc = -1;
+	if (rc == 0)
+		rc = compare_pairs(&c, tl, v, np, r->nbands, e);
+	free(v);
+	free(c.pa), free(c.pb), free(c.ma), free(c.mb);
+	return rc;
+}
+
+/* --- the VRT --------------------------------------------------------- */
+
+/* The void of a type that has no nodata: its lowest value, NaN for
+ * floats (dem2fqm(1) says so). */
+static double
+lowest(const head *r)
+{
+	if (GDALDataTypeIsFloating(r->type))
+		return NAN;
+	if (r->i8)
+		return -128;
+	if (!GDALDataTypeIsSigned(r->type))
+		return 0;
+	return -ldexp(1, GDALGetDataTypeSizeBits(r->type) - 1);
+}
+
+/* GDALBuildVRT's options: the first tile's pixel size exactly (its
+ * default, the average, may round), our CRS check instead of its own,
+ * and what makes a gap a void: the nodata (-N's, the tiles', else the
+ * type's lowest) or, for an RGB-encoded DEM, an alpha band. */
+static GDALBuildVRTOptions *
+vrt_options(const head *r, int gaps, const dem_opts *o, char nd[64],
+    char tr[2][32])
+{
+	const char *argv[12];
+	int k = 0, rgb = r->type == GDT_Byte && r->nbands >= 3 &&
+	    o->encoding != DEM_ENC_GREY;
+
+	snprintf(tr[0], 32, "%.17g", r->gt[1]);
+	snprintf(tr[1], 32, "%.17g", -r->gt[5]);
+	argv[k++] = "-tr", argv[k++] = tr[0], argv[k++] = tr[1];
+	argv[k++] = "-allow_projection_difference";
+	nd[0] = '\0';
+	if (o->has_nodata)
+		snprintf(nd, 64, "%.17g", o->nodata);
+	else if (r->has_nodata)
+		snprintf(nd, 64, "%.17g", r->nodata);
+	else if (gaps && rgb)
+		argv[k++] = "-addalpha";
+	else if (gaps)
+		snprintf(nd, 64, "%.17g", lowest(r));
+	if (nd[0] != '\0') {
+		argv[k++] = "-srcnodata", argv[k++] = nd;
+		argv[k++] = "-vrtnodata", argv[k++] = nd;
+	}
+	argv[k] = NULL;
+	return GDALBuildVRTOptionsNew((char **)argv, NULL);
+}
+
+/* What GDALBuildVRT drops and the georeferencing or the heights depend
+ * on, copied from the tiles: AREA_OR_POINT (half a pixel), the unit,
+ * signed bytes; scale and offset it keeps, but it is said once more. */
+static void
+vrt_metadata(GDALDatasetH vrt, const head *r)
+{
+	GDALRasterBandH b = GDALGetRasterBand(vrt, 1);
+
+	if (r->aop[0] != '\0')
+		GDALSetMetadataItem(vrt, "AREA_OR_POINT", r->aop, NULL);
+	if (r->unit[0] != '\0')
+		GDALSetRasterUnitType(b, r->unit);
+	if (r->i8)
+		GDALSetMetadataItem(b, "PIXELTYPE", "SIGNEDBYTE",
+		    "IMAGE_STRUCTURE");
+	GDALSetRasterScale(b, r->scale);
+	GDALSetRasterOffset(b, r->offset);
+}
+
+static GDALDatasetH
+vrt_build(char *const *paths, int n, const head *r, int gaps,
+    const dem_opts *o, const char *what, tl_err *e)
+{
+	char nd[64], tr[2][32];
+	GDALBuildVRTOptions *bo = vrt_options(r, gaps, o, nd, tr);
+	GDALDatasetH vrt = NULL;
+	dem_gdal_msg c;
+	int usage = 0;
+
+	dem_gdal_catch(&c);
+	if (bo != NULL)
+		vrt = GDALBuildVRT("", n, NULL, (const char *const *)paths, bo,
+		    &usage);
+	GDALBuildVRTOptionsFree(bo);
+	dem_gdal_release();
+	if (vrt == NULL) {
+		tl_fail(e, "%s: GDALBuildVRT: %s", what, c.msg[0] ? c.msg :
+		    "failed");
+		return NULL;
+	}
+	/* it skips a tile it dislikes with a mere warning; ours are checked,
+	 * so a warning is a check missing here */
+	if (c.warning[0] != '\0') {
+		GDALClose(vrt);
+		tl_fail(e, "%s: GDALBuildVRT: %s", what, c.warning);
+		return NULL;
+	}
+	vrt_metadata(vrt, r);
+	return vrt;
+}
+
+int
+dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
+    const dem_opts *o, tl_err *e)
+{
+	tile *tl = tl_alloc((size_t)n, sizeof *tl, e);
+	char **once = tl_alloc((size_t)n, sizeof *once, e);
+	GDALDatasetH vrt = NULL;
+	dem_tiles dt = { 0 };
+	head r = { 0 };
+	int gaps, rc = -1, m = 0;
+
+	dem_gdal_init();
+	if (tl == NULL || once == NULL || n < 1 ||
+	    check_all(paths, n, tl, &r, &dt, o, e) < 0 ||
+	    mark_dups(tl, n, e) < 0 || (gaps = has_gaps(tl, n, e)) < 0)
+		goto out;
+	/* -I reads no sample: the overlaps wait for the samples' reading */
+	if (!L->info && overlaps(tl, n, &r, o, e) < 0)
+		goto out;
+	/* a file listed again paints what it painted (overlaps agree) */
+	for (int k = 0; k < n; k++)
+		if (tl[k].dup < 0)
+			once[m++] = paths[k];
+	if ((vrt = vrt_build(once, m, &r, gaps, o, L->what, e)) != NULL)
+		rc = dem_read_dataset(L, g, vrt, &dt, o, e);
+out:
+	if (vrt != NULL)
+		GDALClose(vrt);
+	if (r.srs != NULL)
+		OSRDestroySpatialReference(r.srs);
+	free(tl);
+	free(once);
+	return rc;
+}
+
+/* --- a VRT file's sources ------------------------------------------------ */
+
+#define VRT_DEPTH 8  /* VRTs of VRTs looked into; GDAL refuses loops */
+
+/* One source of a VRT (its XML, as the band's "vrt_sources" give it):
+ * refused when GDAL would resample it, scaled (SrcRect's size not
+ * DstRect's) or placed at a fractional pixel, unless --resample. */
+static int
+vrt_rect(CPLXMLNode *x, const char *vrt, const dem_opts *o, tl_err *e)
+{
+	static const char *const k[4] = { "xOff", "yOff", "xSize", "ySize" };
+	CPLXMLNode *sr = CPLGetXMLNode(x, "SrcRect");
+	CPLXMLNode *dr = CPLGetXMLNode(x, "DstRect");
+	const char *f = CPLGetXMLValue(x, "SourceFilename", "?");
+	char nv[DEM_NAME], nf[DEM_NAME];
+	double s[4], d[4];
+
+	if (o->resample || sr == NULL || dr == NULL)
+		return 0;
+	for (int i = 0; i < 4; i++) {
+		s[i] = CPLAtof(CPLGetXMLValue(sr, k[i], "0"));
+		d[i] = CPLAtof(CPLGetXMLValue(dr, k[i], "0"));
+	}
+	dem_name(vrt, nv), dem_name(f, nf);
+	if (fabs(s[2] - d[2]) > GRID_TOL || fabs(s[3] - d[3]) > GRID_TOL)
+		return tl_fail(e, "%s: its source %s is scaled from %.10g x %.10g "
+		    "to %.10g x %.10g pixels: tiles of another pixel size are "
+		    "never resampled (gdalwarp -tr them to one grid first), "
+		    "unless --resample asks for GDAL's resampling", nv, nf, s[2],
+		    s[3], d[2], d[3]);
+	for (int i = 0; i < 4; i++)
+		if (fabs((i < 2 ? d : s)[i % 2] -
+		    round((i < 2 ? d : s)[i % 2])) > GRID_TOL)
+			return tl_fail(e, "%s: its source %s lies off the VRT's "
+			    "grid (%s offset %.10g, %.10g): it would be "
+			    "resampled; gdalwarp it onto the grid first, or give "
+			    "--resample for GDAL's resampling", nv, nf, i < 2 ?
+			    "DstRect" : "SrcRect", (i < 2 ? d : s)[0],
+			    (i < 2 ? d : s)[1]);
+	return 0;
+}
+
+/* Every source of every band of the VRT ds, as vrt_rect checks it. */
+static int
+vrt_rects(GDALDatasetH ds, const dem_opts *o, tl_err *e)
+{
+	const char *self = GDALGetDescription(ds);
+
+	for (int b = 1; b <= GDALGetRasterCount(ds); b++) {
+		char **src = GDALGetMetadata(GDALGetRasterBand(ds, b),
+		    "vrt_sources");
+		for (int k = 0; src != NULL && src[k] != NULL; k++) {
+			const char *v = strchr(src[k], '=');
+			CPLXMLNode *x = v != NULL ? CPLParseXMLString(v + 1) :
+			    NULL;
+			int r = x != NULL ? vrt_rect(x, self, o, e) : 0;
+			if (x != NULL)
+				CPLDestroyXMLNode(x);
+			if (r < 0)
+				return -1;
+		}
+	}
+	return 0;
+}
+
+/* A VRT source's file must be a regular one: GDAL would wait on a FIFO
+ * for ever. */
+static int
+vrt_file(const char *vrt, const char *f, tl_err *e)
+{
+	char nv[DEM_NAME], nf[DEM_NAME];
+	struct stat st;
+
+	if (strncmp(f, "/vsi", 4) == 0 || stat(f, &st) != 0 ||
+	    S_ISREG(st.st_mode))
+		return 0;
+	return tl_fail(e, "%s: its source %s is not a regular file (%s)",
+	    dem_name(vrt, nv), dem_name(f, nf), S_ISDIR(st.st_mode) ?
+	    "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" :
+	    "a device or socket");
+}
+
+static int vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o,
+    int depth, tl_err *e);
+
+/* What a VRT's own sources say, where the VRT h says nothing (a VRT of
+ * VRTs of pixel-is-point tiles is pixel-is-point). */
+static int
+head_vrt(GDALDatasetH ds, head *h, const dem_opts *o, int depth, tl_err *e)
+{
+	dem_tiles sub;
+
+	if (strcmp(h->driver, "VRT") != 0 || depth >= VRT_DEPTH)
+		return 0;
+	if (vrt_tiles(ds, &sub, o, depth + 1, e) < 0)
+		return -1;
+	if (h->aop[0] == '\0')
+		snprintf(h->aop, sizeof h->aop, "%s", sub.aop);
+	h->point = strcasecmp(h->aop, "Point") == 0;
+	if (h->unit[0] == '\0')
+		snprintf(h->unit, sizeof h->unit, "%s", sub.unit);
+	if (sub.driver[0] != '\0')
+		snprintf(h->driver, sizeof h->driver, "%s", sub.driver);
+	h->i8 |= h->type == GDT_Byte && sub.signed_byte;
+	h->bh = sub.rows > h->bh ? sub.rows : h->bh;
+	return 0;
+}
+
+/* The source h of the VRT named vrt against the first, f: a VRT mixing
+ * pixel-is-point and pixel-is-area sources shifts some by half a pixel. */
+static int
+vrt_point(const char *vrt, const head *f, const head *h, tl_err *e)
+{
+	char nv[DEM_NAME];
+
+	if (f->point == h->point)
+		return 0;
+	return tl_fail(e, "%s: its source %s is pixel-is-%s, its source %s "
+	    "pixel-is-%s: their georeferencing differs by half a pixel "
+	    "(gdal_edit.py -mo AREA_OR_POINT= one of them, as it truly is)",
+	    dem_name(vrt, nv), h->name, h->point ? "point" : "area", f->name,
+	    f->point ? "point" : "area");
+}
+
+/* One source file of the VRT ds (not a VRT's own file), noted in t: 1
+ * when it does not open (the VRT's reading then says why). */
+static int
+vrt_source(GDALDatasetH ds, const char *file, dem_tiles *t, head *first,
+    int *seen, const dem_opts *o, int depth, tl_err *e)
+{
+	const char *self = GDALGetDescription(ds);
+	GDALDatasetH s;
+	head h = { 0 };
+	int r = 0;
+
+	if (vrt_file(self, file, e) < 0)
+		return -1;
+	if ((s = dem_gdal_open(file)) == NULL)
+		return 1;
+	if (GDALGetRasterCount(s) < 1 || head_read(s, file, &h, e) < 0)
+		r = 1;
+	else if (head_vrt(s, &h, o, depth, e) < 0 ||
+	    vrt_point(self, *seen ? first : &h, &h, e) < 0)
+		r = -1;
+	else {
+		tiles_note(t, &h, *seen == 0);
+		if ((*seen)++ == 0)
+			*first = h, first->srs = NULL;
+	}
+	if (h.srs != NULL)
+		OSRDestroySpatialReference(h.srs);
+	GDALClose(s);
+	return r;
+}
+
+static int
+vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o, int depth,
+    tl_err *e)
+{
+	char **files = GDALGetFileList(ds);
+	const char *self = GDALGetDescription(ds);
+	head first;
+	int seen = 0, r = 0;
+
+	memset(t, 0, sizeof *t);
+	if (vrt_rects(ds, o, e) < 0)
+		r = -1;
+	for (int k = 0; r == 0 && files != NULL && files[k] != NULL; k++)
+		if (strcmp(files[k], self) != 0 && (r = vrt_source(ds, files[k],
+		    t, &first, &seen, o, depth, e)) > 0)
+			memset(t, 0, sizeof *t); /* and no more */
+	CSLDestroy(files);
+	return r < 0 ? -1 : 0;
+}
+
+int
+dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o, tl_err *e)
+{
+	dem_gdal_msg c;
+	int r;
+
+	/* quiet: a source that does not open only makes them not agree */
+	dem_gdal_catch(&c);
+	r = vrt_tiles(ds, t, o, 0, e);
+	dem_gdal_release();
+	return r;
+}

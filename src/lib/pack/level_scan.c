@@ -1,0 +1,385 @@
+/* level_scan.c - the local and base errors of an undisplaced level, by
+ * whole DEM columns (see level_impl.h).
+ *
+ * tri_row (level.c) finds, for one DEM row and one triangle, the chord
+ * through the triangle in double-precision geometry with tolerances EPS,
+ * then the largest |plane - DEM| over the valid samples on it. On an
+ * undisplaced level every triangle of the 4-8 hierarchy (and every leaf)
+ * has integer vertices and edges that are level, upright or at 45
+ * degrees, and a DEM row lies at y = J / step: the chord's ends are then
+ * whole DEM columns, exactly those tri_row's ceil/floor produce (its
+ * divisions are by powers of two, hence exact, and with step <=
+ * SCAN_MAXSTEP no tolerance reaches the next row or column: 1/step and
+ * f's resolution 1/(step x 128) stay far above EPS, EPS x step far below
+ * one column). So the chords are found once per row, scale, kind and
+ * centre row, relative to the centre, and each diamond only adds its
+ * column. The value measured is tri_row's own: the same plane normal
+ * from the same vertices in the same order, the same z0 and slope, the
+ * same z0 + dz * x - DEM in doubles (x = i / step, a power of two, is
+ * i times 1/step exactly), the same maximum (the order of a maximum
+ * without NaN does not matter; an invalid sample is NaN here and never
+ * wins). */
+#include "pack/level_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* A triangle relative to a centre (cx, cy) on the current DEM row. */
+typedef struct {
+	int ok;             /* the row crosses it and its rows are on the grid */
+	int ox[3], oy[3];   /* its vertices less the centre, in order */
+	int wx[3];          /* ox less the window's c0: where, in the
+	                     * window's rows, centre cx's vertices are */
+	long wlo;           /* lo less the window's d0: where, in dd */
+	int xmin, xmax;     /* of ox */
+	long lo, hi;        /* the row's columns less cx x step */
+	const float *zr[3]; /* the vertices' rows of heights */
+	/* tri_row's p[k] - p[0] in x and y, its normal's z (n[2]), its
+	 * y - p[0][1]: whole numbers and their differences, exact */
+	double d1x, d1y, d2x, d2y, n2, ym;
+	double rn2;         /* 1 / n2 when n2 is a power of 2, else 0 */
+} tmpl;
+
+/* tri_row's chord, in whole DEM columns: the row r (DEM rows, less cy x
+ * step) against each edge; level edges count when the row is on them. */
+static void
+chord(tmpl *t, long S, long r)
+{
+	long X[3], Y[3], ymin, ymax, xl = 0, xr = 0;
+	int any = 0;
+
+	for (int k = 0; k < 3; k++)
+		X[k] = t->ox[k] * S, Y[k] = t->oy[k] * S;
+	ymin = ymax = Y[0];
+	for (int k = 1; k < 3; k++)
+		ymin = Y[k] < ymin ? Y[k] : ymin, ymax = Y[k] > ymax ? Y[k] : ymax;
+	if (r < ymin || r > ymax) {
+		t->ok = 0;
+		return;
+	}
+	for (int k = 0; k < 3; k++) {
+		long ax = X[k], ay = Y[k], bx = X[(k + 1) % 3], by = Y[(k + 1) % 3];
+		long x0, x1;
+		if (ay == by) {
+			if (r != ay)
+				continue;
+			x0 = ax < bx ? ax : bx, x1 = ax < bx ? bx : ax;
+		} else {
+			if ((r - ay) * (by > ay ? 1 : -1) < 0 ||
+			    (by - r) * (by > ay ? 1 : -1) < 0)
+				continue;
+			/* slopes 0 or +-1: exact */
+			assert(((r - ay) * (bx - ax)) % (by - ay) == 0);
+			x0 = x1 = ax + (r - ay) * (bx - ax) / (by - ay);
+		}
+		if (!any || x0 < xl)
+			xl = x0;
+		if (!any || x1 > xr)
+			xr = x1;
+		any = 1;
+	}
+	t->ok = any;
+	t->lo = xl, t->hi = xr;
+}
+
+/* The template of triangle tri about (cx, cy) for DEM row J. */
+static void
+make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
+    int J, double y)
+{
+	long S = (long)s->step;
+
+	t->ok = 1;
+	for (int k = 0; k < 3; k++) {
+		t->ox[k] = tri[k][0] - cx, t->oy[k] = tri[k][1] - cy;
+		t->wx[k] = t->ox[k] - s->c0;
+		if (tri[k][1] < 0 || tri[k][1] >= s->Q)
+			t->ok = 0;
+	}
+	if (!t->ok)
+		return;
+	t->xmin = t->xmax = t->ox[0];
+	for (int k = 1; k < 3; k++) {
+		t->xmin = t->ox[k] < t->xmin ? t->ox[k] : t->xmin;
+		t->xmax = t->ox[k] > t->xmax ? t->ox[k] : t->xmax;
+	}
+	chord(t, S, (long)J - (long)cy * S);
+	if (!t->ok)
+		return;
+	t->wlo = t->lo - s->d0;
+	for (int k = 0; k < 3; k++)
+		t->zr[k] = s->z + slot(s, cy + t->oy[k]);
+	t->d1x = (double)tri[1][0] - tri[0][0];
+	t->d1y = (double)tri[1][1] - tri[0][1];
+	t->d2x = (double)tri[2][0] - tri[0][0];
+	t->d2y = (double)tri[2][1] - tri[0][1];
+	t->n2 = t->d1x * t->d2y - t->d1y * t->d2x;
+	t->ym = y - (double)tri[0][1];
+	/* x / n2 is x x (1 / n2), rounded once, when n2 is a power of 2
+	 * (every triangle here: legs h or 2h, or 1 for leaves) */
+	{
+		int ex;
+		t->rn2 = t->n2 != 0 && fabs(frexp(t->n2, &ex)) == 0.5 ?
+		    1 / t->n2 : 0;
+	}
+}
+
+/* tri_row for template t placed at (cx, cy): -1 when off the grid or no
+ * valid sample. The plane is tri_row's, operation for operation: its
+ * coordinate differences are the template's (exact either way), its
+ * divisions by n2 multiplications by 1 / n2 where that is exact. */
+static inline __attribute__((always_inline)) double
+tri_at(const state *s, const double *dd, const tmpl *t, int cx)
+{
+	double z0, z1, z2, e1, e2, n0, n1, p00, z, dz;
+	long S = (long)s->step, a, b;
+
+	a = (long)cx * S + t->lo, b = (long)cx * S + t->hi;
+	if (a < s->d0)
+		a = s->d0;
+	if (b > s->dend - 1)
+		b = s->dend - 1;
+	if (a > b)
+		return -1;
+	z0 = t->zr[0][cx + t->wx[0]];
+	z1 = t->zr[1][cx + t->wx[1]];
+	z2 = t->zr[2][cx + t->wx[2]];
+	e1 = z1 - z0, e2 = z2 - z0;
+	n0 = t->d1y * e2 - e1 * t->d2y;
+	n1 = e1 * t->d2x - t->d1x * e2;
+	p00 = cx + t->ox[0];
+	if (t->rn2 != 0) {
+		dz = -n0 * t->rn2;
+		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
+	} else {
+		dz = -n0 / t->n2;
+		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
+	}
+	return sweep(dd, s->d0, a, b, z, dz, 1 / s->step);
+}
+
+/* Four centres at once: short chords (every one of level 0's, most of
+ * level 1's) make tri_at's set-up the cost, and its arithmetic is the
+ * same for every centre of a template: each lane does tri_at's and
+ * sweep's operations in their order (v4d, level_impl.h). */
+#define LANES 4
+/* chords of at most this many samples go LANES centres at a time;
+ * longer ones are swept along the row (sweep), which loads contiguously */
+#define SHORT 12
+
+/* tri_at of centres cx, cx + stride, ... (LANES of them) into err, every
+ * chord inside the DEM row. The maximum keeps w where d is NaN (an
+ * invalid sample), as sweep does. */
+static inline __attribute__((always_inline)) void
+tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
+    double err[LANES])
+{
+	v4d z0, z1, z2, p00, e1, e2, n0, n1, z, dz, x, w = { -1, -1, -1, -1 };
+	const double *q0, *q1, *q2, *q3;
+	long S = (long)s->step, c[LANES];
+	double inv = 1 / s->step;
+
+	/* vectors built from scalars, not through memory (store forwarding) */
+	for (int k = 0; k < LANES; k++)
+		c[k] = cx + k * stride;
+#define LOAD(r) (v4d){ t->zr[r][c[0] + t->wx[r]], \
+	    t->zr[r][c[1] + t->wx[r]], t->zr[r][c[2] + t->wx[r]], \
+	    t->zr[r][c[3] + t->wx[r]] }
+	z0 = LOAD(0), z1 = LOAD(1), z2 = LOAD(2);
+#undef LOAD
+	p00 = (v4d){ c[0] + t->ox[0], c[1] + t->ox[0], c[2] + t->ox[0],
+	    c[3] + t->ox[0] };
+	e1 = z1 - z0, e2 = z2 - z0;
+	n0 = t->d1y * e2 - e1 * t->d2y;
+	n1 = e1 * t->d2x - t->d1x * e2;
+	if (t->rn2 != 0) {
+		dz = -n0 * t->rn2;
+		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
+	} else {
+		dz = -n0 / t->n2;
+		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
+	}
+	/* the columns as doubles: whole numbers, so adding 1 is exact; DEM
+	 * column i at i - d0 in dd */
+	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
+	q2 = dd + (c[2] * S + t->wlo), q3 = dd + (c[3] * S + t->wlo);
+	x = (v4d){ c[0] * S + t->lo, c[1] * S + t->lo, c[2] * S + t->lo,
+	    c[3] * S + t->lo };
+	for (long o = 0; o <= t->hi - t->lo; o++, x += 1) {
+		v4d v = { q0[o], q1[o], q2[o], q3[o] };
+		w = v4max(v4abs(z + dz * (x * inv) - v), w);
+	}
+	for (int k = 0; k < LANES; k++)
+		err[k] = w[k];
+}
+
+/* Where an error goes: a diamond's local error (a float per centre
+ * column) or, for leaves, its block's base error (a double per block
+ * column). The order of a maximum does not matter. */
+typedef struct {
+	float *acc;   /* a window row: level column cx at cx - c0 */
+	int c0;
+	double *base; /* a block row's: block column b at b - b0 */
+	int b0;
+} sink;
+
+static inline void
+raise_at(const sink *o, int cx, double err)
+{
+	if (o->acc != NULL) {
+		if (err > o->acc[cx - o->c0])
+			o->acc[cx - o->c0] = (float)err;
+	} else if (err > o->base[cx / BT_CELLS - o->b0])
+		o->base[cx / BT_CELLS - o->b0] = err;
+}
+
+/* Template t at centres first, first + stride, ... below end, each
+ * raising its sink: the range where it is on the grid found once, short
+ * chords inside the DEM row LANES centres at a time. Raising by each
+ * triangle in turn is raising by their maximum: a float's rounding keeps
+ * the order. */
+static inline __attribute__((always_inline)) void
+scan_template_body(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
+{
+	long S = (long)s->step, last = s->dend - 1;
+	int cx;
+
+	if (!t->ok || t->n2 == 0)
+		return;
+	/* the centres whose vertices are in the window */
+	if (end > s->cend - t->xmax)
+		end = s->cend - t->xmax;
+	if (first < s->c0 - t->xmin)
+		first += (s->c0 - t->xmin - first + stride - 1) / stride *
+		    stride;
+	cx = first;
+	if (t->hi - t->lo < SHORT) {
+		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
+			raise_at(o, cx, tri_at(s, dd, t, cx));
+		for (; cx + (LANES - 1) * stride < end &&
+		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
+		    cx += LANES * stride) {
+			double err[LANES];
+			tri_at4(s, dd, t, cx, stride, err);
+			for (int k = 0; k < LANES; k++)
+				raise_at(o, cx + k * stride, err[k]);
+		}
+	}
+	for (; cx < end; cx += stride)
+		raise_at(o, cx, tri_at(s, dd, t, cx));
+}
+
+TL_AVX2 static void
+scan_template_avx2(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
+{
+	scan_template_body(s, dd, t, o, first, end, stride);
+}
+
+static void
+scan_template(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
+{
+	if (s->avx2)
+		scan_template_avx2(s, dd, t, o, first, end, stride);
+	else
+		scan_template_body(s, dd, t, o, first, end, stride);
+}
+
+/* row_diamonds (level.c) by templates: the diamonds along a centre row
+ * alternate between two shapes (square diamonds' diagonals alternate;
+ * edge diamonds are all alike). Those centred in the share's columns. */
+static void
+scan_diamonds(strip *sh, int J, double y, int h, int edge)
+{
+	state *s = sh->s;
+	double reach = h + s->margin;
+	long c0 = (long)ceil((y - reach) / h);
+	long c1 = (long)floor((y + reach) / h);
+
+	for (long c = c0 > 0 ? c0 : 0; c <= c1 && c * h < s->Q; c++) {
+		int cy = (int)(c * h), x0, nt[2];
+		tmpl T[2][2];
+		sink o = { 0 };
+		if (!edge && (c & 1) == 0)
+			continue; /* square centres: odd multiples */
+		x0 = edge && (c & 1) ? 0 : h;
+		if (x0 >= s->cend)
+			continue;
+		for (int ph = 0; ph < 2; ph++) {
+			int tri[2][3][2], cx = x0 + 2 * h * ph;
+			nt[ph] = bt_diamond(cx, cy, tri);
+			for (int k = 0; k < nt[ph]; k++)
+				make_tmpl(s, &T[ph][k], tri[k], cx, cy, J, y);
+		}
+		if (!(nt[0] && (T[0][0].ok || T[0][1].ok)) &&
+		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
+			continue;
+		o.acc = &s->acc[eslot(s, cy)], o.c0 = s->c0;
+		/* each shape's centres in the share: every other one */
+		int end = sh->hi < s->cend ? sh->hi : s->cend;
+		for (int ph = 0; ph < 2; ph++) {
+			int first = x0 + 2 * h * ph;
+			if (first < sh->lo)
+				first += (sh->lo - first + 4 * h - 1) /
+				    (4 * h) * (4 * h);
+			for (int k = 0; k < nt[ph]; k++)
+				scan_template(s, sh->dd, &T[ph][k], &o, first,
+				    end, 4 * h);
+		}
+	}
+}
+
+/* row_leaves (level.c) by templates: a cell's diagonal alternates with
+ * ci + cj. */
+static void
+scan_leaves(strip *sh, int J, double y)
+{
+	state *s = sh->s;
+	int lo = leaf_lo(sh), end = leaf_hi(sh);
+
+	if (lo >= end) /* a share of the halo only */
+		return;
+
+	long r0 = (long)floor(y - EPS), r1 = (long)floor(y + EPS);
+
+	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++) {
+		tmpl T[2][2];
+		for (int ph = 0; ph < 2; ph++) {
+			int ci = ph, j = (int)cj;
+			int a[2] = { ci, j }, b[2] = { ci + 1, j };
+			int c[2] = { ci + 1, j + 1 }, d[2] = { ci, j + 1 };
+			int t[2][3][2];
+#define SET(v, w) (v)[0] = (w)[0], (v)[1] = (w)[1]
+			if ((ci + cj) % 2 == 0) {
+				SET(t[0][0], a), SET(t[0][1], b), SET(t[0][2], c);
+				SET(t[1][0], a), SET(t[1][1], c), SET(t[1][2], d);
+			} else {
+				SET(t[0][0], a), SET(t[0][1], b), SET(t[0][2], d);
+				SET(t[1][0], b), SET(t[1][1], c), SET(t[1][2], d);
+			}
+#undef SET
+			for (int k = 0; k < 2; k++)
+				make_tmpl(s, &T[ph][k], t[k], ci, j, J, y);
+		}
+		sink o = { NULL, 0, base_at(sh, (int)cj, lo), lo / BT_CELLS };
+		/* the cells of each parity, every other one */
+		for (int ph = 0; ph < 2; ph++)
+			for (int k = 0; k < 2; k++)
+				scan_template(s, sh->dd, &T[ph][k], &o,
+				    lo + ((lo & 1) != ph), end, 2);
+	}
+}
+
+void
+tiles_scan_row(strip *t, int J)
+{
+	double y = J / t->s->step;
+
+	for (int h = 1; h <= BT_MAXH; h *= 2) {
+		scan_diamonds(t, J, y, h, 0);
+		scan_diamonds(t, J, y, h, 1);
+	}
+	scan_leaves(t, J, y);
+}

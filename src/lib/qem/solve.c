@@ -1,0 +1,502 @@
+/* solve.c - per-level vertex placement, and the streaming fold fix of the
+ * 3D mode (see solve.h). */
+#include "qem/solve.h"
+#include "base/pool.h"
+
+#include <assert.h>
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/simd.h"
+
+static const char *const mode_names[] = {
+	[SOLVE_QEM1D] = "qem1d", [SOLVE_QEM3D] = "qem3d",
+	[SOLVE_FILTERED] = "filtered", [SOLVE_SUBSAMPLE] = "subsample",
+};
+
+int
+solve_mode_parse(const char *s, enum solve_mode *m)
+{
+	for (int k = 0; k < 4; k++)
+		if (strcmp(s, mode_names[k]) == 0) {
+			*m = (enum solve_mode)k;
+			return 0;
+		}
+	return -1;
+}
+
+const char *
+solve_mode_name(enum solve_mode m)
+{
+	assert((unsigned)m <= SOLVE_SUBSAMPLE);
+	return mode_names[m];
+}
+
+int
+solve_init(solve_state *s, enum solve_mode mode, int level, int w, int h,
+    const geo_metric *m, tl_err *e)
+{
+	memset(s, 0, sizeof *s);
+	s->mode = mode;
+	s->rel = 1e-3;
+	s->shrink = 0.05;
+	s->level = level;
+	s->w = w, s->h = h;
+	s->m = m;
+	if (mode != SOLVE_QEM3D)
+		return 0;
+	s->hist[0] = tl_alloc(w, sizeof *s->hist[0], e);
+	s->hist[1] = tl_alloc(w, sizeof *s->hist[1], e);
+	s->mark = tl_alloc(w, 1, e);
+	s->mbuf = tl_alloc((size_t)10 * w, sizeof *s->mbuf, e);
+	for (int r = 0; s->mbuf != NULL && r < 5; r++) {
+		s->msx[r] = s->mbuf + (size_t)r * w;
+		s->my[r] = s->mbuf + (size_t)(5 + r) * w;
+	}
+	if (s->hist[0] == NULL || s->hist[1] == NULL || s->mark == NULL ||
+	    s->mbuf == NULL) {
+		solve_free(s);
+		return -1;
+	}
+	return 0;
+}
+
+int
+solve_pool(solve_state *s, struct tl_pool *p, tl_err *e)
+{
+	free(s->markt);
+	s->markt = NULL, s->pool = p;
+	if (p == NULL || s->mode != SOLVE_QEM3D)
+		return 0;
+	s->markt = tl_alloc((size_t)tl_pool_threads(p), (size_t)s->w, e);
+	return s->markt != NULL ? 0 : -1;
+}
+
+void
+solve_free(solve_state *s)
+{
+	free(s->hist[0]), free(s->hist[1]), free(s->mark), free(s->mbuf);
+	free(s->markt);
+	s->hist[0] = s->hist[1] = NULL, s->mark = NULL, s->mbuf = NULL;
+	s->markt = NULL;
+}
+
+static double
+cross(const double o[2], const double a[2], const double b[2])
+{
+	return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+int
+solve_cell_ok(const double p[4][2], const double g[4][2], double min)
+{
+	static const int tri[4][3] = {
+		{ 0, 1, 2 }, { 0, 2, 3 }, { 0, 1, 3 }, { 1, 2, 3 },
+	};
+
+	for (int t = 0; t < 4; t++) {
+		const int *c = tri[t];
+		double want = min * cross(g[c[0]], g[c[1]], g[c[2]]);
+		if (!(cross(p[c[0]], p[c[1]], p[c[2]]) >= want))
+			return 0;
+	}
+	return 1;
+}
+
+/* Level-0 row (or column) of level row (column) j. */
+static double
+row0(const solve_state *s, int j)
+{
+	return (double)j * (double)(1L << s->level);
+}
+
+/* The metric at the vertices of rows j-2 .. j+2, once per row: the fold
+ * fix asks for it a hundred times per vertex. Rows come in order, so
+ * four of the five are the previous row's, moved up. */
+static void
+cache_metric(solve_state *s, int j)
+{
+	int r0 = 0;
+
+	if (j > 0) {
+		double *x = s->msx[0], *y = s->my[0];
+		for (int r = 0; r < 4; r++)
+			s->msx[r] = s->msx[r + 1], s->my[r] = s->my[r + 1];
+		s->msx[4] = x, s->my[4] = y;
+		r0 = 4;
+	}
+	for (int r = r0; r < 5; r++) {
+		double J = row0(s, j - 2 + r);
+		for (int i = 0; i < s->w; i++) {
+			s->msx[r][i] = geo_sx(s->m, row0(s, i), J);
+			s->my[r][i] = geo_y(s->m, row0(s, i), J);
+		}
+	}
+}
+
+/* The triangles the fold fix keeps positive: those of the bintree that
+ * vertices moving up to half a cell can fold, i.e. the four of each cell
+ * (both diagonals) and the two-cell triangles of scale-1 edge diamonds
+ * (height one cell); larger ones need moves of over half a cell. As
+ * (di, dj) offsets from an anchor vertex. */
+static const int celltri[4][3][2] = {
+	{ { 0, 0 }, { 1, 0 }, { 1, 1 } }, { { 0, 0 }, { 1, 1 }, { 0, 1 } },
+	{ { 0, 0 }, { 1, 0 }, { 0, 1 } }, { { 1, 0 }, { 1, 1 }, { 0, 1 } },
+};
+/* around an edge vertex (c, r) of scale 1: hypotenuse horizontal (c odd,
+ * r even) or vertical (c even, r odd) */
+static const int edgetri[2][2][3][2] = {
+	{ { { -1, 0 }, { 1, 0 }, { 0, -1 } }, { { -1, 0 }, { 1, 0 }, { 0, 1 } } },
+	{ { { 0, -1 }, { 0, 1 }, { -1, 0 } }, { { 0, -1 }, { 0, 1 }, { 1, 0 } } },
+};
+
+/* The offsets of vertex (i, r) while row j is being fixed: earlier rows
+ * as final, row j as now, later rows on the grid. */
+static const solve_vertex *
+at(const solve_state *s, int j, const solve_vertex *cur, int i, int r)
+{
+	if (r == j)
+		return &cur[i];
+	assert(i >= 0 && i < s->w);
+	if (r < j && j - r <= 2)
+		return &s->hist[j - r - 1][i];
+	return NULL;
+}
+
+/* 1 when triangle v[] (level vertices) keeps at least `shrink` of its
+ * grid area with the same orientation. */
+static int
+tri_ok(const solve_state *s, int j, const solve_vertex *cur, const int v[3][2])
+{
+	double g[3][2], p[3][2], ga, pa;
+	int i0 = v[0][0], r0 = v[0][1] - j + 2;
+
+	assert(r0 >= 0 && r0 < 5);
+	for (int k = 0; k < 3; k++) {
+		const solve_vertex *o = at(s, j, cur, v[k][0], v[k][1]);
+		int r = v[k][1] - j + 2;
+		/* the metric cache holds rows j-2 .. j+2 */
+		assert(r >= 0 && r < 5);
+		/* in the frame of v[0], as geo_local puts it (georef.h) */
+		g[k][0] = (row0(s, v[k][0]) - row0(s, i0)) * s->msx[r][i0];
+		g[k][1] = s->my[r][i0] - s->my[r0][i0];
+		p[k][0] = g[k][0] + (o ? o->x : 0);
+		p[k][1] = g[k][1] + (o ? o->y : 0);
+	}
+	ga = cross(g[0], g[1], g[2]);
+	pa = cross(p[0], p[1], p[2]);
+	return ga > 0 ? pa >= s->shrink * ga : pa <= s->shrink * ga;
+}
+
+/* Checks one triangle (anchor + offsets) touching row j; marks its row-j
+ * vertices when it breaks the invariant. */
+static int
+check(const solve_state *s, int j, const solve_vertex *cur, int ci, int cj,
+    const int (*t)[2], unsigned char *mark)
+{
+	int v[3][2], touches = 0;
+
+	for (int k = 0; k < 3; k++) {
+		v[k][0] = ci + t[k][0], v[k][1] = cj + t[k][1];
+		if (v[k][0] < 0 || v[k][0] >= s->w || v[k][1] < 0 ||
+		    v[k][1] >= s->h)
+			return 0;
+		touches |= v[k][1] == j;
+	}
+	if (!touches || tri_ok(s, j, cur, v))
+		return 0;
+	for (int k = 0; k < 3; k++)
+		if (v[k][1] == j)
+			mark[v[k][0]] = 1;
+	return 1;
+}
+
+/* The triangles anchored in columns i0 .. i1-1 (a pool's range k),
+ * their row-j vertices that break the invariant marked in `mark`. */
+typedef struct {
+	const solve_state *s;
+	int j;
+	const solve_vertex *cur;
+	unsigned char *mark[TL_POOL_MAXTHREADS];
+	int bad[TL_POOL_MAXTHREADS];
+} marking;
+
+static void
+mark_range(void *arg, int k, int i0, int i1)
+{
+	marking *m = arg;
+	const solve_state *s = m->s;
+	int j = m->j, bad = 0;
+
+	for (int cj = j - 1; cj <= j; cj++)
+		for (int ci = i0; ci < i1 && ci + 1 < s->w; ci++)
+			for (int t = 0; t < 4; t++)
+				bad += check(s, j, m->cur, ci, cj, celltri[t],
+				    m->mark[k]);
+	for (int r = j - 1; r <= j + 1; r++)
+		for (int c = i0; c < i1; c++) {
+			int kind = (c & 1) && !(r & 1) ? 0 :
+			    !(c & 1) && (r & 1) ? 1 : -1;
+			if (kind < 0)
+				continue;
+			for (int t = 0; t < 2; t++)
+				bad += check(s, j, m->cur, c, r,
+				    edgetri[kind][t], m->mark[k]);
+		}
+	m->bad[k] = bad;
+}
+
+/* Marks the vertices of row j in triangles that break the invariant:
+ * every checked triangle with a vertex in row j is positive with earlier
+ * rows final and later rows on the grid. Then the next row can always be
+ * fixed by moving only itself (on the grid, it meets this very test), so
+ * rows are final as soon as they are fixed. Returns the failures. On a
+ * pool each range marks its own copy, then the copies are merged: a
+ * mark is a set, so the result is the same. */
+static int
+mark_bad(solve_state *s, int j, const solve_vertex *cur)
+{
+	marking m = { s, j, cur, { 0 }, { 0 } };
+	int n = s->pool != NULL ? tl_pool_threads(s->pool) : 1, bad = 0;
+
+	memset(s->mark, 0, s->w);
+	if (n == 1) {
+		m.mark[0] = s->mark;
+		mark_range(&m, 0, 0, s->w);
+		return m.bad[0];
+	}
+	memset(s->markt, 0, (size_t)n * s->w);
+	for (int k = 0; k < n; k++)
+		m.mark[k] = s->markt + (size_t)k * s->w;
+	tl_pool_for(s->pool, s->w, mark_range, &m);
+	for (int k = 0; k < n; k++) {
+		bad += m.bad[k];
+		for (int i = 0; i < s->w; i++)
+			s->mark[i] |= m.mark[k][i];
+	}
+	return bad;
+}
+
+/* The free 3D minimiser, clamped to half a cell, boundary vertices kept
+ * on their boundary. */
+static void
+place3d(const solve_state *s, int i, int j, const fqm_vertex *in,
+    solve_vertex *o)
+{
+	double v[3], hx, hy, up, down;
+	long step = 1L << s->level;
+
+	quadric_min_3d(&in->q, s->rel, v);
+	hx = 0.5 * (double)step * s->msx[2][i];
+	up = j > 0 ? s->my[2][i] - s->my[1][i] : INFINITY;
+	down = s->my[3][i] - s->my[2][i];
+	hy = 0.5 * (up < down ? up : down);
+	o->x = i == 0 || i == s->w - 1 ? 0 : fmax(-hx, fmin(hx, v[0]));
+	o->y = j == 0 || j == s->h - 1 ? 0 : fmax(-hy, fmin(hy, v[1]));
+}
+
+static void
+fix_folds(solve_state *s, int j, solve_vertex *cur)
+{
+	/* Halving converges on the grid, where every invariant holds; after
+	 * a few halvings, put the stubborn vertices on the grid. Each round
+	 * puts at least one more vertex there, so this ends. */
+	for (int round = 0; round <= 6 + s->w; round++) {
+		if (mark_bad(s, j, cur) == 0)
+			return;
+		for (int i = 0; i < s->w; i++) {
+			if (!s->mark[i])
+				continue;
+			if (round < 6) {
+				cur[i].x *= 0.5, cur[i].y *= 0.5;
+				s->reduced += round == 0;
+			} else {
+				s->zeroed += cur[i].x != 0 || cur[i].y != 0;
+				cur[i].x = cur[i].y = 0;
+			}
+		}
+	}
+}
+
+/* The free placements of vertices i0 .. i1-1 of the row (a pool's
+ * range: each vertex on its own, so any cut gives the same bits). */
+typedef struct {
+	const solve_state *s;
+	int j;
+	const fqm_vertex *in;
+	solve_vertex *out;
+} placing;
+
+static void
+place_range(void *arg, int k, int i0, int i1)
+{
+	const placing *p = arg;
+
+	for (int i = i0; i < i1; i++)
+		place3d(p->s, i, p->j, &p->in[i], &p->out[i]);
+}
+
+void
+solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
+{
+	int j = s->row++;
+
+	assert(j < s->h); /* rows 0 .. h-1, in order */
+	if (s->mode == SOLVE_QEM3D)
+		cache_metric(s, j);
+	for (int i = 0; i < s->w; i++) {
+		out[i].v = in[i].v;
+		out[i].x = out[i].y = 0;
+		switch (s->mode) {
+		case SOLVE_FILTERED:
+			out[i].z = in[i].z;
+			continue;
+		case SOLVE_SUBSAMPLE:
+			out[i].z = in[i].s;
+			continue;
+		case SOLVE_QEM3D:
+		case SOLVE_QEM1D:
+			break;
+		}
+	}
+	if (s->mode == SOLVE_QEM3D) {
+		placing p = { s, j, in, out };
+		if (s->pool != NULL)
+			tl_pool_for(s->pool, s->w, place_range, &p);
+		else
+			place_range(&p, 0, 0, s->w);
+		fix_folds(s, j, out);
+	}
+	if (s->mode == SOLVE_QEM1D || s->mode == SOLVE_QEM3D)
+		for (int i = 0; i < s->w; i++) {
+			double z = 0;
+			/* no plane at all (a void region): the reference height */
+			if (quadric_min_z(&in[i].q, out[i].x, out[i].y, &z) < 0)
+				z = 0;
+			out[i].z = in[i].z + z;
+		}
+	if (s->mode == SOLVE_QEM3D) {
+		solve_vertex *t = s->hist[1]; /* j-2 goes, j becomes j-1 */
+		s->hist[1] = s->hist[0];
+		s->hist[0] = t;
+		memcpy(s->hist[0], out, (size_t)s->w * sizeof *out);
+	}
+}
+
+int
+solve_header(rs_header *oh, const rs_header *fqm, enum solve_mode mode,
+    tl_err *e)
+{
+	if (rs_header_copy(oh, fqm, e) < 0)
+		return -1;
+	rs_clear_channels(oh);
+	if (rs_add_channel(oh, "Z", e) < 0 || rs_add_channel(oh, "V", e) < 0)
+		return -1;
+	if (mode == SOLVE_QEM3D && (rs_add_channel(oh, "X", e) < 0 ||
+	    rs_add_channel(oh, "Y", e) < 0))
+		return -1;
+	if (rs_set_string(oh, FQM_ATTR_KIND, "vertices", e) < 0)
+		return -1;
+	return rs_set_string(oh, FQM_ATTR_MODE, solve_mode_name(mode), e);
+}
+
+void
+solve_encode(const rs_header *oh, const solve_vertex *v, float *row)
+{
+	int w = oh->width, cz = rs_channel(oh, "Z"), cv = rs_channel(oh, "V");
+	int cx = rs_channel(oh, "X"), cy = rs_channel(oh, "Y");
+
+	assert(cz >= 0 && cv >= 0);
+	for (int i = 0; i < w; i++) {
+		row[(size_t)cz * w + i] = (float)v[i].z;
+		row[(size_t)cv * w + i] = (float)v[i].v;
+		if (cx >= 0) {
+			row[(size_t)cx * w + i] = (float)v[i].x;
+			row[(size_t)cy * w + i] = (float)v[i].y;
+		}
+	}
+}
+
+/* quadric_min_z's z, or 0 where it fails, on two vertices, with the
+ * products by x = y = 0 (they decide the sign of a zero quotient, and so
+ * that of Z + the quotient when Z is a zero). Lanes where it fails get
+ * +0 bit for bit. */
+static inline vd
+min_z2(vd a13, vd a23, vd a33, vd b3)
+{
+	const double zero = 0; /* out.x, out.y */
+	vd t = -(b3 + a13 * zero + a23 * zero) / a33;
+	/* a33 > 0 and finite, and so the quotient */
+	vl ok = (a33 > 0) & (a33 <= DBL_MAX) & (t >= -DBL_MAX) &
+	    (t <= DBL_MAX);
+
+	if (ok[0] && ok[1])
+		return t;
+	if (!ok[0] && !ok[1])
+		return vd_splat(0);
+	return (vd){ ok[0] ? t[0] : 0, ok[1] ? t[1] : 0 };
+}
+
+/* QEM-1D of n vertices on their grid positions: z = Z + quadric_min_z(q,
+ * 0, 0) where a33 > 0 and the quotient is finite, else Z + 0: every
+ * operation of solve_row's, in its order, on vectors. */
+static void
+qem1d_direct(const float *fa13, const float *fa23, const float *fa33,
+    const float *fb3, const float *fz, float *out, size_t n)
+{
+	size_t i = 0;
+
+	for (; i + 4 <= n; i += 4) {
+		vd4 a13 = __builtin_convertvector(vf4_load(fa13 + i), vd4);
+		vd4 a23 = __builtin_convertvector(vf4_load(fa23 + i), vd4);
+		vd4 a33 = __builtin_convertvector(vf4_load(fa33 + i), vd4);
+		vd4 b3 = __builtin_convertvector(vf4_load(fb3 + i), vd4);
+		vd4 z = __builtin_convertvector(vf4_load(fz + i), vd4);
+		vd lo = min_z2(__builtin_shufflevector(a13, a13, 0, 1),
+		    __builtin_shufflevector(a23, a23, 0, 1),
+		    __builtin_shufflevector(a33, a33, 0, 1),
+		    __builtin_shufflevector(b3, b3, 0, 1));
+		vd hi = min_z2(__builtin_shufflevector(a13, a13, 2, 3),
+		    __builtin_shufflevector(a23, a23, 2, 3),
+		    __builtin_shufflevector(a33, a33, 2, 3),
+		    __builtin_shufflevector(b3, b3, 2, 3));
+		z = z + __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+		vf4_store(out + i, __builtin_convertvector(z, vf4));
+	}
+	for (; i < n; i++) {
+		quadric q;
+		double z = 0;
+		q.a[QUADRIC_A13] = fa13[i], q.a[QUADRIC_A23] = fa23[i];
+		q.a[QUADRIC_A33] = fa33[i], q.b[2] = fb3[i];
+		if (quadric_min_z(&q, 0, 0, &z) < 0)
+			z = 0;
+		out[i] = (float)((double)fz[i] + z);
+	}
+}
+
+void
+solve_row_direct(solve_state *s, const fqm_layout *L, const float *in,
+    const rs_header *oh, float *row)
+{
+	size_t w = (size_t)s->w;
+	int cz = rs_channel(oh, "Z"), cv = rs_channel(oh, "V");
+
+	assert(s->mode != SOLVE_QEM3D && s->row < s->h);
+	assert(cz >= 0 && cv >= 0 && oh->width == s->w);
+	s->row++;
+	/* a float widened to double and back is itself: V, and Z or S,
+	 * are copies */
+	memcpy(row + (size_t)cv * w, in + (size_t)L->v * w, w * sizeof *row);
+	if (s->mode == SOLVE_FILTERED || s->mode == SOLVE_SUBSAMPLE) {
+		int c = s->mode == SOLVE_FILTERED ? L->z : L->s;
+		memcpy(row + (size_t)cz * w, in + (size_t)c * w,
+		    w * sizeof *row);
+		return;
+	}
+	qem1d_direct(in + (size_t)L->q[QUADRIC_A13] * w,
+	    in + (size_t)L->q[QUADRIC_A23] * w,
+	    in + (size_t)L->q[QUADRIC_A33] * w, in + (size_t)L->q[8] * w,
+	    in + (size_t)L->z * w, row + (size_t)cz * w, w);
+}

@@ -1,0 +1,703 @@
+/* raster.c - raster headers, and the front door of both forms: rs_open
+ * finds out by magic whether it reads EXR, the fqm(5) stream or a band
+ * list of either (rs_list.c), rs_create picks EXR for a file name and the
+ * stream for "-". */
+#include "raster/rs_impl.h"
+
+#include <assert.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+const unsigned char rs_exr_magic[4] = { 0x76, 0x2f, 0x31, 0x01 };
+/* PNG-style: a high-bit byte, CR LF, ^Z, LF expose 7-bit and text-mode
+ * damage. */
+const unsigned char rs_stream_magic[8] = { 0x89, 'F', 'Q', 'M', '\r', '\n',
+    0x1a, '\n' };
+
+/* --- headers ---------------------------------------------------------- */
+
+void
+rs_header_init(rs_header *h, int width, int height)
+{
+	memset(h, 0, sizeof *h);
+	h->width = width;
+	h->height = height;
+}
+
+void
+rs_header_free(rs_header *h)
+{
+	for (int i = 0; i < h->nattr; i++) {
+		free(h->attr[i].s);
+		h->attr[i].s = NULL;
+	}
+	h->nattr = 0;
+}
+
+/* dst is overwritten, not freed first. */
+int
+rs_header_copy(rs_header *dst, const rs_header *src, tl_err *e)
+{
+	*dst = *src;
+	for (int i = 0; i < src->nattr; i++) {
+		if (src->attr[i].s == NULL)
+			continue;
+		if ((dst->attr[i].s = strdup(src->attr[i].s)) == NULL) {
+			dst->nattr = i;
+			rs_header_free(dst);
+			return tl_fail(e, "header copy: out of memory");
+		}
+	}
+	return 0;
+}
+
+int
+rs_add_channel(rs_header *h, const char *name, tl_err *e)
+{
+	size_t n = strlen(name);
+	int i;
+
+	if (n == 0 || n >= sizeof h->ch[0])
+		return tl_fail(e, "channel \"%s\": name empty or longer than "
+		    "%zu bytes", name, sizeof h->ch[0] - 1);
+	if (rs_channel(h, name) >= 0)
+		return tl_fail(e, "channel %s: already present", name);
+	if (h->nch >= RS_MAXCH)
+		return tl_fail(e, "channel %s: more than %d channels", name,
+		    RS_MAXCH);
+	for (i = h->nch; i > 0 && strcmp(h->ch[i - 1], name) > 0; i--)
+		memcpy(h->ch[i], h->ch[i - 1], sizeof h->ch[i]);
+	memcpy(h->ch[i], name, n + 1);
+	h->nch++;
+	return 0;
+}
+
+void
+rs_clear_channels(rs_header *h)
+{
+	h->nch = 0;
+	memset(h->ch, 0, sizeof h->ch);
+}
+
+int
+rs_channel(const rs_header *h, const char *name)
+{
+	for (int i = 0; i < h->nch; i++)
+		if (strcmp(h->ch[i], name) == 0)
+			return i;
+	return -1;
+}
+
+int
+rs_need_channel(const rs_header *h, const char *name, const char *what,
+    tl_err *e)
+{
+	int i = rs_channel(h, name);
+
+	if (i < 0)
+		return tl_fail(e, "%s: no channel %s", what, name);
+	return i;
+}
+
+const rs_attr *
+rs_find_attr(const rs_header *h, const char *name)
+{
+	for (int i = 0; i < h->nattr; i++)
+		if (strcmp(h->attr[i].name, name) == 0)
+			return &h->attr[i];
+	return NULL;
+}
+
+/* The setters' way in: the slot is the header's own, writable. */
+static rs_attr *
+find_attr(rs_header *h, const char *name)
+{
+	return (rs_attr *)rs_find_attr(h, name);
+}
+
+int
+rs_attr_same(const rs_attr *a, const rs_attr *b)
+{
+	if (a->type != b->type)
+		return 0;
+	switch (a->type) {
+	case RS_STRING:
+		return strcmp(a->s, b->s) == 0;
+	case RS_INT:
+		return a->v.i == b->v.i;
+	case RS_V2I:
+		return memcmp(a->v.v2i, b->v.v2i, sizeof a->v.v2i) == 0;
+	case RS_DOUBLE:
+		return memcmp(&a->v.d, &b->v.d, sizeof a->v.d) == 0;
+	case RS_V2D:
+		return memcmp(a->v.v2d, b->v.v2d, sizeof a->v.v2d) == 0;
+	}
+	return 0;
+}
+
+/* The slot for name: the existing one (its old string freed) or a new one. */
+static rs_attr *
+slot(rs_header *h, const char *name, enum rs_type t, tl_err *e)
+{
+	rs_attr *a = find_attr(h, name);
+	size_t n = strlen(name);
+
+	if (n == 0 || n >= sizeof a->name) {
+		tl_fail(e, "attribute \"%s\": name empty or longer than %zu "
+		    "bytes", name, sizeof a->name - 1);
+		return NULL;
+	}
+	if (a == NULL) {
+		if (h->nattr >= RS_MAXATTR) {
+			tl_fail(e, "attribute %s: more than %d attributes",
+			    name, RS_MAXATTR);
+			return NULL;
+		}
+		a = &h->attr[h->nattr++];
+		memset(a, 0, sizeof *a);
+		memcpy(a->name, name, n + 1);
+	}
+	free(a->s);
+	a->s = NULL;
+	a->type = t;
+	return a;
+}
+
+int
+rs_set_int(rs_header *h, const char *name, int v, tl_err *e)
+{
+	rs_attr *a = slot(h, name, RS_INT, e);
+
+	if (a == NULL)
+		return -1;
+	a->v.i = v;
+	return 0;
+}
+
+int
+rs_set_double(rs_header *h, const char *name, double v, tl_err *e)
+{
+	rs_attr *a = slot(h, name, RS_DOUBLE, e);
+
+	if (a == NULL)
+		return -1;
+	a->v.d = v;
+	return 0;
+}
+
+int
+rs_set_string(rs_header *h, const char *name, const char *v, tl_err *e)
+{
+	char *s = strdup(v);
+	rs_attr *a;
+
+	if (s == NULL)
+		return tl_fail(e, "attribute %s: out of memory", name);
+	if ((a = slot(h, name, RS_STRING, e)) == NULL) {
+		free(s);
+		return -1;
+	}
+	a->s = s;
+	return 0;
+}
+
+int
+rs_set_v2i(rs_header *h, const char *name, int x, int y, tl_err *e)
+{
+	rs_attr *a = slot(h, name, RS_V2I, e);
+
+	if (a == NULL)
+		return -1;
+	a->v.v2i[0] = x;
+	a->v.v2i[1] = y;
+	return 0;
+}
+
+int
+rs_set_v2d(rs_header *h, const char *name, double x, double y, tl_err *e)
+{
+	rs_attr *a = slot(h, name, RS_V2D, e);
+
+	if (a == NULL)
+		return -1;
+	a->v.v2d[0] = x;
+	a->v.v2d[1] = y;
+	return 0;
+}
+
+void
+rs_unset(rs_header *h, const char *name)
+{
+	rs_attr *a = find_attr(h, name);
+
+	if (a == NULL)
+		return;
+	free(a->s);
+	memmove(a, a + 1, (size_t)(&h->attr[h->nattr] - (a + 1)) * sizeof *a);
+	h->nattr--;
+}
+
+static const rs_attr *
+typed(const rs_header *h, const char *name, enum rs_type t)
+{
+	const rs_attr *a = rs_find_attr(h, name);
+
+	return a != NULL && a->type == t ? a : NULL;
+}
+
+int
+rs_get_int(const rs_header *h, const char *name, int *v)
+{
+	const rs_attr *a = typed(h, name, RS_INT);
+
+	if (a == NULL)
+		return -1;
+	*v = a->v.i;
+	return 0;
+}
+
+int
+rs_get_double(const rs_header *h, const char *name, double *v)
+{
+	const rs_attr *a = typed(h, name, RS_DOUBLE);
+
+	if (a == NULL)
+		return -1;
+	*v = a->v.d;
+	return 0;
+}
+
+const char *
+rs_get_string(const rs_header *h, const char *name)
+{
+	const rs_attr *a = typed(h, name, RS_STRING);
+
+	return a != NULL ? a->s : NULL;
+}
+
+int
+rs_get_v2i(const rs_header *h, const char *name, int v[2])
+{
+	const rs_attr *a = typed(h, name, RS_V2I);
+
+	if (a == NULL)
+		return -1;
+	v[0] = a->v.v2i[0];
+	v[1] = a->v.v2i[1];
+	return 0;
+}
+
+int
+rs_get_v2d(const rs_header *h, const char *name, double v[2])
+{
+	const rs_attr *a = typed(h, name, RS_V2D);
+
+	if (a == NULL)
+		return -1;
+	v[0] = a->v.v2d[0];
+	v[1] = a->v.v2d[1];
+	return 0;
+}
+
+/* --- reading ---------------------------------------------------------- */
+
+static int
+read_some(int fd, unsigned char *p, int n)
+{
+	int got = 0;
+
+	while (got < n) {
+		ssize_t r = read(fd, p + got, (size_t)(n - got));
+		if (r < 0 && errno == EINTR)
+			continue;
+		if (r < 0)
+			return -1;
+		if (r == 0)
+			break;
+		got += (int)r;
+	}
+	return got;
+}
+
+/* Copies the pipe, the magic already read included, to a scratch file:
+ * OpenEXRCore reads its offset table and chunks by position. */
+static int
+spool(rs_reader *r, tl_err *e)
+{
+	enum { N = 1 << 20 };
+	unsigned char *buf;
+	long long off;
+	ssize_t n;
+	int fd;
+
+	if ((fd = tl_scratch(e)) < 0)
+		return -1;
+	if ((buf = tl_alloc(N, 1, e)) == NULL) {
+		close(fd);
+		return -1;
+	}
+	if (tl_pwrite(fd, r->pre, (size_t)r->npre, 0, "scratch file", e) < 0)
+		goto fail;
+	for (off = r->npre;; off += n) {
+		n = read(r->fd, buf, N);
+		if (n < 0 && errno == EINTR) {
+			n = 0;
+			continue;
+		}
+		if (n < 0) {
+			tl_failsys(e, "%s: read", r->name);
+			goto fail;
+		}
+		if (n == 0)
+			break;
+		if (tl_pwrite(fd, buf, (size_t)n, off, "scratch file", e) < 0)
+			goto fail;
+	}
+	free(buf);
+	if (r->ownfd)
+		close(r->fd);
+	r->fd = fd;
+	r->ownfd = 1;
+	return 0;
+fail:
+	free(buf);
+	close(fd);
+	return -1;
+}
+
+static int
+open_fd(rs_reader *r, const char *path, tl_err *e)
+{
+	if (strcmp(path, "-") == 0) {
+		r->fd = STDIN_FILENO;
+		return 0;
+	}
+	r->fd = open(path, O_RDONLY | O_CLOEXEC);
+	if (r->fd < 0)
+		return tl_failsys(e, "%s: cannot open", path);
+	r->ownfd = 1;
+	return 0;
+}
+
+/* Finds the form by its magic and hands the reader to its backend; lists:
+ * a band list is welcome (not as one of a list's bands). */
+static int
+dispatch(rs_reader *r, int lists, tl_err *e)
+{
+	struct stat st;
+	off_t pos;
+
+	if (fstat(r->fd, &st) != 0)
+		return tl_failsys(e, "%s: stat", r->name);
+	if (S_ISDIR(st.st_mode))
+		return tl_fail(e, "%s: is a directory", r->name);
+	if (isatty(r->fd))
+		return tl_fail(e, "%s: is a terminal; give a file or a pipe",
+		    r->name);
+	if ((r->npre = read_some(r->fd, r->pre, 8)) < 0)
+		return tl_failsys(e, "%s: read", r->name);
+	if (r->npre == 8 && memcmp(r->pre, rs_stream_magic, 8) == 0)
+		return rs_stream_open_read(r, e);
+	if (r->npre == 8 && memcmp(r->pre, rs_bands_magic, 8) == 0)
+		return lists ? rs_bands_open_read(r, e) :
+		    tl_fail(e, "%s: a band list cannot be a band", r->name);
+	if (r->npre < 4 || memcmp(r->pre, rs_exr_magic, 4) != 0)
+		return tl_fail(e, "%s: %s", r->name, r->npre == 0 ?
+		    "empty input" : "not an fqm stream or EXR file");
+	if (!S_ISREG(st.st_mode)) {
+		if (spool(r, e) < 0)
+			return -1;
+		return rs_exr_open_read(r, 0, e);
+	}
+	/* A regular file, maybe stdin not at its start: EXR offsets count
+	 * from where the file's EXR begins. */
+	if ((pos = lseek(r->fd, 0, SEEK_CUR)) < 0)
+		return tl_failsys(e, "%s: seek", r->name);
+	return rs_exr_open_read(r, (long long)pos - r->npre, e);
+}
+
+static rs_reader *
+open_reader(const char *path, int lists, tl_err *e)
+{
+	rs_reader *r = tl_alloc(1, sizeof *r, e);
+
+	if (r == NULL)
+		return NULL;
+	r->fd = -1;
+	r->name = strdup(strcmp(path, "-") == 0 ? "stdin" : path);
+	if (r->name == NULL) {
+		tl_fail(e, "%s: out of memory", path);
+		free(r);
+		return NULL;
+	}
+	if (open_fd(r, path, e) < 0 || dispatch(r, lists, e) < 0) {
+		rs_close(r);
+		return NULL;
+	}
+	return r;
+}
+
+rs_reader *
+rs_open(const char *path, tl_err *e)
+{
+	return open_reader(path, 1, e);
+}
+
+/* A raster that must be a file on disk (a pyramid's block): anything
+ * else, a FIFO included, is refused at once, before it can block. */
+rs_reader *
+rs_open_regular(const char *path, tl_err *e)
+{
+	rs_reader *r;
+	int fd = tl_open_regular(path, e);
+
+	if (fd < 0)
+		return NULL;
+	if ((r = tl_alloc(1, sizeof *r, e)) == NULL ||
+	    (r->name = strdup(path)) == NULL) {
+		if (r != NULL)
+			tl_fail(e, "%s: out of memory", path);
+		free(r);
+		close(fd);
+		return NULL;
+	}
+	r->fd = fd, r->ownfd = 1;
+	if (dispatch(r, 0, e) < 0) {
+		rs_close(r);
+		return NULL;
+	}
+	return r;
+}
+
+rs_reader *
+rs_open_band(const char *path, tl_err *e)
+{
+	return open_reader(path, 0, e);
+}
+
+const rs_header *
+rs_header_of(const rs_reader *r)
+{
+	return &r->h;
+}
+
+int
+rs_read_row(rs_reader *r, float *row, tl_err *e)
+{
+	if (r->failed)
+		return tl_fail(e, "%s: read after an error", r->name);
+	if (r->y >= r->h.height)
+		return tl_fail(e, "%s: read past the last row (%d)", r->name,
+		    r->h.height);
+	if (r->row(r, row, e) < 0) {
+		r->failed = 1;
+		return -1;
+	}
+	r->y++;
+	return 0;
+}
+
+int
+rs_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e)
+{
+	size_t w = (size_t)r->h.width;
+	int k = 1;
+
+	if (r->failed)
+		return tl_fail(e, "%s: read after an error", r->name);
+	if (r->y >= r->h.height)
+		return tl_fail(e, "%s: read past the last row (%d)", r->name,
+		    r->h.height);
+	assert(x0 >= 0 && n >= 1 && (size_t)x0 + (size_t)n <= w);
+	if (r->full == NULL && r->span != NULL)
+		k = r->span(r, x0, n, dst, e);
+	if (k == 1) {
+		if (r->full == NULL &&
+		    (r->full = tl_alloc(w * r->h.nch, sizeof *r->full, e)) == NULL)
+			k = -1;
+		else if ((k = r->row(r, r->full, e)) == 0)
+			for (int c = 0; c < r->h.nch; c++)
+				memcpy(dst + (size_t)c * n, r->full + c * w + x0,
+				    (size_t)n * sizeof *dst);
+	}
+	if (k < 0) {
+		r->failed = 1;
+		return -1;
+	}
+	r->y++;
+	return 0;
+}
+
+void
+rs_close(rs_reader *r)
+{
+	if (r == NULL)
+		return;
+	if (r->close != NULL)
+		r->close(r);
+	if (r->ownfd && r->fd >= 0)
+		close(r->fd);
+	rs_header_free(&r->h);
+	free(r->full);
+	free(r->name);
+	free(r);
+}
+
+/* --- writing ---------------------------------------------------------- */
+
+int
+rs_compression_parse(const char *s, enum rs_compression *c)
+{
+	static const struct {
+		const char *name;
+		enum rs_compression c;
+	} tab[] = {
+		{ "zip", RS_ZIP }, { "none", RS_NONE }, { "rle", RS_RLE },
+		{ "zips", RS_ZIPS }, { "piz", RS_PIZ },
+	};
+
+	for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++)
+		if (strcasecmp(s, tab[i].name) == 0) {
+			*c = tab[i].c;
+			return 0;
+		}
+	return -1;
+}
+
+int
+rs_check_size(const rs_header *h, const char *name, tl_err *e)
+{
+	if (h->width < 1 || h->height < 1 || h->width > RS_MAXDIM ||
+	    h->height > RS_MAXDIM)
+		return tl_fail(e, "%s: bad raster size %dx%d", name, h->width,
+		    h->height);
+	if (h->nch < 1 || h->nch > RS_MAXCH)
+		return tl_fail(e, "%s: %d channels (1 to %d)", name, h->nch,
+		    RS_MAXCH);
+	if (4LL * h->nch * h->width > RS_MAXROW)
+		return tl_fail(e, "%s: rows of %lld bytes, more than %d",
+		    name, 4LL * h->nch * h->width, RS_MAXROW);
+	return 0;
+}
+
+/* What both forms can represent; checked before anything is created. */
+static int
+check_header(const rs_header *h, const char *name, tl_err *e)
+{
+	if (rs_check_size(h, name, e) < 0)
+		return -1;
+	for (int i = 1; i < h->nch; i++)
+		if (strcmp(h->ch[i - 1], h->ch[i]) >= 0)
+			return tl_fail(e, "%s: channels not sorted", name);
+	for (int i = 0; i < h->nattr; i++) {
+		const rs_attr *a = &h->attr[i];
+		if (a->type == RS_STRING &&
+		    (a->s == NULL || strlen(a->s) > RS_MAXSTR))
+			return tl_fail(e, "%s: attribute %s: string missing "
+			    "or longer than %d bytes", name, a->name,
+			    RS_MAXSTR);
+	}
+	return 0;
+}
+
+static rs_writer *
+create(const char *path, const rs_header *h, enum rs_compression c,
+    int fresh, tl_err *e)
+{
+	int stream = strcmp(path, "-") == 0;
+	rs_writer *w;
+
+	if (check_header(h, stream ? "stdout" : path, e) < 0)
+		return NULL;
+	if ((w = tl_alloc(1, sizeof *w, e)) == NULL)
+		return NULL;
+	if ((w->name = strdup(stream ? "stdout" : path)) == NULL) {
+		free(w);
+		tl_fail(e, "%s: out of memory", path);
+		return NULL;
+	}
+	if (rs_header_copy(&w->h, h, e) < 0) {
+		free(w->name);
+		free(w);
+		return NULL;
+	}
+	if ((stream ? rs_stream_create(w, STDOUT_FILENO, e) :
+	    rs_exr_create(w, path, c, fresh, e)) < 0) {
+		rs_abort(w);
+		return NULL;
+	}
+	return w;
+}
+
+rs_writer *
+rs_create(const char *path, const rs_header *h, enum rs_compression c,
+    tl_err *e)
+{
+	return create(path, h, c, 0, e);
+}
+
+rs_writer *
+rs_create_fresh(const char *path, const rs_header *h, enum rs_compression c,
+    tl_err *e)
+{
+	return create(path, h, c, strcmp(path, "-") != 0, e);
+}
+
+int
+rs_write_row(rs_writer *w, const float *row, tl_err *e)
+{
+	if (w->failed)
+		return tl_fail(e, "%s: write after an error", w->name);
+	if (w->y >= w->h.height)
+		return tl_fail(e, "%s: more than %d rows written", w->name,
+		    w->h.height);
+	if (w->row(w, row, e) < 0) {
+		w->failed = 1;
+		return -1;
+	}
+	w->y++;
+	return 0;
+}
+
+static void
+writer_free(rs_writer *w)
+{
+	rs_header_free(&w->h);
+	free(w->name);
+	free(w);
+}
+
+/* Always consumes w: on failure the output is discarded as by rs_abort. */
+int
+rs_finish(rs_writer *w, tl_err *e)
+{
+	int r;
+
+	if (w->failed || w->y != w->h.height) {
+		if (!w->failed)
+			tl_fail(e, "%s: %d of %d rows written", w->name, w->y,
+			    w->h.height);
+		else
+			tl_fail(e, "%s: finish after an error", w->name);
+		rs_abort(w);
+		return -1;
+	}
+	r = w->finish(w, e);
+	writer_free(w);
+	return r;
+}
+
+void
+rs_abort(rs_writer *w)
+{
+	if (w == NULL)
+		return;
+	if (w->abort != NULL)
+		w->abort(w);
+	writer_free(w);
+}

@@ -1,0 +1,71 @@
+/* rs_impl.h - private to raster.c, exr*.c, stream.c and rs_list.c: the
+ * reader and writer objects and the entry points of the backends. */
+#ifndef TL_RS_IMPL_H
+#define TL_RS_IMPL_H
+
+#include "raster/raster.h"
+
+/* Sanity caps shared by both forms, so that garbage cannot make a reader
+ * allocate gigabytes before it notices. */
+#define RS_MAXDIM (1 << 26)
+#define RS_MAXROW (1 << 30) /* bytes: 4 x channels x width */
+#define RS_MAXSTR 65535
+
+struct rs_reader {
+	rs_header h;
+	char *name;  /* for messages: the path, or "stdin" */
+	int fd;
+	int ownfd;   /* close fd in rs_close */
+	int y;       /* next row */
+	int failed;  /* an error was reported: every later read fails */
+	int (*row)(rs_reader *, float *, tl_err *);
+	/* columns x0 .. x0+n-1 of the next row, straight from the file;
+	 * returns 1 when it cannot (not a complete stream file): the caller
+	 * then reads whole rows. NULL: never. */
+	int (*span)(rs_reader *, int x0, int n, float *dst, tl_err *);
+	/* skips the next n rows of a reader read by spans by moving y
+	 * alone (the caller does), when its spans come by pread; returns 1
+	 * when it cannot: the caller reads and discards them. NULL: never. */
+	int (*skip)(rs_reader *, int n);
+	float *full; /* a whole row, for spans read as whole rows */
+	void (*close)(rs_reader *);
+	void *impl;
+	unsigned char pre[8]; /* bytes rs_open read to find the magic */
+	int npre;
+};
+
+struct rs_writer {
+	rs_header h;
+	char *name;  /* for messages */
+	int y;       /* next row */
+	int failed;
+	int (*row)(rs_writer *, const float *, tl_err *);
+	int (*finish)(rs_writer *, tl_err *);
+	void (*abort)(rs_writer *);
+	void *impl;
+};
+
+/* Size and channel count within the caps above; fills e ("name: ..."). */
+int rs_check_size(const rs_header *h, const char *name, tl_err *e);
+
+/* EXR: fd is a regular file (or scratch spool), read with pread from base. */
+int rs_exr_open_read(rs_reader *r, long long base, tl_err *e);
+/* fresh: path is in a tree under construction (tl_out_begin_fresh) */
+int rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
+    int fresh, tl_err *e);
+
+/* Stream: r->pre holds the 8 magic bytes already consumed from r->fd. */
+int rs_stream_open_read(rs_reader *r, tl_err *e);
+int rs_stream_create(rs_writer *w, int fd, tl_err *e);
+
+/* Band list (rs_list.c): r->pre holds the first 8 bytes of the list
+ * file r->name, r->fd the rest. */
+int rs_bands_open_read(rs_reader *r, tl_err *e);
+/* rs_open of one band: any form but a band list. */
+rs_reader *rs_open_band(const char *path, tl_err *e);
+
+extern const unsigned char rs_exr_magic[4];
+extern const unsigned char rs_stream_magic[8];
+extern const unsigned char rs_bands_magic[8]; /* "fqm-band" */
+
+#endif
