@@ -102,11 +102,11 @@ midpoint(t3_work *w, const georef *g, const t3_tile *t, int a, int b,
 		memcpy(u, &w->up[3 * k], 3 * sizeof *u);
 		return 0;
 	}
-	t3_grid_crs(g, 0.5 * (w->px[a] + w->px[b]),
+	geo_grid_crs(g, 0.5 * (w->px[a] + w->px[b]),
 	    0.5 * (w->py[a] + w->py[b]), &lon, &lat);
-	if (t3_proj_geo(&w->proj, &lon, &lat, &z, 1, e) < 0)
+	if (geo_proj_lonlat(&w->proj, &lon, &lat, &z, 1, e) < 0)
 		return -1;
-	t3_ellipsoid(lon, lat, s, u);
+	geo_ellipsoid(lon, lat, s, u);
 	return 0;
 }
 

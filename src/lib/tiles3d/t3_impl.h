@@ -5,40 +5,9 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include <proj.h>
-
+#include "geo/wgs84.h"
 #include "pyramid/pyramid.h"
 #include "tiles3d/tiles3d.h"
-
-/* --- geodesy (geo.c): the DEM's CRS to WGS84 and ECEF --------------- */
-
-/* One thread's PROJ: the DEM's CRS, heights ellipsoidal (promoted to
- * 3D), to EPSG:4979 longitude, latitude (degrees), height. */
-typedef struct {
-	PJ_CONTEXT *ctx;
-	PJ *op;
-} t3_proj;
-
-int t3_proj_open(t3_proj *p, const georef *g, tl_err *e);
-void t3_proj_close(t3_proj *p);
-/* n points in place: x, y (CRS), z (m) in; lon, lat (deg), h (m) out. */
-int t3_proj_geo(t3_proj *p, double *x, double *y, double *z, int n,
-    tl_err *e);
-
-/* Level-0 grid place (I, J) in the DEM's CRS (geo_vertex_crs), kept on
- * the globe for a geographic DEM: padding past a pole stops at the pole,
- * padding past a full turn of longitude from column 0 stops a turn away
- * (where the DEM's column 0 comes round again). Any other place, and
- * every place of a projected DEM, is geo_vertex_crs's. */
-void t3_grid_crs(const georef *g, double I, double J, double *x, double *y);
-
-/* WGS84 (EPSG:4979 -> EPSG:4978), closed form. */
-void t3_ecef(double lon, double lat, double h, double out[3]);
-/* The point of height 0 at (lon, lat) and the unit normal there: the
- * point of height h is foot + h up. */
-void t3_ellipsoid(double lon, double lat, double foot[3], double up[3]);
-/* The east, north, up unit vectors at (lon, lat), rows of r (9). */
-void t3_enu(double lon, double lat, double r[9]);
 
 /* --- one tile: a block's mesh (tile.c, cut.c, glb.c) --------------- */
 
@@ -68,7 +37,7 @@ typedef struct t3_work t3_work;
 typedef struct t3_tile t3_tile;
 
 struct t3_work {
-	t3_proj proj;
+	geo_proj proj;
 	pyramid_block blk;
 	t3_tris tris;
 	const geo_metric *m;       /* QEM-3D offsets to grid steps, or NULL */
@@ -124,7 +93,7 @@ typedef struct {
 } t3_set;
 
 /* Tiles, tolerances, skirts, frames and heights from the index. */
-int t3_plan(t3_set *s, const pyramid_index *ix, double tau0, t3_proj *p,
+int t3_plan(t3_set *s, const pyramid_index *ix, double tau0, geo_proj *p,
     tl_err *e);
 void t3_set_free(t3_set *s);
 
@@ -139,12 +108,12 @@ t3_at(const t3_set *s, int l, int bi, int bj)
 }
 
 /* The tile's bounding volume in its frame (box, 12) or as a region (6). */
-int t3_volume(const t3_set *s, t3_proj *p, const t3_tile *t, double *v,
+int t3_volume(const t3_set *s, geo_proj *p, const t3_tile *t, double *v,
     tl_err *e);
 
 /* tileset.json into dir; raises an error below a child's to the child's
  * (counted in *raised). */
-int t3_tileset_write(const t3_set *s, t3_proj *p, const char *dir,
+int t3_tileset_write(const t3_set *s, geo_proj *p, const char *dir,
     int *raised, tl_err *e);
 
 #endif

@@ -33,7 +33,7 @@ t3_work_init(t3_work *w, const georef *g, const geo_metric *m, tl_err *e)
 	w->idx = tl_alloc(MAXI, sizeof *w->idx, e);
 	if (!w->px || !w->py || !w->lon || !w->lat || !w->h || !w->x ||
 	    !w->foot || !w->up || !w->map || !w->pos || !w->nrm ||
-	    !w->idx || t3_proj_open(&w->proj, g, e) < 0) {
+	    !w->idx || geo_proj_open(&w->proj, g, e) < 0) {
 		t3_work_free(w);
 		return -1;
 	}
@@ -49,7 +49,7 @@ t3_work_free(t3_work *w)
 	free(w->pos), free(w->nrm), free(w->idx);
 	free(w->tris.idx), free(w->tris.bound);
 	if (w->proj.ctx)
-		t3_proj_close(&w->proj);
+		geo_proj_close(&w->proj);
 	memset(w, 0, sizeof *w);
 }
 
@@ -71,18 +71,18 @@ place(t3_work *w, const georef *g, const t3_tile *t, tl_err *e)
 				geo_offset_to_grid(w->m, w->px[k], w->py[k],
 				    w->blk.x[k], w->blk.y[k], &di, &dj);
 			w->px[k] += di, w->py[k] += dj;
-			t3_grid_crs(g, w->px[k], w->py[k], &w->lon[k],
+			geo_grid_crs(g, w->px[k], w->py[k], &w->lon[k],
 			    &w->lat[k]);
 			w->h[k] = w->blk.z[k];
 		}
-	if (t3_proj_geo(&w->proj, w->lon, w->lat, w->h, PYRAMID_N, e) < 0) {
+	if (geo_proj_lonlat(&w->proj, w->lon, w->lat, w->h, PYRAMID_N, e) < 0) {
 		tl_err why = *e;
 		return tl_fail(e, "block %d/%d_%d: %s", t->level, t->bj, t->bi,
 		    why.msg);
 	}
 	for (int k = 0; k < PYRAMID_N; k++) {
 		double *f = &w->foot[3 * k], *u = &w->up[3 * k];
-		t3_ellipsoid(w->lon[k], w->lat[k], f, u);
+		geo_ellipsoid(w->lon[k], w->lat[k], f, u);
 		for (int a = 0; a < 3; a++)
 			w->x[3 * k + a] = f[a] + w->h[k] * u[a];
 	}
@@ -249,7 +249,7 @@ vertices(t3_work *w, const t3_tile *t)
 		if (v < PYRAMID_N)
 			memcpy(x, &w->x[3 * k], sizeof x);
 		else
-			t3_ecef(w->lon[k], w->lat[k], w->h[k] - t->skirt, x);
+			geo_ecef(w->lon[k], w->lat[k], w->h[k] - t->skirt, x);
 		to_local(&t->f, x, &w->pos[3 * m]);
 		normal(w, &t->f, k % BT_SIZE, k / BT_SIZE, &w->nrm[3 * m]);
 	}

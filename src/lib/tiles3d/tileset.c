@@ -64,7 +64,7 @@ transform(const t3_frame *f, const t3_frame *up)
 }
 
 static json_t *
-tile_json(const t3_set *s, t3_proj *p, const t3_tile *t, const t3_tile *up,
+tile_json(const t3_set *s, geo_proj *p, const t3_tile *t, const t3_tile *up,
     tl_err *e)
 {
 	char uri[64];
@@ -102,7 +102,7 @@ tile_json(const t3_set *s, t3_proj *p, const t3_tile *t, const t3_tile *up,
 }
 
 int
-t3_tileset_write(const t3_set *s, t3_proj *p, const char *dir, int *raised,
+t3_tileset_write(const t3_set *s, geo_proj *p, const char *dir, int *raised,
     tl_err *e)
 {
 	t3_tile *root = t3_at(s, s->ix->nlevels - 1, 0, 0);

@@ -20,32 +20,32 @@
 
 /* A frame at level-0 grid position (I, J), height z: ENU there. */
 static int
-frame_at(t3_proj *p, const georef *g, double I, double J, double z,
+frame_at(geo_proj *p, const georef *g, double I, double J, double z,
     t3_frame *f, tl_err *e)
 {
 	double x, y;
 
-	t3_grid_crs(g, I, J, &x, &y);
-	if (t3_proj_geo(p, &x, &y, &z, 1, e) < 0)
+	geo_grid_crs(g, I, J, &x, &y);
+	if (geo_proj_lonlat(p, &x, &y, &z, 1, e) < 0)
 		return -1;
-	t3_ecef(x, y, z, f->c);
-	t3_enu(x, y, f->r);
+	geo_ecef(x, y, z, f->c);
+	geo_enu(x, y, f->r);
 	return 0;
 }
 
 /* The block's diagonal in metres (ECEF chord), for the sagitta term. */
 static int
-diagonal(t3_proj *p, const georef *g, const t3_tile *t, double *d,
+diagonal(geo_proj *p, const georef *g, const t3_tile *t, double *d,
     tl_err *e)
 {
 	double s = BT_CELLS * ldexp(1, t->level), x[2], y[2], z[2] = { 0, 0 };
 	double a[3], b[3];
 
-	t3_grid_crs(g, t->bi * s, t->bj * s, &x[0], &y[0]);
-	t3_grid_crs(g, (t->bi + 1) * s, (t->bj + 1) * s, &x[1], &y[1]);
-	if (t3_proj_geo(p, x, y, z, 2, e) < 0)
+	geo_grid_crs(g, t->bi * s, t->bj * s, &x[0], &y[0]);
+	geo_grid_crs(g, (t->bi + 1) * s, (t->bj + 1) * s, &x[1], &y[1]);
+	if (geo_proj_lonlat(p, x, y, z, 2, e) < 0)
 		return -1;
-	t3_ecef(x[0], y[0], 0, a), t3_ecef(x[1], y[1], 0, b);
+	geo_ecef(x[0], y[0], 0, a), geo_ecef(x[1], y[1], 0, b);
 	*d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
 	    (a[2] - b[2]) * (a[2] - b[2]));
 	return 0;
@@ -55,24 +55,24 @@ diagonal(t3_proj *p, const georef *g, const t3_tile *t, double *d,
  * tile t, from a lattice of its footprint (kept on the globe), with 5 %
  * for the arcs between nodes. */
 static int
-cell_length(t3_proj *p, const georef *g, const t3_tile *t, double *len,
+cell_length(geo_proj *p, const georef *g, const t3_tile *t, double *len,
     tl_err *e)
 {
 	double span = BT_CELLS * ldexp(1, t->level), x[NC * NC], y[NC * NC];
 	double z[NC * NC] = { 0 }, a[3], b[3], m = 0;
 
 	for (int q = 0; q < NC * NC; q++)
-		t3_grid_crs(g, span * (t->bi + (double)(q % NC) / (NC - 1)),
+		geo_grid_crs(g, span * (t->bi + (double)(q % NC) / (NC - 1)),
 		    span * (t->bj + (double)(q / NC) / (NC - 1)), &x[q], &y[q]);
-	if (t3_proj_geo(p, x, y, z, NC * NC, e) < 0)
+	if (geo_proj_lonlat(p, x, y, z, NC * NC, e) < 0)
 		return -1;
 	for (int q = 0; q < NC * NC; q++) {
-		t3_ecef(x[q], y[q], 0, a);
+		geo_ecef(x[q], y[q], 0, a);
 		for (int k = 0; k < 2; k++) {
 			int o = k ? q + NC : q + 1;
 			if ((k ? q / NC : q % NC) == NC - 1)
 				continue;
-			t3_ecef(x[o], y[o], 0, b);
+			geo_ecef(x[o], y[o], 0, b);
 			m = fmax(m, hypot(hypot(a[0] - b[0], a[1] - b[1]),
 			    a[2] - b[2]));
 		}
@@ -84,7 +84,7 @@ cell_length(t3_proj *p, const georef *g, const t3_tile *t, double *len,
 /* Per level: the longest cell (cl) and each tile's lmax, the hypotenuse
  * in cells whose chord sags SAG_SPLIT or tau. */
 static int
-curve_split(t3_set *s, t3_proj *p, double *cl, tl_err *e)
+curve_split(t3_set *s, geo_proj *p, double *cl, tl_err *e)
 {
 	for (int l = 0; l < s->ix->nlevels; l++) {
 		cl[l] = 0;
@@ -109,7 +109,7 @@ curve_split(t3_set *s, t3_proj *p, double *cl, tl_err *e)
  * projection's curve and float rounding), d the block's diagonal or the
  * longest hypotenuse the curve lets stand (lmax cells, or a leaf's). */
 static int
-level_bounds(const t3_set *s, t3_proj *p, const double *cl, double *ub,
+level_bounds(const t3_set *s, geo_proj *p, const double *cl, double *ub,
     tl_err *e)
 {
 	for (int l = 0; l < s->ix->nlevels; l++) {
@@ -168,7 +168,7 @@ heights(t3_set *s)
 }
 
 int
-t3_plan(t3_set *s, const pyramid_index *ix, double tau0, t3_proj *p,
+t3_plan(t3_set *s, const pyramid_index *ix, double tau0, geo_proj *p,
     tl_err *e)
 {
 	int n = 0, nl = ix->nlevels, r = -1;

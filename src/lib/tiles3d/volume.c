@@ -3,7 +3,7 @@
  * to the highest vertex of its subtree, so that it holds its children's.
  * A box in the tile's east-north-up frame, or for a geographic DEM a
  * region (radians, ellipsoidal heights), fitted to a lattice of the
- * footprint's points (kept on the globe: t3_grid_crs), widened for the
+ * footprint's points (kept on the globe: geo_grid_crs), widened for the
  * curve between them. */
 #include <math.h>
 
@@ -22,7 +22,7 @@ node(const t3_set *s, const t3_tile *t, int q, double *x, double *y,
 	    (NL - 1);
 	int top = q / (NL * NL);
 
-	t3_grid_crs(&s->ix->geo, span * (t->bi + u) + pad * (2 * u - 1),
+	geo_grid_crs(&s->ix->geo, span * (t->bi + u) + pad * (2 * u - 1),
 	    span * (t->bj + v) + pad * (2 * v - 1), x, y);
 	*z = top ? s->zhi[t - s->tile] : s->zlo[t - s->tile];
 }
@@ -64,7 +64,7 @@ region(const double lo[3], const double hi[3], double *v)
 }
 
 int
-t3_volume(const t3_set *s, t3_proj *p, const t3_tile *t, double *v,
+t3_volume(const t3_set *s, geo_proj *p, const t3_tile *t, double *v,
     tl_err *e)
 {
 	enum { N = NL * NL * 2 };
@@ -72,7 +72,7 @@ t3_volume(const t3_set *s, t3_proj *p, const t3_tile *t, double *v,
 
 	for (int q = 0; q < N; q++)
 		node(s, t, q, &x[q], &y[q], &z[q]);
-	if (t3_proj_geo(p, x, y, z, N, e) < 0)
+	if (geo_proj_lonlat(p, x, y, z, N, e) < 0)
 		return -1;
 	if (s->region)
 		unwrap(x, N);
@@ -83,7 +83,7 @@ t3_volume(const t3_set *s, t3_proj *p, const t3_tile *t, double *v,
 		if (s->region) {
 			l[0] = x[q], l[1] = y[q], l[2] = z[q];
 		} else {
-			t3_ecef(x[q], y[q], z[q], c);
+			geo_ecef(x[q], y[q], z[q], c);
 			for (int a = 0; a < 3; a++)
 				d[a] = c[a] - t->f.c[a];
 			for (int a = 0; a < 3; a++)

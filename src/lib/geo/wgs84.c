@@ -1,12 +1,14 @@
-/* geo.c - the DEM's CRS to WGS84 geodetic (PROJ) and to ECEF (closed
- * form): see t3_impl.h. */
+/* wgs84.c - the DEM's CRS to WGS84 geodetic (PROJ) and to ECEF (closed
+ * form): see wgs84.h. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include <proj_experimental.h>
 
-#include "tiles3d/t3_impl.h"
+#include <proj.h>
+
+#include "geo/wgs84.h"
 
 #define WGS84_A 6378137.0
 #define WGS84_F (1 / 298.257223563)
@@ -39,7 +41,7 @@ crs3d(PJ_CONTEXT *ctx, const georef *g)
 }
 
 int
-t3_proj_open(t3_proj *p, const georef *g, tl_err *e)
+geo_proj_open(geo_proj *p, const georef *g, tl_err *e)
 {
 	PJ *src, *dst, *op;
 
@@ -56,7 +58,7 @@ t3_proj_open(t3_proj *p, const georef *g, tl_err *e)
 	if (p->op == NULL) {
 		/* PROJ fails alike when it cannot open proj.db */
 		int fds = tl_fds_exhausted();
-		t3_proj_close(p);
+		geo_proj_close(p);
 		if (fds)
 			return tl_fail_fds(e, "PROJ", "its database");
 		return tl_fail(e, "CRS %.200s: PROJ has no way to WGS 84 "
@@ -66,7 +68,7 @@ t3_proj_open(t3_proj *p, const georef *g, tl_err *e)
 }
 
 void
-t3_proj_close(t3_proj *p)
+geo_proj_close(geo_proj *p)
 {
 	proj_destroy(p->op);
 	if (p->ctx)
@@ -75,7 +77,7 @@ t3_proj_close(t3_proj *p)
 }
 
 int
-t3_proj_geo(t3_proj *p, double *x, double *y, double *z, int n, tl_err *e)
+geo_proj_lonlat(geo_proj *p, double *x, double *y, double *z, int n, tl_err *e)
 {
 	size_t s = sizeof(double);
 	double x0, y0;
@@ -99,7 +101,7 @@ t3_proj_geo(t3_proj *p, double *x, double *y, double *z, int n, tl_err *e)
 }
 
 void
-t3_grid_crs(const georef *g, double I, double J, double *x, double *y)
+geo_grid_crs(const georef *g, double I, double J, double *x, double *y)
 {
 	double x0, y0;
 
@@ -112,7 +114,7 @@ t3_grid_crs(const georef *g, double I, double J, double *x, double *y)
 }
 
 void
-t3_ecef(double lon, double lat, double h, double out[3])
+geo_ecef(double lon, double lat, double h, double out[3])
 {
 	double e2 = WGS84_F * (2 - WGS84_F), sl = sin(lat * DEG);
 	double cl = cos(lat * DEG), n = WGS84_A / sqrt(1 - e2 * sl * sl);
@@ -123,7 +125,7 @@ t3_ecef(double lon, double lat, double h, double out[3])
 }
 
 void
-t3_ellipsoid(double lon, double lat, double foot[3], double up[3])
+geo_ellipsoid(double lon, double lat, double foot[3], double up[3])
 {
 	double e2 = WGS84_F * (2 - WGS84_F), sl = sin(lat * DEG);
 	double cl = cos(lat * DEG), so = sin(lon * DEG), co = cos(lon * DEG);
@@ -135,7 +137,7 @@ t3_ellipsoid(double lon, double lat, double foot[3], double up[3])
 }
 
 void
-t3_enu(double lon, double lat, double r[9])
+geo_enu(double lon, double lat, double r[9])
 {
 	double so = sin(lon * DEG), co = cos(lon * DEG);
 	double sa = sin(lat * DEG), ca = cos(lat * DEG);
