@@ -96,6 +96,7 @@ TOOLC   := $(wildcard tests/tools/*.c)
 TOOLBIN := $(TOOLC:tests/tools/%.c=$(B)/tools/%)
 MAN1    := $(PROGS:%=man/%.1)
 MAN5    := $(wildcard man/*.5)
+MAN7    := $(wildcard man/*.7)
 
 all: $(PROGS:%=$(B)/%) $(PLUGIN)
 
@@ -203,6 +204,8 @@ install: all
 	install -m 755 $(PROGS:%=$(B)/%) $(DESTDIR)$(BINDIR)
 	install -m 644 $(MAN1) $(DESTDIR)$(MANDIR)/man1
 	install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5
+	install -d $(DESTDIR)$(MANDIR)/man7
+	install -m 644 $(MAN7) $(DESTDIR)$(MANDIR)/man7
 
 clean:
 	rm -rf $(B)/lib $(B)/cmd $(B)/tests $(B)/tools $(B)/*.a $(PLUGIN) $(PROGS:%=$(B)/%)
