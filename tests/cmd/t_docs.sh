@@ -24,8 +24,9 @@ for m in "$TOP"/man/*.[1-9]; do
 done
 
 # ARCHITECTURE in terrain-lod(7): a subsection ".Ss src/lib/L" per folder,
-# with "Uses: ..." and "Packages: ..." lines as the Makefile has them, and
-# the files, one ".It Pa FILE..." line each, relative to the subsection.
+# with "Uses: ..." and "Packages: ..." lines as the Makefile has them, a
+# "Prefix: ..." line, and its files, one ".It Pa FILE..." line each,
+# relative to the subsection.
 M7=$TOP/man/terrain-lod.7
 sed -n '/^\.Sh ARCHITECTURE/,/^\.Sh [^A]/p' "$M7" >"$T/arch"
 [ -s "$T/arch" ]; ok $? "terrain-lod.7 has an ARCHITECTURE section"
@@ -39,6 +40,7 @@ for l in $(printf '%s\n' $layers $dirs | sort -u); do
 	ok $? "$l: a folder of src/lib and a layer of the Makefile"
 	sub "src/lib/$l" >"$T/sub"
 	[ -s "$T/sub" ]; ok $? "$l: described in terrain-lod.7 (.Ss src/lib/$l)"
+	grep -q '^Prefix: ' "$T/sub"; ok $? "$l: terrain-lod.7 gives its prefix"
 	for v in uses pkgs; do
 		case $v in uses) k=Uses n=nothing ;; pkgs) k=Packages n=none ;; esac
 		want=$(sed -n "s/^${v}_$l *:= *//p" "$TOP/Makefile" | tr ' ' '\n' | sort | xargs)
