@@ -22,6 +22,13 @@ for m in "$TOP"/man/*.[1-9]; do
 	groff -mandoc -ww -Tutf8 "$m" >/dev/null 2>"$T/w"
 	[ ! -s "$T/w" ]; ok $? "$(basename "$m") renders without warnings"
 done
+# mandoc's lint, where installed (man pages not installed aside)
+if command -v mandoc >/dev/null; then
+	mandoc -Tlint "$TOP/man/terrain-lod.7" 2>&1 |
+	    grep -v 'referenced manual not found\|mandoc.db' >"$T/lint"
+	[ ! -s "$T/lint" ]; ok $? "terrain-lod.7: mandoc -Tlint is clean"
+	sed 's/^/#   /' "$T/lint"
+fi
 
 # ARCHITECTURE in terrain-lod(7): a subsection ".Ss src/lib/L" per folder,
 # with "Uses: ..." and "Packages: ..." lines as the Makefile has them, a
