@@ -35,7 +35,7 @@ fi
 # "Prefix: ..." line, and its files, one ".It Pa FILE..." line each,
 # relative to the subsection.
 M7=$TOP/man/terrain-lod.7
-sed -n '/^\.Sh ARCHITECTURE/,/^\.Sh [^A]/p' "$M7" >"$T/arch"
+awk '/^\.Sh /{on = ($2 == "ARCHITECTURE")} on' "$M7" >"$T/arch"
 [ -s "$T/arch" ]; ok $? "terrain-lod.7 has an ARCHITECTURE section"
 sub() {	# sub DIR: the subsection of DIR
 	awk -v d="$1" '/^\.Ss /{on = ($2 == d)} on' "$T/arch"
