@@ -7,7 +7,8 @@
 # list of raster (raster.o <-> rs_list.o: a band list is a raster made of
 # rasters, so it opens its column files through the front door).
 # The programs' objects are read too (cli.o beside the programs);
-# TL_LOOPS_OBJS="a.o b.a ...": check those files instead.
+# TL_LOOPS_OBJS="a.o b.a ...": check those files instead. Last, that
+# GDAL is seen by the DEM reader's GDAL adapter only.
 . "$(dirname "$0")/../lib.sh"
 
 if [ -n "${TL_LOOPS_OBJS:-}" ]; then
@@ -103,4 +104,23 @@ done
 loops=$(grep -c '^loop ' "$T/loops")
 [ "$loops" -eq 0 ] || awk '/^loop /{ p = 1 } /^[a-z]/ && !/^loop /{ p = 0 } p { print "#   " $0 }' "$T/loops"
 [ "$loops" -eq 0 ]; ok $? "no call loop between object files but the band list ($loops found)"
+
+# The DEM reader reaches GDAL through its adapter's table of methods
+# (dem_impl.h): in libdem.a only the GDAL side (dem_gdal.h) calls GDAL,
+# and only its files include GDAL's headers.
+gdal_side="dem_gdal.o dem_gdal_env.o dem_pam.o dem_vrt.o dem_mosaic.o"
+bad=$(awk '$1 ~ /libdem\.a:/ && $2 == "U" &&
+    $3 ~ /^(GDAL|CPL|CSL|OGR|OSR|VSI)/ {
+	split($1, p, ":"); print p[2] }' "$T/nm" | sort -u |
+    while read -r o; do
+	case " $gdal_side " in *" $o "*) ;; *) echo "$o" ;; esac
+    done | tr '\n' ' ')
+[ -z "$bad" ]; ok $? "libdem.a: only the GDAL adapter's objects call GDAL ($bad)"
+awk '$1 ~ /libdem\.a:dem_gdal\.o:/ && $2 == "U" && $3 ~ /^GDAL/' "$T/nm" |
+    grep -q .
+ok $? "libdem.a: dem_gdal.o calls GDAL (the check above reads GDAL's symbols)"
+inc=$(cd "$TOP/src" && grep -lE '^#include <(gdal|cpl_|ogr_)' lib/*/* cmd/* |
+    grep -vE '^lib/dem/(dem_gdal(_env)?\.[ch]|dem_pam\.cpp|dem_vrt\.c|dem_mosaic\.c)$' |
+    tr '\n' ' ')
+[ -z "$inc" ]; ok $? "GDAL's headers included by the GDAL adapter's files only ($inc)"
 done_testing
