@@ -6,8 +6,8 @@
  * VRT, which the GDAL adapter reads like any dataset (dem_gdal.c). The
  * checks sort (by west edge, by inode), so that thousands of tiles cost
  * O(n log n), not a pass over every pair; a file listed twice is read
- * once. A VRT file's sources are checked too (dem_vrt_tiles): what they
- * say that the VRT lost, and that GDAL would not resample them.
+ * once. A tile's header, and a VRT file's sources (what they say that
+ * the VRT lost, and that GDAL would not resample them), are dem_vrt.c's.
  *
  * Only headers are held, one per tile: samples stream through GDAL's
  * block cache; at most two tiles are open at once besides the VRT's own
