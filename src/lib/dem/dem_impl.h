@@ -150,6 +150,8 @@ int dem_gdal_is_vrt(const char *path);
 int dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
     const dem_opts *o, tl_err *e);
 
+/* --- the reader, for the fill jobs (dem.c) -------------------------- */
+
 /* Only rows y0 .. y1-1 of the DEM (north-up), converted unfilled into
  * fd (a dup of it is kept: the dem's own), row j at j W 4 bytes, NaN
  * for a void, as dem_open converts them; the source is read only where
@@ -158,6 +160,8 @@ int dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
  * row band's first pass of a filled DEM file (dem_filled_jobs.c). */
 dem *dem_open_rows(const char *path, const dem_opts *o, int y0, int y1,
     int fd, tl_err *e);
+
+/* --- void filling (dem_voidfill.c) ---------------------------------- */
 
 /* The nearest valid sample in a column beyond a row (row -1: none). */
 typedef struct {
