@@ -7,7 +7,7 @@
 
 #include "tap.h"
 #include "tmpdir.h"
-#include "dem/dem_impl.h"
+#include "dem/dem_gdal.h"
 
 /* A 4 x 4 GeoTIFF at path; 0 when made. */
 static int

@@ -1,15 +1,18 @@
-/* dem.c - DEM input: the dem object, stdin, the conversion of source
- * samples to metres (the options are dem_opts.c's). The formats are the
- * adapters' business: GDAL reads every raster it knows (dem_gdal.c),
- * OpenImageIO the EXRs GDAL 3.6 cannot read (dem_oiio.c); a list of DEM
- * files is a mosaic of them (dem_list.c, dem_mosaic.c).
+/* dem.c - DEM input: the dem object, stdin, and the front door to the
+ * format adapters (the options are dem_opts.c's). The formats are the
+ * adapters' business, each a table of methods (dem_adapter, dem_impl.h)
+ * tried in the order of the table here: GDAL reads every raster it
+ * knows (dem_gdal.c), a list of DEM files is a mosaic of them
+ * (dem_list.c, dem_mosaic.c), OpenImageIO reads the EXRs GDAL 3.6
+ * cannot (dem_oiio.c). They convert their samples through the sink
+ * they share (dem_load.c), never calling back here.
  *
  * The source is converted once to float32 rows in an anonymous scratch
  * file, voids as NaN. Voids are then filled for geometry (dem_voidfill.c) and
  * the scratch file holds the filled rows followed by a validity mask for
  * each row that has voids, so any row can be read back in any order with
  * O(width) memory. A dem may instead read them from a filled DEM file
- * (dem_filled.c). */
+ * (dem_filled.c sets its span method), which this file does not know. */
 #include "dem/dem_impl.h"
 
 #include <errno.h>
@@ -24,188 +27,6 @@
 
 #include "base/outfile.h"
 #include "geo/vdatum.h"
-
-/* --- conversion --------------------------------------------------------- */
-
-static double
-sample(const void *p, int t, size_t k)
-{
-	switch (t) {
-	case TL_PX_U8: return ((const uint8_t *)p)[k];
-	case TL_PX_I8: return ((const int8_t *)p)[k];
-	case TL_PX_U16: return ((const uint16_t *)p)[k];
-	case TL_PX_I16: return ((const int16_t *)p)[k];
-	case TL_PX_U32: return ((const uint32_t *)p)[k];
-	case TL_PX_I32: return ((const int32_t *)p)[k];
-	case TL_PX_F32: return ((const float *)p)[k];
-	case TL_PX_F64: return ((const double *)p)[k];
-	}
-	return NAN;
-}
-
-/* Height of pixel k (stride samples apart) in the file's unit, before
- * the void test. The RGB encodings read the first three bytes. */
-static double
-decode(const dem_load *L, const void *p, int t, size_t k, int stride)
-{
-	const uint8_t *c = (const uint8_t *)p + k * stride;
-
-	switch (L->enc) {
-	case DEM_ENC_TERRAINRGB:
-		return (c[0] * 65536.0 + c[1] * 256.0 + c[2]) / 10 - 10000;
-	case DEM_ENC_TERRARIUM:
-		return c[0] * 256.0 + c[1] + c[2] / 256.0 - 32768;
-	default:
-		return sample(p, t, k * stride);
-	}
-}
-
-/* Nodata is a raw value (GDAL's convention), so it is tested before
- * scale and offset. */
-static int
-is_void(const dem_load *L, double v)
-{
-	if (isnan(v))
-		return 1;
-	return L->has_nodata &&
-	    (L->f32 ? (float)v == (float)L->nodata : v == L->nodata);
-}
-
-/* Raw value to metres. Without scale and offset the expression is the
- * one it always was, so heights stay bit-identical. */
-static double
-metres(const dem_load *L, double v)
-{
-	if (L->scale != 1 || L->offset != 0)
-		v = v * L->scale + L->offset;
-	return v * L->zunit;
-}
-
-int
-dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
-    int n, const unsigned char *mask, tl_err *e)
-{
-	int nv = 0, a, b;
-
-	if (x0 < 0 || y < 0 || n < 0 || x0 + n > L->w || y >= L->h)
-		return tl_fail(e, "%s: sample window outside the raster",
-		    L->what);
-	if (L->flip_y)
-		y = L->h - 1 - y;
-	if (L->flip_x)
-		x0 = L->w - x0 - n;
-	if (y < L->cy0 || y >= L->cy1)
-		return 0;
-	/* north-up columns a .. b-1: those of the n kept */
-	a = x0 > L->cx0 ? x0 : L->cx0;
-	b = x0 + n < L->cx1 ? x0 + n : L->cx1;
-	if (a >= b)
-		return 0;
-	for (int i = a - x0; i < b - x0; i++) {
-		int k = L->flip_x ? n - 1 - i : i;
-		double v = decode(L, p, t, (size_t)k, stride), z;
-		float *o = &L->seg[i - (a - x0)];
-		z = is_void(L, v) || (mask != NULL && mask[k] == 0) ? NAN :
-		    metres(L, v);
-		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
-			*o = NAN;
-			nv++;
-		} else {
-			*o = (float)z;
-		}
-	}
-	if (L->vd != NULL && vdatum_apply(L->vd, y, a, b - a, L->seg, e) < 0)
-		return -1;
-	if (nv > 0) {
-		L->voids += nv;
-		dem_setbit(L->rowvoid, y);
-	}
-	return tl_pwrite(L->fd, L->seg, (size_t)(b - a) * sizeof(float),
-	    ((long long)y * (L->cx1 - L->cx0) + a - L->cx0) *
-	    (long long)sizeof(float), "scratch file", e);
-}
-
-/* The vertical datum conversion, once the georeferencing is known. */
-static int
-datum(dem_load *L, georef *g, const dem_opts *o, tl_err *e)
-{
-	const char *from = o->vdatum != NULL ? o->vdatum : g->vdatum;
-
-	if (o->heights == NULL)
-		return 0;
-	if (g->model == GEO_NONE)
-		return tl_fail(e, "%s: -H %s: the DEM has no CRS, so its "
-		    "heights cannot change datum", L->what, o->heights);
-	if ((L->vd = vdatum_open(g, from, o->heights, e)) == NULL) {
-		char why[sizeof e->msg];
-		snprintf(why, sizeof why, "%s", e->msg);
-		return tl_fail(e, "%s: %s", L->what, why);
-	}
-	snprintf(g->vdatum, sizeof g->vdatum, "%s", vdatum_target_name(L->vd));
-	return 0;
-}
-
-int
-dem_load_begin(dem_load *L, georef *g, const dem_opts *o, int w, int h,
-    int f32, tl_err *e)
-{
-	if (w < 1 || h < 1 || w > DEM_MAXDIM || h > DEM_MAXDIM)
-		return tl_fail(e, "%s: unsupported size %d x %d (1 .. %d a "
-		    "side)", L->what, w, h, DEM_MAXDIM);
-	if ((long long)w * h > DEM_MAXSAMPLES)
-		return tl_fail(e, "%s: %d x %d samples, more than 2^40: refused "
-		    "before reading (a damaged header, or a DEM to cut into "
-		    "tiles first)", L->what, w, h);
-	if ((long long)w * DEM_SAMPLEBYTES > DEM_MAXROW)
-		return tl_fail(e, "%s: rows of %d samples, more than %lld bytes "
-		    "each: refused before reading", L->what, w,
-		    (long long)DEM_MAXROW);
-	g->width = L->w = w;
-	g->height = L->h = h;
-	if (L->cx1 == 0)
-		L->cx0 = 0, L->cx1 = w;
-	if (L->cy1 == 0)
-		L->cy0 = 0, L->cy1 = h;
-	if (L->cy0 < 0 || L->cy0 >= L->cy1 || L->cy1 > h)
-		return tl_fail(e, "%s: rows %d .. %d outside 0 .. %d",
-		    L->what, L->cy0, L->cy1 - 1, h - 1);
-	if (L->cx0 < 0 || L->cx0 >= L->cx1 || L->cx1 > w)
-		return tl_fail(e, "%s: columns %d .. %d outside 0 .. %d",
-		    L->what, L->cx0, L->cx1 - 1, w - 1);
-	L->has_nodata = o->has_nodata ? 1 : g->has_nodata;
-	L->nodata = o->has_nodata ? o->nodata : g->nodata;
-	L->f32 = f32;
-	if (L->zunit == 0)
-		L->zunit = 1;
-	if (L->scale == 0)
-		L->scale = 1;
-	L->print = dem_fingerprint(L, g, o);
-	if (datum(L, g, o, e) < 0)
-		return -1;
-	if (L->info)
-		return 0;
-	/* dem_open_rows: the caller's file */
-	if (L->fd < 0 && (L->fd = tl_scratch(e)) < 0)
-		return -1;
-	L->seg = tl_alloc((size_t)w, sizeof(float), e);
-	L->rowvoid = tl_alloc((size_t)h / 8 + 1, 1, e);
-	return L->seg != NULL && L->rowvoid != NULL ? 0 : -1;
-}
-
-int
-dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
-    tl_err *e)
-{
-	L->enc = o->encoding;
-	if (L->enc == DEM_ENC_AUTO)
-		L->enc = type == TL_PX_U8 && nch >= 3 ? DEM_ENC_TERRAINRGB :
-		    DEM_ENC_GREY;
-	if (L->enc != DEM_ENC_GREY && (type != TL_PX_U8 || nch < 3))
-		return tl_fail(e, "%s: %s encoding needs an 8-bit image with "
-		    "3 or more channels", L->what,
-		    L->enc == DEM_ENC_TERRAINRGB ? "Terrain-RGB" : "Terrarium");
-	return 0;
-}
 
 /* --- input --------------------------------------------------------------- */
 
@@ -258,20 +79,23 @@ spool_stdin(spool *s, const char *name, tl_err *e)
 	return r;
 }
 
-/* What the first bytes say: an EXR, a format GDAL reads that we know by
- * its magic (so that GDAL's refusal means damage), or no telling. */
-enum magic { MAGIC_NONE, MAGIC_EXR, MAGIC_KNOWN };
+/* The adapters, in the order they are tried on the inputs they take. */
+static const dem_adapter *const adapters[] = {
+	&dem_gdal_adapter, &dem_list_adapter, &dem_oiio_adapter,
+};
 
-/* A named file: refuse what cannot be a raster before GDAL guesses. */
+/* A named file: refuse what cannot be a raster before GDAL guesses, and
+ * tell by the first bytes an EXR, a format GDAL reads that we know by
+ * its magic (so that GDAL's refusal means damage), or nothing. */
 static int
-check_file(const char *path, enum magic *kind, tl_err *e)
+check_file(const char *path, enum dem_input *kind, tl_err *e)
 {
 	unsigned char m[8];
 	struct stat st;
 	ssize_t n;
 	int fd;
 
-	*kind = MAGIC_NONE;
+	*kind = DEM_IN_NONE;
 	/* O_NONBLOCK: a FIFO's open must not wait for a writer */
 	if ((fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0)
 		return tl_failsys(e, "%s: cannot open", path);
@@ -300,47 +124,43 @@ check_file(const char *path, enum magic *kind, tl_err *e)
 	if (n == 0)
 		return tl_fail(e, "%s: empty file", path);
 	if (n >= 4 && memcmp(m, "\x76\x2f\x31\x01", 4) == 0)
-		*kind = MAGIC_EXR;
+		*kind = DEM_IN_EXR;
 	else if (n >= 4 && (memcmp(m, "II*\0", 4) == 0 ||
 	    memcmp(m, "MM\0*", 4) == 0 || memcmp(m, "II+\0", 4) == 0 ||
 	    memcmp(m, "MM\0+", 4) == 0 ||
 	    (n == 8 && memcmp(m, "\x89PNG\r\n\x1a\n", 8) == 0)))
-		*kind = MAGIC_KNOWN;
+		*kind = DEM_IN_KNOWN;
 	return 0;
 }
 
-/* EXR goes to OpenImageIO; everything else to GDAL, then, for what GDAL
- * does not know, a list of DEM files (its relative entries relative to
- * base, NULL: to its own directory), then OpenImageIO for the few
- * formats only it reads. */
+/* Each adapter that takes the input, in turn, until one reads it: GDAL
+ * reads every format it knows but EXR, then a list of DEM files is
+ * tried on what no magic tells, then OpenImageIO for the few formats
+ * only it reads (EXR). base: as dem_adapter's read. */
 static int
 read_any(dem_load *L, georef *g, const char *path, const char *base,
     const dem_opts *o, tl_err *e)
 {
-	enum magic kind;
+	enum dem_input kind = DEM_IN_VSI;
 	int r;
 
 	/* GDAL's virtual file systems (/vsizip/...): GDAL's alone */
-	if (strncmp(path, "/vsi", 4) == 0)
-		return (r = dem_read_gdal(L, g, path, o, e)) <= 0 ? r :
-		    tl_fail(e, "%s: not a raster GDAL reads", L->what);
-	if (check_file(path, &kind, e) < 0)
+	if (strncmp(path, "/vsi", 4) != 0 && check_file(path, &kind, e) < 0)
 		return -1;
-	if (kind != MAGIC_EXR && (r = dem_read_gdal(L, g, path, o, e)) <= 0)
-		return r;
-	if (kind == MAGIC_KNOWN)
+	for (size_t k = 0; k < sizeof adapters / sizeof adapters[0]; k++)
+		if ((adapters[k]->takes & 1u << kind) &&
+		    (r = adapters[k]->read(L, g, path, base, kind, o, e)) <= 0)
+			return r;
+	if (kind == DEM_IN_VSI)
+		return tl_fail(e, "%s: not a raster GDAL reads", L->what);
+	if (kind == DEM_IN_KNOWN)
 		return tl_fail(e, "%s: truncated or corrupt (GDAL cannot open "
 		    "it)", L->what);
-	if (kind == MAGIC_NONE && (r = dem_read_list(L, g, path, base, o,
-	    e)) <= 0)
-		return r;
-	if ((r = dem_read_oiio(L, g, path, kind == MAGIC_EXR, o, e)) > 0)
-		return tl_fail(e, "%s: not a raster (any format GDAL reads, "
-		    "or EXR) nor a list of DEM files%s", L->what,
-		    strcmp(L->what, "stdin") == 0 ?
-		    "; a format GDAL knows by its file name (an .hgt) needs "
-		    "that name on stdin: -n NAME" : "");
-	return r;
+	return tl_fail(e, "%s: not a raster (any format GDAL reads, "
+	    "or EXR) nor a list of DEM files%s", L->what,
+	    strcmp(L->what, "stdin") == 0 ?
+	    "; a format GDAL knows by its file name (an .hgt) needs "
+	    "that name on stdin: -n NAME" : "");
 }
 
 /* A failure of the anonymous scratch file (conversion, fill) names its
@@ -506,8 +326,8 @@ dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 		    d->what, x0, x0 + (long long)n - 1, d->cx0,
 		    d->cx0 + w - 1);
 	x0 -= d->cx0;
-	if (d->file != NULL)
-		return dem_file_span(d, j, x0, n, z, valid, e);
+	if (d->span != NULL)
+		return d->span(d, j, x0, n, z, valid, e);
 	if (tl_pread(d->fd, z, (size_t)n * sizeof(float),
 	    (j * w + x0) * (long long)sizeof(float), "DEM scratch file",
 	    e) < 0)

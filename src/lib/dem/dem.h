@@ -88,9 +88,10 @@ int dem_save_filled(dem *d, const char *path, tl_err *e);
  * PARTS), byte for byte the same: pass 1 per band of rows y0 .. y1-1
  * converts them, unfilled, into filled.raw and writes the band's state
  * filled.s.Y0; the join, once all pass 1 are done, reads the states of
- * the bands [k band, (k+1) band) and writes each band's edges
- * filled.e.Y0 and filled.tmp's header; pass 2 per band (after the
- * join) fills its rows into filled.tmp and marks it done, filled.d.Y0;
+ * the bands [k band_rows, (k+1) band_rows) (band_rows: --band-rows)
+ * and writes each band's edges filled.e.Y0 and filled.tmp's header;
+ * pass 2 per band (after the join) fills its rows into filled.tmp and
+ * marks it done, filled.d.Y0;
  * the commit, once every pass 2 is done, checks and renames filled.tmp
  * to filled and removes the rest. Each part takes the DEM and the same
  * options o (the parts are checked to match), bands may run at once on
@@ -98,11 +99,11 @@ int dem_save_filled(dem *d, const char *path, tl_err *e);
 int dem_fill_pass1(const char *dem_path, const dem_opts *o,
     const char *filled, int y0, int y1, tl_err *e);
 int dem_fill_join(const char *dem_path, const dem_opts *o,
-    const char *filled, int band, tl_err *e);
+    const char *filled, int band_rows, tl_err *e);
 int dem_fill_pass2(const char *dem_path, const dem_opts *o,
     const char *filled, int y0, int y1, tl_err *e);
 int dem_fill_commit(const char *dem_path, const dem_opts *o,
-    const char *filled, int band, tl_err *e);
+    const char *filled, int band_rows, tl_err *e);
 /* The DEM at dem_path (its header only, as dem_open_info reads it, with
  * options o) whose samples are read from the filled DEM file that
  * dem_save_filled wrote for it: dem_read_row and dem_read_span give

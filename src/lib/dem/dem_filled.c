@@ -15,7 +15,14 @@
  *   M   (Z + 4WH) the validity masks of the R rows with voids, in row
  *       order, W bytes each (1 valid, 0 void)
  * and the file ends at M + RW. A window of row j is then one pread for
- * its heights and, when the row has voids, one for its mask. */
+ * its heights and, when the row has voids, one for its mask.
+ *
+ * The three fill files: dem_voidfill.c the void-fill algorithm,
+ * dem_filled.c the filled DEM file (filled(5)), dem_filled_jobs.c that
+ * file made in row jobs (filled(5), PARTS). Each calls only those
+ * before it and the reader (dem.c, dem_load.c); the reader calls only
+ * dem_fill of the first: no loop runs between them (t_loops.sh).
+ * Here: the file. */
 #include <fcntl.h>
 #include <math.h>
 #include <stdint.h>
@@ -32,7 +39,6 @@
 #define FILLED_VERSION 1
 #define FILLED_HEAD 64
 #define FILLED_ALIGN 4096
-#define FNV0 0xcbf29ce484222325ULL
 
 /* Where a filled DEM file keeps its heights and masks; rank[k]: the rows
  * with voids before row 64k (which mask is a row's). */
@@ -47,100 +53,8 @@ typedef struct {
 	uint64_t voids, print, zoff, moff, sum;
 } head;
 
-/* --- the fingerprint ----------------------------------------------------- */
-
-static uint64_t
-fnv(uint64_t h, const void *p, size_t n)
-{
-	const unsigned char *c = p;
-
-	while (n--)
-		h = (h ^ *c++) * 0x100000001b3ULL;
-	return h;
-}
-
-/* Numbers hash as little-endian bytes: the same fingerprint on any host. */
-static uint64_t
-fnv_u64(uint64_t h, uint64_t v)
-{
-	unsigned char b[8];
-
-	le_put64(b, v);
-	return fnv(h, b, sizeof b);
-}
-
-static uint64_t
-fnv_int(uint64_t h, long long v)
-{
-	return fnv_u64(h, (uint64_t)v);
-}
-
-/* Every NaN is one NaN (a NaN nodata equals a NaN nodata). */
-static uint64_t
-fnv_double(uint64_t h, double v)
-{
-	uint64_t u;
-
-	if (isnan(v))
-		v = NAN;
-	memcpy(&u, &v, sizeof u);
-	return fnv_u64(h, u);
-}
-
-/* Length first, so that fields cannot run into each other; NULL unlike
- * any string. */
-static uint64_t
-fnv_str(uint64_t h, const char *s)
-{
-	if (s == NULL)
-		return fnv_u64(h, UINT64_MAX);
-	h = fnv_u64(h, strlen(s));
-	return fnv(h, s, strlen(s));
-}
-
-static uint64_t
-fnv_georef(uint64_t h, const georef *g)
-{
-	h = fnv_int(h, g->width);
-	h = fnv_int(h, g->height);
-	h = fnv_int(h, g->model);
-	h = fnv_int(h, g->epsg);
-	h = fnv_str(h, g->crs);
-	h = fnv_int(h, g->point);
-	for (int k = 0; k < 2; k++) {
-		h = fnv_double(h, g->origin[k]);
-		h = fnv_double(h, g->step[k]);
-		h = fnv_double(h, g->cell[k]);
-	}
-	h = fnv_double(h, g->unit);
-	h = fnv_str(h, g->vdatum);
-	h = fnv_int(h, g->has_nodata);
-	return g->has_nodata ? fnv_double(h, g->nodata) : h;
-}
-
-/* The cell size (-s) changes no height but is hashed with the rest of
- * the georeferencing: a band job must not carry another. The encoding
- * and nodata are hashed as resolved, so -e grey on a grey file matches
- * no -e. */
-uint64_t
-dem_fingerprint(const dem_load *L, const georef *g, const dem_opts *o)
-{
-	uint64_t h = fnv(FNV0, "dem_fingerprint 1", 17);
-
-	h = fnv_georef(h, g);
-	h = fnv_int(h, L->enc);
-	h = fnv_int(h, L->has_nodata);
-	if (L->has_nodata)
-		h = fnv_double(h, L->nodata);
-	h = fnv_int(h, L->f32);
-	h = fnv_double(h, L->scale);
-	h = fnv_double(h, L->offset);
-	h = fnv_double(h, L->zunit);
-	h = fnv_int(h, L->flip_x);
-	h = fnv_int(h, L->flip_y);
-	h = fnv_str(h, o->heights);
-	return fnv_str(h, o->vdatum);
-}
+static int file_span(dem *d, int j, int x0, int n, float *z,
+    unsigned char *valid, tl_err *e);
 
 /* --- the header ---------------------------------------------------------- */
 
@@ -194,7 +108,8 @@ head_get(const unsigned char *b, head *H)
 static uint64_t
 head_sum(const unsigned char *b, const unsigned char *rowvoid, int h)
 {
-	return fnv(fnv(FNV0, b, 56), rowvoid, ((size_t)h + 7) / 8);
+	return dem_fnv(dem_fnv(DEM_FNV0, b, 56), rowvoid,
+	    ((size_t)h + 7) / 8);
 }
 
 /* --- saving -------------------------------------------------------------- */
@@ -380,6 +295,7 @@ match(dem *d, const char *path, const head *H, tl_err *e)
 		k += dem_bit(d->rowvoid, j);
 	}
 	d->file = f;
+	d->span = file_span;
 	d->voids = (long long)H->voids;
 	return 0;
 }
@@ -447,8 +363,10 @@ rank(const dem *d, int j)
 	return r + __builtin_popcount(b[j >> 3] & ((1u << (j & 7)) - 1));
 }
 
-int
-dem_file_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
+/* The dem's span method (struct dem) on a filled DEM file: row j,
+ * columns x0 .. x0+n-1, checked by dem_read_span. */
+static int
+file_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
     tl_err *e)
 {
 	const struct dem_file *f = d->file;

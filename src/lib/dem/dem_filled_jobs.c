@@ -16,7 +16,14 @@
  *   pass 2, per band   fills its rows from FILLED.raw into FILLED.tmp,
  *                      then writes FILLED.d.Y0 (done)
  *   commit, once       renames FILLED.tmp to FILLED, removes the rest.
- * The parts are little-endian: jobs may run on different hosts. */
+ * The parts are little-endian: jobs may run on different hosts.
+ *
+ * The three fill files: dem_voidfill.c the void-fill algorithm,
+ * dem_filled.c the filled DEM file (filled(5)), dem_filled_jobs.c that
+ * file made in row jobs (filled(5), PARTS). Each calls only those
+ * before it and the reader (dem.c, dem_load.c); the reader calls only
+ * dem_fill of the first: no loop runs between them (t_loops.sh).
+ * Here: the jobs. */
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -315,7 +322,7 @@ dem_fill_pass1(const char *dem_path, const dem_opts *o, const char *filled,
 
 typedef struct {
 	const char *filled;
-	int w, h, band, nb;
+	int w, h, band_rows, nb;
 	uint64_t print;
 	unsigned char *rowvoid;
 	long long voids;
@@ -328,7 +335,8 @@ static int
 band_part(const join *J, part *p, int k, const char *kind, char *path,
     tl_err *e)
 {
-	int y0 = k * J->band, y1 = y0 + J->band < J->h ? y0 + J->band : J->h;
+	int y0 = k * J->band_rows, y1 = y0 + J->band_rows < J->h ?
+	    y0 + J->band_rows : J->h;
 
 	if (name_of(path, J->filled, kind, y0, e) < 0 ||
 	    part_alloc(p, J->w, J->h, y0, y1, e) < 0)
@@ -416,7 +424,7 @@ make_tmp(join *J, const names *N, long long *zoff, long long *moff,
 	int fd, r;
 
 	for (int k = 0; k < J->nb; k++) {
-		if (name_of(path, J->filled, "d", k * J->band, e) < 0)
+		if (name_of(path, J->filled, "d", k * J->band_rows, e) < 0)
 			return -1;
 		if (unlink(path) != 0 && errno != ENOENT)
 			return tl_failsys(e, "%s: cannot remove", path);
@@ -464,25 +472,26 @@ dem_head(const char *dem_path, const dem_opts *o, int *w, int *h,
 }
 
 static int
-bands_of(int band, int h, int *nb, tl_err *e)
+bands_of(int band_rows, int h, int *nb, tl_err *e)
 {
-	if (band < 1)
-		return tl_fail(e, "band height %d: not 1 or more rows", band);
-	*nb = (int)(((long long)h + band - 1) / band);
+	if (band_rows < 1)
+		return tl_fail(e, "band height %d: not 1 or more rows",
+		    band_rows);
+	*nb = (int)(((long long)h + band_rows - 1) / band_rows);
 	return 0;
 }
 
 int
 dem_fill_join(const char *dem_path, const dem_opts *o, const char *filled,
-    int band, tl_err *e)
+    int band_rows, tl_err *e)
 {
-	join J = { .filled = filled, .band = band, .bfd = -1 };
+	join J = { .filled = filled, .band_rows = band_rows, .bfd = -1 };
 	names N;
 	int r = -1;
 
 	if (names_of(&N, filled, e) < 0 ||
 	    dem_head(dem_path, o, &J.w, &J.h, &J.print, e) < 0 ||
-	    bands_of(band, J.h, &J.nb, e) < 0)
+	    bands_of(band_rows, J.h, &J.nb, e) < 0)
 		return -1;
 	J.rowvoid = tl_alloc((size_t)J.h / 8 + 1, 1, e);
 	J.run = tl_alloc((size_t)J.w, sizeof *J.run, e);
@@ -587,13 +596,14 @@ dem_fill_pass2(const char *dem_path, const dem_opts *o, const char *filled,
 
 /* Every band's pass 2 done, for this DEM and these bands. */
 static int
-check_done(const char *filled, int w, int h, uint64_t print, int band,
+check_done(const char *filled, int w, int h, uint64_t print, int band_rows,
     int nb, tl_err *e)
 {
 	char path[4096];
 
 	for (int k = 0; k < nb; k++) {
-		int y0 = k * band, y1 = y0 + band < h ? y0 + band : h;
+		int y0 = k * band_rows, y1 = y0 + band_rows < h ?
+		    y0 + band_rows : h;
 		unsigned char *b;
 		int ok;
 		if (name_of(path, filled, "d", y0, e) < 0 ||
@@ -615,7 +625,7 @@ check_done(const char *filled, int w, int h, uint64_t print, int band,
 
 /* Removes the parts: best effort, the file is already in place. */
 static void
-remove_parts(const char *filled, const names *N, int band, int nb)
+remove_parts(const char *filled, const names *N, int band_rows, int nb)
 {
 	static const char *const kinds[] = { "s", "e", "d" };
 	char path[4096];
@@ -624,13 +634,14 @@ remove_parts(const char *filled, const names *N, int band, int nb)
 	unlink(N->raw);
 	for (int k = 0; k < nb; k++)
 		for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
-			if (name_of(path, filled, kinds[i], k * band, &e) == 0)
+			if (name_of(path, filled, kinds[i], k * band_rows,
+			    &e) == 0)
 				unlink(path);
 }
 
 int
 dem_fill_commit(const char *dem_path, const dem_opts *o, const char *filled,
-    int band, tl_err *e)
+    int band_rows, tl_err *e)
 {
 	uint64_t print;
 	names N;
@@ -639,8 +650,8 @@ dem_fill_commit(const char *dem_path, const dem_opts *o, const char *filled,
 
 	if (names_of(&N, filled, e) < 0 ||
 	    dem_head(dem_path, o, &w, &h, &print, e) < 0 ||
-	    bands_of(band, h, &nb, e) < 0 ||
-	    check_done(filled, w, h, print, band, nb, e) < 0)
+	    bands_of(band_rows, h, &nb, e) < 0 ||
+	    check_done(filled, w, h, print, band_rows, nb, e) < 0)
 		return -1;
 	/* its header, size and fingerprint, as a band job will check them */
 	if ((d = dem_open_filled(dem_path, o, N.tmp, e)) == NULL)
@@ -648,6 +659,6 @@ dem_fill_commit(const char *dem_path, const dem_opts *o, const char *filled,
 	dem_close(d);
 	if (rename(N.tmp, filled) != 0)
 		return tl_failsys(e, "%s: cannot rename to %s", N.tmp, filled);
-	remove_parts(filled, &N, band, nb);
+	remove_parts(filled, &N, band_rows, nb);
 	return 0;
 }

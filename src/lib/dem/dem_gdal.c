@@ -3,9 +3,9 @@
  * scale/offset and vertical unit, and its samples, read window by window
  * with GDAL's block cache bounded, so memory does not grow with the DEM.
  * A dataset already open (a mosaic's VRT, dem_mosaic.c) reads the same
- * way. */
+ * way. "band" here is GDAL's: a raster band of the dataset (the first
+ * holds the heights). dem_gdal_adapter is its table of methods. */
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,59 +17,7 @@
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
-#include "dem/dem_impl.h"
-
-#define CACHE_MB 4  /* GDAL's block cache unless GDAL_CACHEMAX says: each
-                     * block is read once, so a window's worth is enough */
-
-static pthread_once_t once = PTHREAD_ONCE_INIT;
-
-static void
-init(void)
-{
-	/* once per process: GDAL's configuration is global */
-	GDALAllRegister();
-	if (CPLGetConfigOption("GDAL_CACHEMAX", NULL) == NULL)
-		GDALSetCacheMax64((GIntBig)CACHE_MB << 20);
-	/* .aux.xml sidecars are read, never written (dem_gdal_open) */
-	/* GDAL lists a file's directory at each open (for sidecars): with
-	 * a mosaic of n tiles in one directory, n^2 entries read; it asks
-	 * for each sidecar by name instead */
-	if (CPLGetConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", NULL) == NULL)
-		CPLSetConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", "TRUE");
-}
-
-void
-dem_gdal_init(void)
-{
-	pthread_once(&once, init);
-}
-
-/* GDAL's messages, caught for ours (GDAL would print them). */
-static void CPL_STDCALL
-catch_error(CPLErr cls, CPLErrorNum no, const char *msg)
-{
-	dem_gdal_msg *c = CPLGetErrorHandlerUserData();
-
-	(void)no;
-	if (cls >= CE_Failure && c != NULL && c->msg[0] == '\0')
-		snprintf(c->msg, sizeof c->msg, "%s", msg);
-	else if (cls == CE_Warning && c != NULL && c->warning[0] == '\0')
-		snprintf(c->warning, sizeof c->warning, "%s", msg);
-}
-
-void
-dem_gdal_catch(dem_gdal_msg *m)
-{
-	m->msg[0] = m->warning[0] = '\0';
-	CPLPushErrorHandlerEx(catch_error, m);
-}
-
-void
-dem_gdal_release(void)
-{
-	CPLPopErrorHandler();
-}
+#include "dem/dem_gdal.h"
 
 typedef struct {
 	GDALDatasetH ds;
@@ -78,7 +26,7 @@ typedef struct {
 	const dem_tiles *t;    /* what a VRT's tiles agree on, or NULL */
 	int w, h, nbands;
 	int i8;        /* GDAL 3.6's signed bytes: Byte with PIXELTYPE */
-	int vrt;       /* a VRT: its sources are read row band by row band */
+	int vrt;       /* a VRT: read in windows of whole rows */
 	dem_gdal_msg c;
 } src;
 
@@ -525,14 +473,17 @@ out:
 	return r;
 }
 
-int
-dem_read_gdal(dem_load *L, georef *g, const char *path, const dem_opts *o,
-    tl_err *e)
+/* dem_adapter's read: path opened by GDAL (base and in are the reader's
+ * business: GDAL knows its formats by itself). */
+static int
+read_gdal(dem_load *L, georef *g, const char *path, const char *base,
+    enum dem_input in, const dem_opts *o, tl_err *e)
 {
 	GDALDatasetH ds;
 	dem_gdal_msg c;
 	int r;
 
+	(void)base, (void)in;
 	dem_gdal_init();
 	dem_gdal_catch(&c);
 	ds = dem_gdal_open(path);
@@ -543,3 +494,64 @@ dem_read_gdal(dem_load *L, georef *g, const char *path, const dem_opts *o,
 	dem_gdal_release();
 	return r;
 }
+
+/* --- the files it reads -------------------------------------------------- */
+
+/* dem_adapter's files: what GDAL says the dataset path reads
+ * (GDALGetFileList: itself, a VRT's sources, a world file, ...), opened
+ * as any raster (no PAM sidecar is read: the list names it). */
+static int
+gdal_files(const char *path, char ***files, int *n, tl_err *e)
+{
+	dem_gdal_msg c;
+	GDALDatasetH ds;
+	char **list, **v;
+	int k, m;
+
+	dem_gdal_init();
+	dem_gdal_catch(&c);
+	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
+	    NULL);
+	list = ds != NULL ? GDALGetFileList(ds) : NULL;
+	if (ds != NULL)
+		GDALClose(ds);
+	dem_gdal_release();
+	if (ds == NULL)
+		return 1;
+	m = CSLCount(list);
+	if ((v = calloc((size_t)m + 1, sizeof *v)) == NULL) {
+		CSLDestroy(list);
+		return tl_fail(e, "out of memory");
+	}
+	for (k = 0; k < m && (v[k] = strdup(list[k])) != NULL; k++)
+		continue;
+	CSLDestroy(list);
+	if (k < m) {
+		while (k-- > 0)
+			free(v[k]);
+		free(v);
+		return tl_fail(e, "out of memory");
+	}
+	*files = v, *n = m;
+	return 0;
+}
+
+int
+dem_gdal_is_vrt(const char *path)
+{
+	GDALDriverH drv;
+	dem_gdal_msg c;
+	int r;
+
+	dem_gdal_init();
+	dem_gdal_catch(&c);
+	drv = GDALIdentifyDriver(path, NULL);
+	r = drv != NULL && strcmp(GDALGetDriverShortName(drv), "VRT") == 0;
+	dem_gdal_release();
+	return r;
+}
+
+const dem_adapter dem_gdal_adapter = {
+	"GDAL", 1u << DEM_IN_VSI | 1u << DEM_IN_NONE | 1u << DEM_IN_KNOWN,
+	read_gdal, gdal_files,
+};

@@ -1,12 +1,14 @@
-/* dem_impl.h - inside the DEM reader (dem.h): the conversion of source
- * samples into the scratch file, which its format adapters share (GDAL in
- * dem_gdal.c, OpenImageIO for EXR in dem_oiio.c), the mosaics of several
- * files (dem_mosaic.c, lists of them in dem_list.c), the void filling, and
- * filled DEM files (dem_filled.c). Not for users of dem.h. */
+/* dem_impl.h - inside the DEM reader (dem.h), not for its users. The
+ * reader (dem.c) opens a DEM through a table of format adapters
+ * (dem_adapter: GDAL in dem_gdal.c, a list of DEM files in dem_list.c,
+ * OpenImageIO for EXR in dem_oiio.c), each of which converts its source
+ * samples through the sink they share (dem_load, dem_load.c); the GDAL
+ * side's own interface is dem_gdal.h, the only one with GDAL's types.
+ * Also here: the void filling (dem_voidfill.c) and filled DEM files
+ * (dem_filled.c, dem_filled_jobs.c). */
 #ifndef TL_DEM_IMPL_H
 #define TL_DEM_IMPL_H
 
-#include <gdal.h>
 #include <stdint.h>
 
 #include "dem/dem.h"
@@ -23,7 +25,7 @@
 
 /* A path as messages name it: whole up to DEM_NAME - 1 bytes, else its
  * head and tail around "...", so that a list entry of 5000 characters
- * does not fill the screen; returns buf (DEM_NAME bytes). */
+ * does not fill the screen; returns buf (DEM_NAME bytes) (dem_load.c). */
 #define DEM_NAME 100
 const char *dem_name(const char *path, char *buf);
 
@@ -68,6 +70,11 @@ typedef struct {
 /* The dem of dem.h (dem.c), also opened on a filled DEM file
  * (dem_filled.c). */
 struct dem {
+	/* the rows' source: NULL, fd as below (dem.c); else the method
+	 * that reads row j, columns x0 .. x0+n-1 (checked by the caller),
+	 * of a filled DEM file (dem_filled.c) */
+	int (*span)(dem *d, int j, int x0, int n, float *z,
+	    unsigned char *valid, tl_err *e);
 	georef g;
 	int fd;                  /* filled rows, then masks of void rows;
 	                          * of a window (cols): its rows, unfilled;
@@ -84,6 +91,8 @@ struct dem {
 	                          * is a filled DEM file; else NULL */
 	char what[DEM_NAME];     /* the file, for messages (dem_name) */
 };
+
+/* --- the sink the adapters call back (dem_load.c) ------------------- */
 
 /* Sets up the conversion once size, nodata and units are known (zunit,
  * scale, offset and the flips are set by the caller first; 0 scale = 1).
@@ -104,82 +113,44 @@ int dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
 int dem_load_put(dem_load *L, const void *p, int t, int stride, int x0,
     int y, int n, const unsigned char *mask, tl_err *e);
 
-/* The adapters. Both return 1, not an error, when the file is not theirs
- * (the caller then says "not a raster"). The spooled name, if not NULL,
- * is the file's name for messages and format detection. */
-int dem_read_gdal(dem_load *L, georef *g, const char *path,
-    const dem_opts *o, tl_err *e);
+/* --- the adapters ------------------------------------------------- */
 
-/* --- GDAL, shared by the adapter and the mosaics (dem_gdal.c) --------- */
+/* What the reader knows of an input before any adapter reads it: a path
+ * in GDAL's virtual file systems (/vsizip/...), a file whose first bytes
+ * say nothing, say EXR, or say a format GDAL reads. */
+enum dem_input { DEM_IN_VSI, DEM_IN_NONE, DEM_IN_EXR, DEM_IN_KNOWN };
 
-/* GDAL set up once per process: drivers, a small block cache. */
-void dem_gdal_init(void);
-
-/* path opened by GDAL, raster, read-only, with its .aux.xml sidecar read
- * (PAM) but never written: every dataset the reader opens is opened so
- * (dem_pam.cpp). NULL when GDAL does not open it (its message is
- * GDAL's error). */
-GDALDatasetH dem_gdal_open(const char *path);
-
-/* GDAL's messages caught for ours instead of printed: between
- * dem_gdal_catch and dem_gdal_release (a stack, per thread), the first
- * failure lands in m->msg, the first warning in m->warning. */
+/* A format adapter: its methods. The reader tries them in its table's
+ * order (dem.c) on the inputs they take. */
 typedef struct {
-	char msg[512];
-	char warning[512];
-} dem_gdal_msg;
-void dem_gdal_catch(dem_gdal_msg *m);
-void dem_gdal_release(void);
+	const char *name;
+	unsigned takes;  /* the inputs it is tried on: 1 << enum dem_input */
+	/* Reads path into L (with L->info its header only): 0, -1, or 1
+	 * when the file is not this adapter's (the next is tried). base: what
+	 * a list's relative entries are relative to (NULL: its directory) */
+	int (*read)(dem_load *L, georef *g, const char *path,
+	    const char *base, enum dem_input in, const dem_opts *o, tl_err *e);
+	/* The files reading path reads besides path itself, into *files (n,
+	 * each malloc'd, the array too): 0, 1 when path is not this
+	 * adapter's, -1. NULL: none. */
+	int (*files)(const char *path, char ***files, int *n, tl_err *e);
+} dem_adapter;
 
-/* What a VRT mosaic does not carry of its tiles but the reader needs:
- * GDALBuildVRT drops the dataset's metadata (AREA_OR_POINT, which moves
- * the georeferencing by half a pixel) and the band's unit, and the VRT's
- * driver hides the tiles' (an .hgt's heights are EGM96). Each field is
- * filled only when every tile agrees, "" (0) otherwise; the dataset's
- * own value, when it has one, wins. */
-typedef struct {
-	char driver[32];   /* the tiles' GDAL driver */
-	char aop[16];      /* their AREA_OR_POINT */
-	char unit[64];     /* their band's unit type */
-	int signed_byte;   /* Byte with PIXELTYPE=SIGNEDBYTE (GDAL 3.6) */
-	int rows;          /* the tallest block of a tile, rows per read */
-} dem_tiles;
+extern const dem_adapter dem_gdal_adapter;  /* dem_gdal.c: what GDAL reads */
+extern const dem_adapter dem_list_adapter;  /* dem_list.c: a list of DEMs */
+extern const dem_adapter dem_oiio_adapter;  /* dem_oiio.c: EXR */
 
-/* Reads the DEM from the open dataset ds, which stays open. t, if not
- * NULL, is what its tiles agree on; a VRT without it has its sources
- * asked (dem_vrt_tiles). */
-int dem_read_dataset(dem_load *L, georef *g, GDALDatasetH ds,
-    const dem_tiles *t, const dem_opts *o, tl_err *e);
-
-/* --- mosaics (dem_mosaic.c, dem_list.c) ------------------------------- */
+/* 1 when GDAL identifies the file path as a VRT (dem_gdal.c). */
+int dem_gdal_is_vrt(const char *path);
 
 /* The n DEM files paths, checked to lie on one grid and to agree where
  * they overlap (not with L->info, which reads no sample), read as one DEM
- * through an in-memory VRT. A refusal names the file at fault. */
+ * through an in-memory VRT (dem_mosaic.c). A refusal names the file at
+ * fault. */
 int dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
     const dem_opts *o, tl_err *e);
 
-/* What the sources of the VRT ds agree on, each opened in turn (its
- * header only), a source that is a VRT by what its own sources say (to
- * VRT_DEPTH); t is zeroed first, and left so when a source does not open
- * (reading the VRT then says why). Refused, naming the VRT and the
- * source: a source GDAL would resample (scaled, or at a fractional
- * offset) unless o->resample, one that is not a regular file (a FIFO),
- * pixel-is-point and pixel-is-area sources in one VRT. */
-int dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o,
-    tl_err *e);
-
-/* The file path as a list of DEM files (dem2fqm(1) says what is one):
- * returns 1 when it is not one, else reads its mosaic. Relative entries
- * are relative to base, NULL for the list's own directory. */
-int dem_read_list(dem_load *L, georef *g, const char *path,
-    const char *base, const dem_opts *o, tl_err *e);
-/* The entries of the list path, resolved as dem_read_list resolves
- * them, into *paths (n, each malloc'd, the array too): 0, 1 when path
- * is no list, -1. */
-int dem_list_files(const char *path, char ***paths, int *n, tl_err *e);
-int dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
-    const dem_opts *o, tl_err *e);
+/* --- the reader, for the fill jobs (dem.c) -------------------------- */
 
 /* Only rows y0 .. y1-1 of the DEM (north-up), converted unfilled into
  * fd (a dup of it is kept: the dem's own), row j at j W 4 bytes, NaN
@@ -189,6 +160,8 @@ int dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
  * row band's first pass of a filled DEM file (dem_filled_jobs.c). */
 dem *dem_open_rows(const char *path, const dem_opts *o, int y0, int y1,
     int fd, tl_err *e);
+
+/* --- void filling (dem_voidfill.c) ---------------------------------- */
 
 /* The nearest valid sample in a column beyond a row (row -1: none). */
 typedef struct {
@@ -219,13 +192,17 @@ int dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e);
 
 /* --- filled DEM files (dem_filled.c) ---------------------------------- */
 
+/* 64-bit FNV-1a of p[0 .. n-1] from h, DEM_FNV0 to begin (dem_load.c). */
+#define DEM_FNV0 0xcbf29ce484222325ULL
+uint64_t dem_fnv(uint64_t h, const void *p, size_t n);
+
 /* A fingerprint (64-bit FNV-1a, no cryptography) of what makes the values
  * a DEM's samples become: its size and georeferencing (g as the file
  * declares it, before the datum conversion), the resolved conversion of
  * L (encoding, nodata, scale, offset, unit, flips) and the datum options
  * of o. dem_load_begin takes it, the same for dem_open and
  * dem_open_info, so a filled DEM file can be matched to its DEM from the
- * DEM's header alone. */
+ * DEM's header alone (dem_load.c). */
 uint64_t dem_fingerprint(const dem_load *L, const georef *g,
     const dem_opts *o);
 
@@ -236,10 +213,5 @@ uint64_t dem_fingerprint(const dem_load *L, const georef *g,
 int dem_filled_head(int fd, const char *path, int w, int h,
     const unsigned char *rowvoid, long long voids, uint64_t print,
     long long *zoff, long long *moff, long long *size, tl_err *e);
-
-/* dem_read_span on a dem whose fd is a filled DEM file: row j, columns
- * x0 .. x0+n-1 (checked by the caller). */
-int dem_file_span(dem *d, int j, int x0, int n, float *z,
-    unsigned char *valid, tl_err *e);
 
 #endif

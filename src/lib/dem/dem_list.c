@@ -61,19 +61,6 @@ slurp(const char *path)
 	return t;
 }
 
-const char *
-dem_name(const char *path, char *buf)
-{
-	size_t n = strlen(path), tail = DEM_NAME / 2;
-
-	if (n < DEM_NAME)
-		memcpy(buf, path, n + 1);
-	else
-		snprintf(buf, DEM_NAME, "%.*s...%s", (int)(DEM_NAME - tail - 4),
-		    path, path + n - tail);
-	return buf;
-}
-
 /* One line: its entry resolved, and whether it names a file. */
 static int
 add(entries *l, const char *base, char *line, int lineno, tl_err *e)
@@ -156,14 +143,17 @@ list_dir(const char *path, tl_err *e)
 	return d;
 }
 
-int
-dem_read_list(dem_load *L, georef *g, const char *path, const char *base,
-    const dem_opts *o, tl_err *e)
+/* dem_adapter's read: path as a list of DEM files (dem2fqm(1) says what
+ * is one), read as their mosaic; 1 when it is no list. */
+static int
+read_list(dem_load *L, georef *g, const char *path, const char *base,
+    enum dem_input in, const dem_opts *o, tl_err *e)
 {
 	entries l = { 0 };
 	char *dir = NULL;
 	int r = -1;
 
+	(void)in;
 	if ((l.text = slurp(path)) == NULL)
 		return 1;
 	if (base == NULL && (base = dir = list_dir(path, e)) == NULL)
@@ -187,8 +177,10 @@ out:
 	return r;
 }
 
-int
-dem_list_files(const char *path, char ***paths, int *n, tl_err *e)
+/* dem_adapter's files: the list's entries, resolved as read_list
+ * resolves them. */
+static int
+list_files(const char *path, char ***paths, int *n, tl_err *e)
 {
 	entries l = { 0 };
 	char *dir = NULL;
@@ -206,3 +198,7 @@ dem_list_files(const char *path, char ***paths, int *n, tl_err *e)
 	free(dir);
 	return r;
 }
+
+const dem_adapter dem_list_adapter = {
+	"list of DEM files", 1u << DEM_IN_NONE, read_list, list_files,
+};

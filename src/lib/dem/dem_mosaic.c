@@ -6,8 +6,8 @@
  * VRT, which the GDAL adapter reads like any dataset (dem_gdal.c). The
  * checks sort (by west edge, by inode), so that thousands of tiles cost
  * O(n log n), not a pass over every pair; a file listed twice is read
- * once. A VRT file's sources are checked too (dem_vrt_tiles): what they
- * say that the VRT lost, and that GDAL would not resample them.
+ * once. A tile's header, and a VRT file's sources (what they say that
+ * the VRT lost, and that GDAL would not resample them), are dem_vrt.c's.
  *
  * Only headers are held, one per tile: samples stream through GDAL's
  * block cache; at most two tiles are open at once besides the VRT's own
@@ -25,9 +25,8 @@
 #include <gdal_utils.h>
 #include <ogr_srs_api.h>
 
-#include "dem/dem_impl.h"
+#include "dem/dem_gdal.h"
 
-#define GRID_TOL 1e-6          /* of a pixel: "on one grid" */
 #define CMP_SAMPLES (1 << 18)  /* per overlap window and tile */
 
 /* A tile's place in the mosaic's grid: columns col .. col+w-1, rows
@@ -39,19 +38,6 @@ typedef struct {
 	dev_t dev;         /* the file, to know it listed again */
 	ino_t ino;
 } tile;
-
-/* A tile's header: what every tile must share with the first. */
-typedef struct {
-	const char *path;
-	char name[DEM_NAME];       /* path for messages (dem_name) */
-	OGRSpatialReferenceH srs;  /* a clone (the file closes), NULL: none */
-	double gt[6];
-	int w, h, bh;              /* size, block height */
-	int nbands, i8, point, has_nodata;
-	GDALDataType type;
-	double nodata, scale, offset;
-	char driver[32], aop[16], unit[64];
-} head;
 
 /* --- headers ------------------------------------------------------------- */
 
@@ -80,62 +66,6 @@ tile_open(const char *path, tl_err *e)
 	return ds;
 }
 
-/* The tile's place on Earth: a north-up geotransform, since the VRT
- * places tiles by it and cannot turn them. */
-static int
-head_place(GDALDatasetH ds, head *h, tl_err *e)
-{
-	double *gt = h->gt;
-
-	if (GDALGetGeoTransform(ds, gt) != CE_None)
-		return tl_fail(e, "%s: no geotransform: a mosaic places its "
-		    "tiles by theirs", h->name);
-	if (gt[2] != 0 || gt[4] != 0)
-		return tl_fail(e, "%s: rotated or sheared georeferencing is not "
-		    "supported: warp it north-up first (gdalwarp)", h->name);
-	if (!isfinite(gt[0]) || !isfinite(gt[3]) || !(gt[1] > 0) ||
-	    !(gt[5] < 0) || !isfinite(gt[1]) || !isfinite(gt[5]))
-		return tl_fail(e, "%s: pixel size %g x %g: a mosaic's tiles "
-		    "must run east and south (gdalwarp them north-up first)",
-		    h->name, gt[1], gt[5]);
-	return 0;
-}
-
-static int
-head_read(GDALDatasetH ds, const char *path, head *h, tl_err *e)
-{
-	GDALRasterBandH b = GDALGetRasterBand(ds, 1);
-	OGRSpatialReferenceH srs = GDALGetSpatialRef(ds);
-	const char *p;
-	int bx, ok;
-
-	memset(h, 0, sizeof *h);
-	h->path = path;
-	dem_name(path, h->name);
-	if (head_place(ds, h, e) < 0)
-		return -1;
-	if (srs != NULL && (h->srs = OSRClone(srs)) == NULL)
-		return tl_fail(e, "%s: out of memory", h->name);
-	h->w = GDALGetRasterXSize(ds);
-	h->h = GDALGetRasterYSize(ds);
-	GDALGetBlockSize(b, &bx, &h->bh);
-	h->nbands = GDALGetRasterCount(ds);
-	h->type = GDALGetRasterDataType(b);
-	p = GDALGetMetadataItem(b, "PIXELTYPE", "IMAGE_STRUCTURE");
-	h->i8 = h->type == GDT_Byte && p != NULL && strcmp(p, "SIGNEDBYTE") == 0;
-	h->nodata = GDALGetRasterNoDataValue(b, &h->has_nodata);
-	h->scale = GDALGetRasterScale(b, &ok);
-	h->offset = GDALGetRasterOffset(b, &ok);
-	snprintf(h->driver, sizeof h->driver, "%s",
-	    GDALGetDriverShortName(GDALGetDatasetDriver(ds)));
-	p = GDALGetMetadataItem(ds, "AREA_OR_POINT", NULL);
-	snprintf(h->aop, sizeof h->aop, "%s", p != NULL ? p : "");
-	h->point = strcasecmp(h->aop, "Point") == 0;
-	p = GDALGetRasterUnitType(b);
-	snprintf(h->unit, sizeof h->unit, "%s", p != NULL ? p : "");
-	return 0;
-}
-
 /* --- agreement with the first tile ---------------------------------------- */
 
 static const char *
@@ -147,7 +77,7 @@ crs_label(OGRSpatialReferenceH s)
 }
 
 static void
-nodata_label(const head *h, char *buf, size_t n)
+nodata_label(const dem_head *h, char *buf, size_t n)
 {
 	if (!h->has_nodata)
 		snprintf(buf, n, "none");
@@ -156,7 +86,7 @@ nodata_label(const head *h, char *buf, size_t n)
 }
 
 static const char *
-type_label(const head *h)
+type_label(const dem_head *h)
 {
 	return h->i8 ? "Int8 (signed Byte)" : GDALGetDataTypeName(h->type);
 }
@@ -165,13 +95,13 @@ type_label(const head *h)
  * size and an origin a whole number of pixels away. A pixel size may
  * differ only so little that the tile's far edge stays on the grid. */
 static int
-agree_grid(const head *r, const head *h, tile *t, tl_err *e)
+agree_grid(const dem_head *r, const dem_head *h, tile *t, tl_err *e)
 {
 	double fx = (h->gt[0] - r->gt[0]) / r->gt[1];
 	double fy = (h->gt[3] - r->gt[3]) / r->gt[5];
 
-	if (fabs(h->gt[1] / r->gt[1] - 1) * h->w > GRID_TOL ||
-	    fabs(h->gt[5] / r->gt[5] - 1) * h->h > GRID_TOL)
+	if (fabs(h->gt[1] / r->gt[1] - 1) * h->w > DEM_GRID_TOL ||
+	    fabs(h->gt[5] / r->gt[5] - 1) * h->h > DEM_GRID_TOL)
 		return tl_fail(e, "%s: pixel size %.10g x %.10g, the first "
 		    "file's (%s) %.10g x %.10g: tiles are never resampled "
 		    "(gdalwarp -tr them to one grid first)", h->name, h->gt[1],
@@ -179,7 +109,8 @@ agree_grid(const head *r, const head *h, tile *t, tl_err *e)
 	if (fabs(fx) > DEM_MAXDIM || fabs(fy) > DEM_MAXDIM)
 		return tl_fail(e, "%s: more than %d pixels from the first file "
 		    "(%s): too far for one DEM", h->name, DEM_MAXDIM, r->name);
-	if (fabs(fx - round(fx)) > GRID_TOL || fabs(fy - round(fy)) > GRID_TOL)
+	if (fabs(fx - round(fx)) > DEM_GRID_TOL ||
+	    fabs(fy - round(fy)) > DEM_GRID_TOL)
 		return tl_fail(e, "%s: origin off the first file's (%s) grid by "
 		    "%.3g pixel in x and %.3g in y: tiles must share one grid "
 		    "(gdalwarp them onto it first)", h->name, r->name,
@@ -194,7 +125,8 @@ agree_grid(const head *r, const head *h, tile *t, tl_err *e)
 /* Nodata equal, NaN to NaN; -N overrides them all, so then it does not
  * matter. */
 static int
-agree_nodata(const head *r, const head *h, const dem_opts *o, tl_err *e)
+agree_nodata(const dem_head *r, const dem_head *h, const dem_opts *o,
+    tl_err *e)
 {
 	char a[64], b[64];
 
@@ -210,7 +142,8 @@ agree_nodata(const head *r, const head *h, const dem_opts *o, tl_err *e)
 
 /* What the samples mean: bands, type, nodata, scale, unit, point. */
 static int
-agree_samples(const head *r, const head *h, const dem_opts *o, tl_err *e)
+agree_samples(const dem_head *r, const dem_head *h, const dem_opts *o,
+    tl_err *e)
 {
 	if (h->nbands != r->nbands)
 		return tl_fail(e, "%s: %d bands, the first file's (%s) %d",
@@ -236,7 +169,8 @@ agree_samples(const head *r, const head *h, const dem_opts *o, tl_err *e)
 }
 
 static int
-agree(const head *r, const head *h, tile *t, const dem_opts *o, tl_err *e)
+agree(const dem_head *r, const dem_head *h, tile *t, const dem_opts *o,
+    tl_err *e)
 {
 	if ((r->srs == NULL) != (h->srs == NULL) ||
 	    (r->srs != NULL && !OSRIsSame(r->srs, h->srs)))
@@ -247,56 +181,31 @@ agree(const head *r, const head *h, tile *t, const dem_opts *o, tl_err *e)
 	return agree_samples(r, h, o, e);
 }
 
-/* What the tiles agree on for the reader (dem_tiles): an empty field
- * once two differ. */
-static void
-tiles_note(dem_tiles *t, const head *h, int first)
-{
-	if (first) {
-		snprintf(t->driver, sizeof t->driver, "%s", h->driver);
-		snprintf(t->aop, sizeof t->aop, "%s", h->aop);
-		snprintf(t->unit, sizeof t->unit, "%s", h->unit);
-		t->signed_byte = h->i8;
-	}
-	if (strcmp(t->driver, h->driver) != 0)
-		t->driver[0] = '\0';
-	if (strcasecmp(t->aop, h->aop) != 0)
-		t->aop[0] = '\0';
-	if (strcasecmp(t->unit, h->unit) != 0)
-		t->unit[0] = '\0';
-	t->signed_byte &= h->i8;
-	if (h->bh > t->rows)
-		t->rows = h->bh;
-}
-
-static int head_vrt(GDALDatasetH ds, head *h, const dem_opts *o,
-    int depth, tl_err *e);
-
 /* Every tile's header against the first's (kept in r), one file open at
  * a time; places moved so that the grid starts at (0, 0). */
 static int
-check_all(char *const *paths, int n, tile *tl, head *r, dem_tiles *dt,
+check_all(char *const *paths, int n, tile *tl, dem_head *r, dem_tiles *dt,
     const dem_opts *o, tl_err *e)
 {
 	int mincol = 0, minrow = 0;
 
 	for (int k = 0; k < n; k++) {
 		GDALDatasetH ds = tile_open(paths[k], e);
-		head h;
+		dem_head h;
 		int rc;
 
 		if (ds == NULL)
 			return -1;
-		rc = head_read(ds, paths[k], k == 0 ? r : &h, e);
+		rc = dem_head_read(ds, paths[k], k == 0 ? r : &h, e);
 		/* a VRT entry: what its tiles say */
 		if (rc == 0)
-			rc = head_vrt(ds, k == 0 ? r : &h, o, 0, e);
+			rc = dem_head_vrt(ds, k == 0 ? r : &h, o, 0, e);
 		GDALClose(ds);
 		if (rc < 0)
 			return -1;
 		tl[k].path = paths[k];
 		rc = agree(r, k == 0 ? r : &h, &tl[k], o, e);
-		tiles_note(dt, k == 0 ? r : &h, k == 0);
+		dem_tiles_note(dt, k == 0 ? r : &h, k == 0);
 		if (k > 0 && h.srs != NULL)
 			OSRDestroySpatialReference(h.srs);
 		if (rc < 0)
@@ -673,7 +582,7 @@ compare_pairs(cmpbuf *c, const tile *tl, const key *v, size_t n,
 
 /* Every pair of tiles that overlap, compared there. */
 static int
-overlaps(const tile *tl, int n, const head *r, const dem_opts *o,
+overlaps(const tile *tl, int n, const dem_head *r, const dem_opts *o,
     tl_err *e)
 {
 	cmpbuf c = { 0 };
@@ -702,7 +611,7 @@ overlaps(const tile *tl, int n, const head *r, const dem_opts *o,
 /* The void of a type that has no nodata: its lowest value, NaN for
  * floats (dem2fqm(1) says so). */
 static double
-lowest(const head *r)
+lowest(const dem_head *r)
 {
 	if (GDALDataTypeIsFloating(r->type))
 		return NAN;
@@ -718,7 +627,7 @@ lowest(const head *r)
  * and what makes a gap a void: the nodata (-N's, the tiles', else the
  * type's lowest) or, for an RGB-encoded DEM, an alpha band. */
 static GDALBuildVRTOptions *
-vrt_options(const head *r, int gaps, const dem_opts *o, char nd[64],
+vrt_options(const dem_head *r, int gaps, const dem_opts *o, char nd[64],
     char tr[2][32])
 {
 	const char *argv[12];
@@ -750,7 +659,7 @@ vrt_options(const head *r, int gaps, const dem_opts *o, char nd[64],
  * on, copied from the tiles: AREA_OR_POINT (half a pixel), the unit,
  * signed bytes; scale and offset it keeps, but it is said once more. */
 static void
-vrt_metadata(GDALDatasetH vrt, const head *r)
+vrt_metadata(GDALDatasetH vrt, const dem_head *r)
 {
 	GDALRasterBandH b = GDALGetRasterBand(vrt, 1);
 
@@ -766,7 +675,7 @@ vrt_metadata(GDALDatasetH vrt, const head *r)
 }
 
 static GDALDatasetH
-vrt_build(char *const *paths, int n, const head *r, int gaps,
+vrt_build(char *const *paths, int n, const dem_head *r, int gaps,
     const dem_opts *o, const char *what, tl_err *e)
 {
 	char nd[64], tr[2][32];
@@ -805,7 +714,7 @@ dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
 	char **once = tl_alloc((size_t)n, sizeof *once, e);
 	GDALDatasetH vrt = NULL;
 	dem_tiles dt = { 0 };
-	head r = { 0 };
+	dem_head r = { 0 };
 	int gaps, rc = -1, m = 0;
 
 	dem_gdal_init();
@@ -830,192 +739,4 @@ out:
 	free(tl);
 	free(once);
 	return rc;
-}
-
-/* --- a VRT file's sources ------------------------------------------------ */
-
-#define VRT_DEPTH 8  /* VRTs of VRTs looked into; GDAL refuses loops */
-
-/* One source of a VRT (its XML, as the band's "vrt_sources" give it):
- * refused when GDAL would resample it, scaled (SrcRect's size not
- * DstRect's) or placed at a fractional pixel, unless --resample. */
-static int
-vrt_rect(CPLXMLNode *x, const char *vrt, const dem_opts *o, tl_err *e)
-{
-	static const char *const k[4] = { "xOff", "yOff", "xSize", "ySize" };
-	CPLXMLNode *sr = CPLGetXMLNode(x, "SrcRect");
-	CPLXMLNode *dr = CPLGetXMLNode(x, "DstRect");
-	const char *f = CPLGetXMLValue(x, "SourceFilename", "?");
-	char nv[DEM_NAME], nf[DEM_NAME];
-	double s[4], d[4];
-
-	if (o->resample || sr == NULL || dr == NULL)
-		return 0;
-	for (int i = 0; i < 4; i++) {
-		s[i] = CPLAtof(CPLGetXMLValue(sr, k[i], "0"));
-		d[i] = CPLAtof(CPLGetXMLValue(dr, k[i], "0"));
-	}
-	dem_name(vrt, nv), dem_name(f, nf);
-	if (fabs(s[2] - d[2]) > GRID_TOL || fabs(s[3] - d[3]) > GRID_TOL)
-		return tl_fail(e, "%s: its source %s is scaled from %.10g x %.10g "
-		    "to %.10g x %.10g pixels: tiles of another pixel size are "
-		    "never resampled (gdalwarp -tr them to one grid first), "
-		    "unless --resample asks for GDAL's resampling", nv, nf, s[2],
-		    s[3], d[2], d[3]);
-	for (int i = 0; i < 4; i++)
-		if (fabs((i < 2 ? d : s)[i % 2] -
-		    round((i < 2 ? d : s)[i % 2])) > GRID_TOL)
-			return tl_fail(e, "%s: its source %s lies off the VRT's "
-			    "grid (%s offset %.10g, %.10g): it would be "
-			    "resampled; gdalwarp it onto the grid first, or give "
-			    "--resample for GDAL's resampling", nv, nf, i < 2 ?
-			    "DstRect" : "SrcRect", (i < 2 ? d : s)[0],
-			    (i < 2 ? d : s)[1]);
-	return 0;
-}
-
-/* Every source of every band of the VRT ds, as vrt_rect checks it. */
-static int
-vrt_rects(GDALDatasetH ds, const dem_opts *o, tl_err *e)
-{
-	const char *self = GDALGetDescription(ds);
-
-	for (int b = 1; b <= GDALGetRasterCount(ds); b++) {
-		char **src = GDALGetMetadata(GDALGetRasterBand(ds, b),
-		    "vrt_sources");
-		for (int k = 0; src != NULL && src[k] != NULL; k++) {
-			const char *v = strchr(src[k], '=');
-			CPLXMLNode *x = v != NULL ? CPLParseXMLString(v + 1) :
-			    NULL;
-			int r = x != NULL ? vrt_rect(x, self, o, e) : 0;
-			if (x != NULL)
-				CPLDestroyXMLNode(x);
-			if (r < 0)
-				return -1;
-		}
-	}
-	return 0;
-}
-
-/* A VRT source's file must be a regular one: GDAL would wait on a FIFO
- * for ever. */
-static int
-vrt_file(const char *vrt, const char *f, tl_err *e)
-{
-	char nv[DEM_NAME], nf[DEM_NAME];
-	struct stat st;
-
-	if (strncmp(f, "/vsi", 4) == 0 || stat(f, &st) != 0 ||
-	    S_ISREG(st.st_mode))
-		return 0;
-	return tl_fail(e, "%s: its source %s is not a regular file (%s)",
-	    dem_name(vrt, nv), dem_name(f, nf), S_ISDIR(st.st_mode) ?
-	    "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" :
-	    "a device or socket");
-}
-
-static int vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o,
-    int depth, tl_err *e);
-
-/* What a VRT's own sources say, where the VRT h says nothing (a VRT of
- * VRTs of pixel-is-point tiles is pixel-is-point). */
-static int
-head_vrt(GDALDatasetH ds, head *h, const dem_opts *o, int depth, tl_err *e)
-{
-	dem_tiles sub;
-
-	if (strcmp(h->driver, "VRT") != 0 || depth >= VRT_DEPTH)
-		return 0;
-	if (vrt_tiles(ds, &sub, o, depth + 1, e) < 0)
-		return -1;
-	if (h->aop[0] == '\0')
-		snprintf(h->aop, sizeof h->aop, "%s", sub.aop);
-	h->point = strcasecmp(h->aop, "Point") == 0;
-	if (h->unit[0] == '\0')
-		snprintf(h->unit, sizeof h->unit, "%s", sub.unit);
-	if (sub.driver[0] != '\0')
-		snprintf(h->driver, sizeof h->driver, "%s", sub.driver);
-	h->i8 |= h->type == GDT_Byte && sub.signed_byte;
-	h->bh = sub.rows > h->bh ? sub.rows : h->bh;
-	return 0;
-}
-
-/* The source h of the VRT named vrt against the first, f: a VRT mixing
- * pixel-is-point and pixel-is-area sources shifts some by half a pixel. */
-static int
-vrt_point(const char *vrt, const head *f, const head *h, tl_err *e)
-{
-	char nv[DEM_NAME];
-
-	if (f->point == h->point)
-		return 0;
-	return tl_fail(e, "%s: its source %s is pixel-is-%s, its source %s "
-	    "pixel-is-%s: their georeferencing differs by half a pixel "
-	    "(gdal_edit.py -mo AREA_OR_POINT= one of them, as it truly is)",
-	    dem_name(vrt, nv), h->name, h->point ? "point" : "area", f->name,
-	    f->point ? "point" : "area");
-}
-
-/* One source file of the VRT ds (not a VRT's own file), noted in t: 1
- * when it does not open (the VRT's reading then says why). */
-static int
-vrt_source(GDALDatasetH ds, const char *file, dem_tiles *t, head *first,
-    int *seen, const dem_opts *o, int depth, tl_err *e)
-{
-	const char *self = GDALGetDescription(ds);
-	GDALDatasetH s;
-	head h = { 0 };
-	int r = 0;
-
-	if (vrt_file(self, file, e) < 0)
-		return -1;
-	if ((s = dem_gdal_open(file)) == NULL)
-		return 1;
-	if (GDALGetRasterCount(s) < 1 || head_read(s, file, &h, e) < 0)
-		r = 1;
-	else if (head_vrt(s, &h, o, depth, e) < 0 ||
-	    vrt_point(self, *seen ? first : &h, &h, e) < 0)
-		r = -1;
-	else {
-		tiles_note(t, &h, *seen == 0);
-		if ((*seen)++ == 0)
-			*first = h, first->srs = NULL;
-	}
-	if (h.srs != NULL)
-		OSRDestroySpatialReference(h.srs);
-	GDALClose(s);
-	return r;
-}
-
-static int
-vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o, int depth,
-    tl_err *e)
-{
-	char **files = GDALGetFileList(ds);
-	const char *self = GDALGetDescription(ds);
-	head first;
-	int seen = 0, r = 0;
-
-	memset(t, 0, sizeof *t);
-	if (vrt_rects(ds, o, e) < 0)
-		r = -1;
-	for (int k = 0; r == 0 && files != NULL && files[k] != NULL; k++)
-		if (strcmp(files[k], self) != 0 && (r = vrt_source(ds, files[k],
-		    t, &first, &seen, o, depth, e)) > 0)
-			memset(t, 0, sizeof *t); /* and no more */
-	CSLDestroy(files);
-	return r < 0 ? -1 : 0;
-}
-
-int
-dem_vrt_tiles(GDALDatasetH ds, dem_tiles *t, const dem_opts *o, tl_err *e)
-{
-	dem_gdal_msg c;
-	int r;
-
-	/* quiet: a source that does not open only makes them not agree */
-	dem_gdal_catch(&c);
-	r = vrt_tiles(ds, t, o, 0, e);
-	dem_gdal_release();
-	return r;
 }

@@ -42,16 +42,20 @@ rows(dem_load *L, const tl_oiio_api *api, tl_oiio_img *img,
 	return r;
 }
 
-int
-dem_read_oiio(dem_load *L, georef *g, const char *path, int known,
-    const dem_opts *o, tl_err *e)
+/* dem_adapter's read: an input whose magic says EXR is known to be
+ * ours (a failure is then an error, not "not ours"). */
+static int
+read_oiio(dem_load *L, georef *g, const char *path, const char *base,
+    enum dem_input in, const dem_opts *o, tl_err *e)
 {
+	int known = in == DEM_IN_EXR;
 	char why[512] = "";
 	const tl_oiio_api *api = tl_oiio_load(why, sizeof why);
 	tl_oiio_info info;
 	tl_oiio_img *img;
 	int nch, r = -1;
 
+	(void)base;
 	if (api == NULL)
 		return known ? tl_fail(e, "%s: reading this format needs the "
 		    "OpenImageIO plugin tl_oiio.so ($TL_OIIO_PLUGIN, beside the "
@@ -73,3 +77,7 @@ out:
 	api->close(img);
 	return r;
 }
+
+const dem_adapter dem_oiio_adapter = {
+	"OpenImageIO", 1u << DEM_IN_NONE | 1u << DEM_IN_EXR, read_oiio, NULL,
+};

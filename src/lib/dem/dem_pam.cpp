@@ -3,10 +3,10 @@
 // gdal_translate gives a PNG, AREA_OR_POINT, nodata, ...) is read, but a
 // dataset GDAL thinks changed would write one on close beside the user's
 // file, so saving is turned off on every dataset the reader opens
-// (dem_impl.h). No exception leaves it.
+// (dem_gdal.h). No exception leaves it.
 #include <gdal_pam.h>
 
-// declared in dem_impl.h, a C header
+// declared in dem_gdal.h, a C header
 extern "C" GDALDatasetH dem_gdal_open(const char *path);
 
 GDALDatasetH

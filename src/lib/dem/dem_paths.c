@@ -1,8 +1,7 @@
 /* dem_paths.c - the files a DEM is read from, for the outputs to keep off
  * them (dem.h, paths.h): the DEM, a list's entries, and what GDAL says
- * the DEM reads (GDALGetFileList: a VRT's sources, a world file), VRTs
- * within VRTs and VRT entries of a list followed. */
-#include <cpl_string.h>
+ * the DEM reads (the GDAL adapter's files: a VRT's sources, a world
+ * file), VRTs within VRTs and VRT entries of a list followed. */
 #include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +34,15 @@ is_vrt(const char *path)
 	return strstr(b, "<VRTDataset") != NULL;
 }
 
+/* Frees the n files of an adapter's files method. */
+static void
+files_free(char **v, int n)
+{
+	for (int k = 0; k < n; k++)
+		free(v[k]);
+	free(v);
+}
+
 /* The files GDAL reads for path (a regular file: nothing else is opened,
  * a FIFO would block), as parts of the DEM top. */
 static int
@@ -42,23 +50,14 @@ gdal_files(tl_paths *s, const char *path, const char *top, int depth,
     tl_err *e)
 {
 	struct stat st;
-	dem_gdal_msg c;
-	GDALDatasetH ds;
-	char **list;
-	int r = 0;
+	char **list = NULL;
+	int n = 0, r;
 
 	if (depth > VRT_DEPTH || stat(path, &st) != 0 || !S_ISREG(st.st_mode))
 		return 0;
-	dem_gdal_init();
-	dem_gdal_catch(&c);
-	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
-	    NULL);
-	dem_gdal_release();
-	if (ds == NULL)
-		return 1;
-	list = GDALGetFileList(ds);
-	GDALClose(ds);
-	for (int k = 0; r == 0 && list != NULL && list[k] != NULL; k++) {
+	if ((r = dem_gdal_adapter.files(path, &list, &n, e)) != 0)
+		return r;
+	for (int k = 0; r == 0 && k < n; k++) {
 		/* "/vsizip/..." and the like: within a file listed already */
 		if (strncmp(list[k], "/vsi", 4) == 0 ||
 		    strcmp(list[k], path) == 0)
@@ -68,7 +67,7 @@ gdal_files(tl_paths *s, const char *path, const char *top, int depth,
 		if (r == 0 && is_vrt(list[k]))
 			r = gdal_files(s, list[k], top, depth + 1, e) < 0 ? -1 : 0;
 	}
-	CSLDestroy(list);
+	files_free(list, n);
 	return r;
 }
 
@@ -83,7 +82,7 @@ dem_paths(tl_paths *s, const char *path, tl_err *e)
 	if (tl_paths_add(s, path, 0, e, "the input DEM %s", path) < 0 ||
 	    (r = gdal_files(s, path, path, 0, e)) < 0)
 		return -1;
-	if (r == 0 || (r = dem_list_files(path, &ent, &n, e)) != 0)
+	if (r == 0 || (r = dem_list_adapter.files(path, &ent, &n, e)) != 0)
 		return r < 0 ? -1 : 0;
 	for (int k = 0; k < n; k++) {
 		if (r == 0)

@@ -1,13 +1,11 @@
 /* dem_stamp.c - every file a DEM reads, recorded (stamp.h): the part
- * that needs GDAL, apart from stamp.c so that checking a stamp does not
- * link it. */
+ * that needs GDAL (through its adapter's files), apart from stamp.c so
+ * that checking a stamp does not link it. */
 #include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-#include <cpl_string.h>
 
 #include "dem/dem_impl.h"
 #include "base/stamp.h"
@@ -44,30 +42,24 @@ static int files(names *l, const char *path, int depth, tl_err *e);
 static int
 gdal_files(names *l, const char *path, int depth, tl_err *e)
 {
-	GDALDatasetH ds;
-	char **f;
-	int r = 0;
+	char **f = NULL;
+	int n = 0, r;
 
-	ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL,
-	    NULL);
-	if (ds == NULL)
-		return 1;
-	f = GDALGetFileList(ds);
-	for (int k = 0; f != NULL && f[k] != NULL && r == 0; k++) {
+	if ((r = dem_gdal_adapter.files(path, &f, &n, e)) != 0)
+		return r;
+	for (int k = 0; k < n && r == 0; k++) {
 		struct stat st;
-		GDALDriverH drv;
 		if (strcmp(f[k], path) == 0 || stat(f[k], &st) != 0 ||
 		    !S_ISREG(st.st_mode))
 			continue;
-		drv = GDALIdentifyDriver(f[k], NULL);
-		if (drv != NULL && depth < DEPTH &&
-		    strcmp(GDALGetDriverShortName(drv), "VRT") == 0)
+		if (depth < DEPTH && dem_gdal_is_vrt(f[k]))
 			r = files(l, f[k], depth + 1, e);
 		else
 			r = add(l, f[k], e);
 	}
-	CSLDestroy(f);
-	GDALClose(ds);
+	for (int k = 0; k < n; k++)
+		free(f[k]);
+	free(f);
 	return r;
 }
 
@@ -156,12 +148,9 @@ files(names *l, const char *path, int depth, tl_err *e)
 int
 dem_stamp(const char *path, char *const *dems, int n, tl_err *e)
 {
-	dem_gdal_msg m;
 	names l = { 0 };
 	int r = 0;
 
-	dem_gdal_init();
-	dem_gdal_catch(&m);
 	for (int k = 0; k < n && r == 0; k++) {
 		char *text;
 		if (strcmp(dems[k], "-") != 0)
@@ -171,7 +160,6 @@ dem_stamp(const char *path, char *const *dems, int n, tl_err *e)
 			free(text);
 		}
 	}
-	dem_gdal_release();
 	if (r == 0)
 		r = stamp_write(path, l.v, l.n, e);
 	for (int k = 0; k < l.n; k++)

@@ -2,7 +2,14 @@
  * file (float32 rows, NaN for a void), in two streaming passes; or on a
  * band of rows given the nearest valid samples beyond it (dem_fill_rows,
  * for filled DEM files made in bands: dem_filled_jobs.c), with the same
- * code, so that both give the same bits. */
+ * code, so that both give the same bits.
+ *
+ * The three fill files: dem_voidfill.c the void-fill algorithm,
+ * dem_filled.c the filled DEM file (filled(5)), dem_filled_jobs.c that
+ * file made in row jobs (filled(5), PARTS). Each calls only those
+ * before it and the reader (dem.c, dem_load.c); the reader calls only
+ * dem_fill of the first: no loop runs between them (t_loops.sh).
+ * Here: the algorithm. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>

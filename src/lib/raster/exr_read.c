@@ -7,6 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+const unsigned char rs_exr_magic[4] = { 0x76, 0x2f, 0x31, 0x01 };
+
 struct exr_rd {
 	struct rs_exr_io io;
 	exr_context_t ctx;

@@ -1,5 +1,6 @@
-/* rs_impl.h - private to raster.c, exr*.c, stream.c and rs_list.c: the
- * reader and writer objects and the entry points of the backends. */
+/* rs_impl.h - private to raster/: the reader and writer objects, the
+ * entry points of the backends (exr*.c, stream.c, rs_list.c) that the
+ * front door raster.c dispatches to, and the size caps of rs_header.c. */
 #ifndef TL_RS_IMPL_H
 #define TL_RS_IMPL_H
 
@@ -45,27 +46,28 @@ struct rs_writer {
 	void *impl;
 };
 
-/* Size and channel count within the caps above; fills e ("name: ..."). */
+/* Size and channel count within the caps above; fills e ("name: ...")
+ * (rs_header.c). */
 int rs_check_size(const rs_header *h, const char *name, tl_err *e);
 
-/* EXR: fd is a regular file (or scratch spool), read with pread from base. */
+/* EXR (exr_read.c, exr_write.c): fd is a regular file (or scratch spool), read with pread from base. */
 int rs_exr_open_read(rs_reader *r, long long base, tl_err *e);
 /* fresh: path is in a tree under construction (tl_out_begin_fresh) */
 int rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
     int fresh, tl_err *e);
 
-/* Stream: r->pre holds the 8 magic bytes already consumed from r->fd. */
+/* Stream (stream.c): r->pre holds the 8 magic bytes already consumed from r->fd. */
 int rs_stream_open_read(rs_reader *r, tl_err *e);
 int rs_stream_create(rs_writer *w, int fd, tl_err *e);
 
 /* Band list (rs_list.c): r->pre holds the first 8 bytes of the list
  * file r->name, r->fd the rest. */
-int rs_bands_open_read(rs_reader *r, tl_err *e);
+int rs_list_open_read(rs_reader *r, tl_err *e);
 /* rs_open of one band: any form but a band list. */
-rs_reader *rs_open_band(const char *path, tl_err *e);
+rs_reader *rs_open_listed(const char *path, tl_err *e);
 
-extern const unsigned char rs_exr_magic[4];
-extern const unsigned char rs_stream_magic[8];
-extern const unsigned char rs_bands_magic[8]; /* "fqm-band" */
+extern const unsigned char rs_exr_magic[4];    /* exr_read.c */
+extern const unsigned char rs_stream_magic[8]; /* stream.c */
+extern const unsigned char rs_list_magic[8]; /* "fqm-band" */
 
 #endif

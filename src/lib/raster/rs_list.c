@@ -2,7 +2,13 @@
  * bands of one raster, read as that one (fqm(5) BAND LISTS). Each band
  * keeps its own reader, so its own file descriptor and its own checks; a
  * row is the bands' rows side by side, a span the spans of the bands it
- * overlaps. Memory: the bands' readers and one band's row. */
+ * overlaps. Memory: the bands' readers and one band's row.
+ *
+ * The one call loop allowed between object files (tests/cmd/t_loops.sh):
+ * a band list is a raster made of rasters, so the front door raster.c
+ * opens a list here and the list opens its bands there
+ * (rs_open_listed, which refuses a list inside a list), reading them
+ * through rs_read_row and rs_read_span like any reader. */
 #include "raster/rs_impl.h"
 
 #include <errno.h>
@@ -13,7 +19,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-const unsigned char rs_bands_magic[8] = { 'f', 'q', 'm', '-', 'b', 'a',
+const unsigned char rs_list_magic[8] = { 'f', 'q', 'm', '-', 'b', 'a',
     'n', 'd' };
 
 #define BD_FIRST "fqm-bands 1"
@@ -150,7 +156,7 @@ band_path(const rs_reader *r, const char *p, tl_err *e)
 }
 
 /* Bands are files: a FIFO or a device could block the open, or feed
- * anything; a missing file is left to rs_open_band to report. */
+ * anything; a missing file is left to rs_open_listed to report. */
 static rs_reader *
 open_band(const rs_reader *r, const char *p, tl_err *e)
 {
@@ -162,7 +168,7 @@ open_band(const rs_reader *r, const char *p, tl_err *e)
 		return NULL;
 	if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
 		tl_fail(e, "%s: %s: not a regular file", r->name, path);
-	else if ((b = rs_open_band(path, e)) == NULL)
+	else if ((b = rs_open_listed(path, e)) == NULL)
 		in_list(r, e);
 	free(path);
 	return b;
@@ -398,7 +404,7 @@ open_bands(rs_reader *r, char **ent, int n, tl_err *e)
 /* The list is read whole and its descriptor closed: what stays open is
  * one descriptor per band. */
 int
-rs_bands_open_read(rs_reader *r, tl_err *e)
+rs_list_open_read(rs_reader *r, tl_err *e)
 {
 	size_t len;
 	char *s, **ent = NULL;

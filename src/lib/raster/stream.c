@@ -14,6 +14,11 @@
 #include <sys/uio.h>
 #include <unistd.h>
 
+/* PNG-style: a high-bit byte, CR LF, ^Z, LF expose 7-bit and text-mode
+ * damage. */
+const unsigned char rs_stream_magic[8] = { 0x89, 'F', 'Q', 'M', '\r', '\n',
+    0x1a, '\n' };
+
 #define ST_VERSION 1
 #define BUFSZ (256 * 1024)
 
