@@ -10,7 +10,7 @@ enum { CANNOT_CHECK = 3 };
 static const char usage[] =
     "[--dem dem] [--tau t,...] [-D datum] [-e encoding] [-H datum]\n"
     "                 [-N nodata] [-n name] [-s dx[,dy]] dir\n"
-    "       tilecheck --terrain [--dump] [--dem dem [-D -e -H -N -n -s]] outdir\n"
+    "       tilecheck --terrain [--dump] [--dem dem] [DEM options] outdir\n"
     "  dir             the pyramid: index, blocks, borders, saturation, "
     "triangulations\n"
     "                  at a sweep of tolerances\n"

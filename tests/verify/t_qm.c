@@ -165,7 +165,7 @@ header(buf *b, const mesh *m, const double r[4], int damage)
 static unsigned
 zz(int d)
 {
-	return (unsigned)((d << 1) ^ (d >> 31)) & 0xffff;
+	return ((unsigned)d << 1 ^ (unsigned)(d >> 31)) & 0xffff;
 }
 
 /* Vertices renumbered in the order the triangles first use them, so
@@ -351,21 +351,20 @@ tile_of(int z, int *x, int *y)
 	*x = (int)floor((LON0 + 180) / d), *y = (int)floor((LAT0 + 90) / d);
 }
 
-static int
-write_tile(const char *dir, int z, int x, int y, int damage)
+/* Tile z/x/y of the good tileset (with damage) into b. */
+static void
+encode(buf *b, int z, int x, int y, int damage)
 {
-	char path[PATH_MAX];
 	double r[4], d = 180 / ldexp(1, z);
-	int k = z == LEVELS - 1 ? 256 : 16, dx, dy, st;
+	int k = z == LEVELS - 1 ? 256 : 16, dx, dy;
 	mesh m;
-	buf b = { NULL, 0, 0 };
 
 	r[0] = -180 + x * d, r[1] = -90 + y * d, r[2] = r[0] + d;
 	r[3] = r[1] + d;
 	grid_mesh(&m, k, damage == D_HIGH ? DEMH + 2 * qm_level_error(z) :
 	    DEMH, damage);
-	header(&b, &m, r, damage);
-	body(&b, &m, r, damage, 1);
+	header(b, &m, r, damage);
+	body(b, &m, r, damage, 1);
 	tile_of(z + 1, &dx, &dy);
 	if (z == 1) {
 		char js[256];
@@ -373,17 +372,28 @@ write_tile(const char *dir, int z, int x, int y, int damage)
 		snprintf(js, sizeof js, "{\"available\":[[{\"startX\":%d,"
 		    "\"startY\":%d,\"endX\":%d,\"endY\":%d}]]}", dx, dy, dx,
 		    dy);
-		metadata(&b, js);
+		metadata(b, js);
 	}
 	if (damage == D_TRUNC)
-		b.n /= 2;
+		b->n /= 2;
+	free(m.u), free(m.v), free(m.h), free(m.tri);
+}
+
+static int
+write_tile(const char *dir, int z, int x, int y, int damage)
+{
+	char path[PATH_MAX];
+	buf b = { NULL, 0, 0 };
+	int st;
+
+	encode(&b, z, x, y, damage);
 	snprintf(path, sizeof path, "%s/%d", dir, z);
 	mkdir(path, 0777);
 	snprintf(path, sizeof path, "%s/%d/%d", dir, z, x);
 	mkdir(path, 0777);
 	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", dir, z, x, y);
 	st = z == 2 ? gzip_file(path, &b) : write_file(path, b.b, b.n);
-	free(b.b), free(m.u), free(m.v), free(m.h), free(m.tri);
+	free(b.b);
 	return st;
 }
 
@@ -647,6 +657,58 @@ files(void)
 	}
 }
 
+/* Every prefix of a tile and bytes changed at random: decoded or refused
+ * with a reason, never read past (make check-asan), and whatever
+ * decodes checked without harm. */
+static void
+hostile(void)
+{
+	buf b = { NULL, 0, 0 };
+	size_t edges = 0, refused = 0, decoded = 0;
+	unsigned seed = 12345;
+	qm_report r;
+
+	encode(&b, 1, 2, 1, D_NONE); /* normals, metadata */
+	for (size_t n = 0; n < b.n; n++) {
+		unsigned char *p = malloc(n + 1);
+		qm_tile t;
+		tl_err e;
+
+		memcpy(p, b.b, n);
+		if (qm_decode(p, n, &t, &e) < 0)
+			refused += strstr(e.msg, "truncated") != NULL;
+		else
+			edges = n; /* the tile without its extensions */
+		qm_free(&t);
+		free(p);
+	}
+	ok(refused == b.n - 2, "each of %zu prefixes refused as truncated "
+	    "but two complete ones (without extensions; without the "
+	    "metadata, %zu bytes)", b.n, edges);
+	qm_report_init(&r);
+	for (int k = 0; k < 2000; k++) {
+		unsigned char *p = malloc(b.n);
+		qm_tile t;
+		tl_err e;
+
+		memcpy(p, b.b, b.n);
+		for (int m = 0; m < 1 + k % 4; m++) {
+			seed = seed * 1103515245 + 12345;
+			p[(seed >> 8) % b.n] ^= (unsigned char)(1 + (seed >> 20) % 255);
+		}
+		if (qm_decode(p, b.n, &t, &e) == 0) {
+			decoded++;
+			qm_tile_check(&t, 1, 2, 1, 1, &r);
+		}
+		qm_free(&t);
+		free(p);
+	}
+	ok(decoded > 0 && r.total > 0, "2000 damaged copies: %zu decode, "
+	    "%lld violations found in them, no crash", decoded, r.total);
+	qm_report_free(&r);
+	free(b.b);
+}
+
 int
 main(int argc, char **argv)
 {
@@ -668,6 +730,7 @@ main(int argc, char **argv)
 	vary = 0;
 	damages(dem_path);
 	files();
+	hostile();
 	if (tap_failed == 0) {
 		snprintf(cmd, sizeof cmd, "rm -rf '%s'", top);
 		system(cmd);
