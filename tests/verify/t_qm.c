@@ -36,7 +36,7 @@ typedef struct {
 
 enum {
 	D_NONE, D_TRUNC, D_INDEX, D_EDGE, D_SPHERE, D_OCCL, D_CW, D_FLAT,
-	D_HEIGHTS, D_HIGH
+	D_HEIGHTS, D_HIGH, D_SEAM
 };
 
 typedef struct {
@@ -289,11 +289,17 @@ grid_mesh(mesh *m, int k, double h, int damage)
 
 			memcpy(m->tri + n, t, sizeof t), n += 6;
 		}
-	if (vary) {
+	if (vary) { /* the same on the west and east edges: no seam */
 		m->hmin = -50, m->hmax = 3000;
-		for (int i = 0; i < m->n; i++)
-			m->h[i] = (i * 7919 + k * 104729) % 32768;
+		for (int j = 0; j <= k; j++)
+			for (int i = 0; i <= k; i++)
+				m->h[j * (k + 1) + i] = j * 7919 % 16384 +
+				    (i % k ? i * 104729 % 16384 : 0);
 		m->h[0] = 0, m->h[1] = 32767;
+	}
+	if (damage == D_SEAM) { /* one west edge vertex raised 100 m */
+		m->hmax = h + 100;
+		m->h[5 * (k + 1)] = 32767;
 	}
 	if (damage == D_CW) {
 		uint32_t s = m->tri[1];
@@ -436,38 +442,49 @@ write_set(const char *dir, int damage)
 
 	mkdir(dir, 0777);
 	st |= write_tile(dir, 0, 0, 0, D_NONE);
-	st |= write_tile(dir, 0, 1, 0, D_NONE);
+	st |= write_tile(dir, 0, 1, 0, damage == D_SEAM ? D_SEAM : D_NONE);
 	for (int z = 1; z < LEVELS; z++) {
 		tile_of(z, &x, &y);
 		st |= write_tile(dir, z, x, y, (damage == D_HIGH ?
-		    z == LEVELS - 1 : z == 3) ? damage : D_NONE);
+		    z == LEVELS - 1 : z == 3 && damage != D_SEAM) ? damage :
+		    D_NONE);
 	}
 	return st | write_layer(dir, -1);
 }
 
+/* An Esri grid of DW x DW samples of DEMH (one void) whose first sample
+ * centre is (x0, y0) south-west, step apart; with prj, a WGS 84 .prj. */
 static int
-write_dem(const char *path)
+write_asc(const char *path, double x0, double y0, double step, int prj)
 {
-	char prj[PATH_MAX];
+	char name[PATH_MAX];
 	FILE *f = fopen(path, "w");
 
 	if (f == NULL)
 		return -1;
 	fprintf(f, "ncols %d\nnrows %d\nxllcorner %.6f\nyllcorner %.6f\n"
-	    "cellsize %.6f\nNODATA_value -9999\n", DW, DW, LON0 - STEP / 2,
-	    LAT0 - STEP / 2, STEP);
+	    "cellsize %.6f\nNODATA_value -9999\n", DW, DW, x0 - step / 2,
+	    y0 - step / 2, step);
 	for (int j = 0; j < DW; j++)
 		for (int i = 0; i < DW; i++)
 			fprintf(f, "%s%s", i == 7 && j == 9 ? "-9999" : "100",
 			    i == DW - 1 ? "\n" : " ");
 	fclose(f);
-	snprintf(prj, sizeof prj, "%.*s.prj", (int)strlen(path) - 4, path);
-	if ((f = fopen(prj, "w")) == NULL)
+	if (!prj)
+		return 0;
+	snprintf(name, sizeof name, "%.*s.prj", (int)strlen(path) - 4, path);
+	if ((f = fopen(name, "w")) == NULL)
 		return -1;
 	fprintf(f, "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\","
 	    "6378137,298.257223563]],PRIMEM[\"Greenwich\",0],UNIT[\"degree\","
 	    "0.0174532925199433]]\n");
 	return fclose(f);
+}
+
+static int
+write_dem(const char *path)
+{
+	return write_asc(path, LON0, LAT0, STEP, 1);
 }
 
 /* --- the checks ----------------------------------------------------- */
@@ -577,6 +594,37 @@ good(const char *dir, const char *dem_path)
 	qm_report_free(&r);
 }
 
+/* The same flat DEM in UTM zone 31 (10 km square near 1 E, 42 N): its
+ * samples through PROJ, rows that are not parallels. */
+static void
+utm(const char *dir)
+{
+	char cmd[3 * PATH_MAX];
+	const char *asc = tmp("utm.asc"), *tif = tmp("utm.tif");
+	qm_report r;
+	int st;
+
+	if (system("gdal_translate --version >/dev/null 2>&1") != 0) {
+		ok(1, "# SKIP no gdal_translate");
+		return;
+	}
+	write_asc(asc, 340000, 4655000, 250, 0);
+	snprintf(cmd, sizeof cmd, "gdal_translate -q -a_srs EPSG:32631 '%s' "
+	    "'%s'", asc, tif);
+	ok(system(cmd) == 0, "a flat UTM DEM (EPSG:32631)");
+	st = check(dir, tif, &r);
+	if (!ok(st == 0 && r.total == 0, "against it: within E_L (%lld "
+	    "violations)", r.total))
+		show(&r);
+	st = 1;
+	for (int z = 0; z < LEVELS; z++)
+		st &= r.lev[z].nratio == 1 && r.lev[z].samples == DW * DW - 1 &&
+		    r.lev[z].ratio[0] > 0 && r.lev[z].ratio[0] <= 1;
+	ok(st, "every level: %d valid samples in one tile, 0 < error / E_L "
+	    "<= 1", DW * DW - 1);
+	qm_report_free(&r);
+}
+
 static void
 damages(const char *dem_path)
 {
@@ -597,9 +645,11 @@ damages(const char *dem_path)
 		{ D_FLAT, QM_DEGENERATE, "a triangle on a line", "no area" },
 		{ D_HEIGHTS, QM_HEIGHTS, "a minimum height below every vertex",
 		  "no vertex at height 0" },
+		{ D_SEAM, QM_SEAM, "a west edge vertex of 0/1/0 raised 100 m",
+		  "east edge at 10240: height 100.0000 m, 200.0000 m in 0/1/0" },
 	};
 	static const char *name[] = { "d0", "d1", "d2", "d3", "d4", "d5", "d6",
-	    "d7" };
+	    "d7", "d8" };
 	const char *dir;
 
 	for (size_t i = 0; i < sizeof d / sizeof d[0]; i++) {
@@ -725,6 +775,7 @@ main(int argc, char **argv)
 	ok(write_set(dir, D_NONE) == 0 && write_dem(dem_path) == 0,
 	    "a tileset of %d levels and its DEM encoded by hand", LEVELS);
 	good(dir, dem_path);
+	utm(dir);
 	vary = 1;
 	expect_pass(tmp("vary"));
 	vary = 0;

@@ -6,6 +6,7 @@
  *   qm_decode.c  a tile's bytes (gzip inflated) into its fields
  *   qm_tile.c    one tile against itself: header, indices, edges
  *   qm_layer.c   layer.json, the files present, availability, ancestors
+ *   qm_seam.c    same-level neighbours along their shared edges
  *   qm_dem.c     the surface drawn against every valid DEM sample
  *   qm_run.c     the report, --dump, the programs' entry
  *
@@ -84,8 +85,8 @@ uint32_t qm_checksum(const qm_tile *t);
 enum qm_kind {
 	QM_DECODE, QM_HEADER, QM_HEIGHTS, QM_SPHERE, QM_OCCLUSION, QM_INDEX,
 	QM_WINDING, QM_DEGENERATE, QM_EDGES, QM_EXTENSION, QM_LAYER,
-	QM_UNANNOUNCED, QM_MISSING, QM_ANCESTOR, QM_COVERAGE, QM_ERROR,
-	QM_NKIND
+	QM_UNANNOUNCED, QM_MISSING, QM_ANCESTOR, QM_SEAM, QM_COVERAGE,
+	QM_ERROR, QM_NKIND
 };
 
 const char *qm_kind_name(int kind); /* "decode", "header", ... */
@@ -134,6 +135,19 @@ void qm_issue_add(qm_report *r, int kind, int z, int x, int y,
  * pointing up, metadata JSON. Violations go to r. */
 void qm_tile_check(const qm_tile *t, int z, int x, int y, int normals,
     qm_report *r);
+/* u, v, heights in 0..32767 and the header's heights finite: the tile
+ * can be placed (what the checks of several tiles need). */
+int qm_tile_sane(const qm_tile *t);
+
+/* --- neighbours (qm_seam.c) ---------------------------------------- */
+
+/* Every tile and its neighbours of the same level east (across the
+ * antimeridian too) and north: the vertices on the shared edge at the
+ * same places (no T-junction), and there the same heights up to half a
+ * quantisation step of each tile's height range, + 1 mm. A seam
+ * violation otherwise. Tiles that are not sane are left out. */
+struct qm_set;
+void qm_seam_check(const char *dir, const struct qm_set *s, qm_report *r);
 
 /* --- the tileset (qm_layer.c) -------------------------------------- */
 
@@ -145,7 +159,7 @@ typedef uint64_t qm_key;
 #define QM_KX(k) ((int)(((k) >> 28) & ((1u << 29) - 1)))
 #define QM_KY(k) ((int)((k) & ((1u << 28) - 1)))
 
-typedef struct {
+typedef struct qm_set {
 	qm_key *key;      /* the tile files present, sorted */
 	long n;
 	qm_key *avail;    /* the tiles layer.json announces, sorted */

@@ -133,12 +133,8 @@ qt_load(const run *R, qm_key k, long slot)
 	qm_rect(QM_KZ(k), QM_KX(k), QM_KY(k), t->rect);
 	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", R->dir, QM_KZ(k),
 	    QM_KX(k), QM_KY(k));
-	if (qm_read(path, &m, &e) < 0)
+	if (qm_read(path, &m, &e) < 0 || !qm_tile_sane(&m))
 		goto done;
-	for (uint32_t i = 0; i < m.n; i++)
-		if (m.u[i] < 0 || m.u[i] > QM_MAXQ || m.v[i] < 0 ||
-		    m.v[i] > QM_MAXQ || m.h[i] < 0 || m.h[i] > QM_MAXQ)
-			goto done;
 	t->p = malloc(((size_t)m.n * 3 + 1) * sizeof *t->p);
 	t->uv = malloc(((size_t)m.n * 2 + 1) * sizeof *t->uv);
 	t->tri = malloc(((size_t)m.ntri * 3 + 1) * sizeof *t->tri);

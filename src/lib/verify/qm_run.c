@@ -11,7 +11,7 @@
 static const char *kind_names[QM_NKIND] = {
 	"decode", "header", "heights", "sphere", "occlusion", "index",
 	"winding", "degenerate", "edges", "extension", "layer",
-	"unannounced", "missing", "ancestor", "coverage", "error",
+	"unannounced", "missing", "ancestor", "seam", "coverage", "error",
 };
 
 const char *
@@ -182,6 +182,7 @@ qm_check(const char *dir, const char *dem_path, const dem_opts *o,
 	if (qm_set_read(dir, s, r, e) < 0)
 		return -1;
 	tiles(dir, s, 0, r);
+	qm_seam_check(dir, s, r);
 	if (dem_path == NULL)
 		return 0;
 	r->dem = 1;

@@ -294,6 +294,18 @@ check_extensions(const qm_tile *t, int z, int x, int y, int normals,
 	}
 }
 
+int
+qm_tile_sane(const qm_tile *t)
+{
+	if (!isfinite(t->hmin) || !isfinite(t->hmax))
+		return 0;
+	for (uint32_t i = 0; i < t->n; i++)
+		if (t->u[i] < 0 || t->u[i] > QM_MAXQ || t->v[i] < 0 ||
+		    t->v[i] > QM_MAXQ || t->h[i] < 0 || t->h[i] > QM_MAXQ)
+			return 0;
+	return 1;
+}
+
 void
 qm_tile_check(const qm_tile *t, int z, int x, int y, int normals,
     qm_report *r)
