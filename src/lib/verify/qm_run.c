@@ -10,7 +10,7 @@
 
 static const char *kind_names[QM_NKIND] = {
 	"decode", "header", "heights", "sphere", "occlusion", "index",
-	"winding", "degenerate", "edges", "extension", "layer",
+	"winding", "degenerate", "hole", "edges", "extension", "layer",
 	"unannounced", "missing", "ancestor", "seam", "coverage", "error",
 };
 

@@ -12,7 +12,8 @@
 
 typedef struct {
 	int32_t at;   /* v along an east or west edge, u along north, south */
-	double h;     /* metres */
+	double h, hi; /* metres: the lowest and highest vertex there (two
+	               * vertices at one place are qm_tile_check's) */
 } ev;
 
 static int
@@ -20,7 +21,9 @@ cmpev(const void *a, const void *b)
 {
 	const ev *x = a, *y = b;
 
-	return x->at < y->at ? -1 : x->at > y->at;
+	if (x->at != y->at)
+		return x->at < y->at ? -1 : 1;
+	return x->h < y->h ? -1 : x->h > y->h;
 }
 
 static double
@@ -47,13 +50,16 @@ side(const qm_tile *t, int s, long *n)
 		if (q != (s == QM_WEST || s == QM_SOUTH ? 0 : QM_MAXQ))
 			continue;
 		e[m].at = s == QM_WEST || s == QM_EAST ? t->v[i] : t->u[i];
-		e[m++].h = metres(t, i);
+		e[m].h = e[m].hi = metres(t, i);
+		m++;
 	}
 	qsort(e, (size_t)m, sizeof *e, cmpev);
 	*n = 0;
 	for (long i = 0; i < m; i++)
 		if (*n == 0 || e[i].at != e[*n - 1].at)
 			e[(*n)++] = e[i];
+		else
+			e[*n - 1].hi = e[i].h;
 	return e;
 }
 
@@ -85,7 +91,7 @@ meet(const qm_tile *a, const qm_tile *b, int s, int z, int x, int y,
 			    dir, z, bx, by, eb[j].at);
 			break;
 		}
-		if (fabs(ea[i].h - eb[j].h) > tol) {
+		if (ea[i].h - eb[j].hi > tol || eb[j].h - ea[i].hi > tol) {
 			qm_issue_add(r, QM_SEAM, z, x, y, "%s edge at %d: "
 			    "height %.4f m, %.4f m in %d/%d/%d (a crack "
 			    "over the quantisation's %.4g m)", dir, ea[i].at,

@@ -83,12 +83,12 @@ check_heights(const qm_tile *t, int z, int x, int y, qm_report *r)
 /* CesiumJS's magnitude along the unit direction d at which a point hides
  * only what vertex p (ECEF) hides too; <= 0 or not finite: none does. */
 static double
-horizon_magnitude(const double p[3], const double d[3])
+horizon_magnitude(const double p[3], const double d[3], const double *rad)
 {
 	double s[3], m2 = 0, m, c = 0, x[3], sa, cb, sb;
 
 	for (int k = 0; k < 3; k++)
-		s[k] = p[k] / radii[k], m2 += s[k] * s[k];
+		s[k] = p[k] / rad[k], m2 += s[k] * s[k];
 	m = sqrt(m2);
 	for (int k = 0; k < 3; k++)
 		s[k] /= m, c += s[k] * d[k];
@@ -101,6 +101,31 @@ horizon_magnitude(const double p[3], const double d[3])
 	cb = 1 / m;
 	sb = sqrt(m2 - 1) * cb;
 	return 1 / (c * cb - sa * sb);
+}
+
+/* A tile whose minimum height is below 0 has its point recomputed by
+ * CesiumJS (createVerticesFromQuantizedTerrainMesh) from its vertices on
+ * an ellipsoid shrunk by that height, towards the header's centre; the
+ * header's point is used only when that fails (a magnitude below 0). */
+static int
+recomputed(const qm_tile *t, const double rect[4])
+{
+	double rad[3], d[3], dl = 0, llh[3], p[3];
+
+	if (!(t->hmin < 0) || -t->hmin >= radii[2])
+		return 0;
+	for (int k = 0; k < 3; k++)
+		rad[k] = radii[k] + t->hmin;
+	for (int k = 0; k < 3; k++)
+		d[k] = t->center[k] / rad[k], dl += d[k] * d[k];
+	for (int k = 0; k < 3; k++)
+		d[k] /= sqrt(dl);
+	for (uint32_t i = 0; i < t->n; i++) {
+		qm_vertex(t, rect, i, llh, p);
+		if (horizon_magnitude(p, d, rad) < 0)
+			return 0;
+	}
+	return 1;
 }
 
 static void
@@ -127,7 +152,7 @@ check_geometry(const qm_tile *t, int z, int x, int y, qm_report *r)
 		 * nothing to check */
 		if (isnan(pm))
 			continue;
-		m = horizon_magnitude(p, d);
+		m = horizon_magnitude(p, d, radii);
 		if (!(m > 0) || !isfinite(m)) {
 			if (inone < 0)
 				inone = i, mnone = m;
@@ -138,6 +163,8 @@ check_geometry(const qm_tile *t, int z, int x, int y, qm_report *r)
 		qm_issue_add(r, QM_SPHERE, z, x, y, "vertex %ld lies %.4g m "
 		    "outside the bounding sphere (radius %.6g m)", io, out,
 		    t->sphere[3]);
+	if ((inone >= 0 || low > TOL) && recomputed(t, rect))
+		return;
 	if (inone >= 0)
 		qm_issue_add(r, QM_OCCLUSION, z, x, y, "vertex %ld: no point "
 		    "in the occlusion point's direction hides only what it "
@@ -231,6 +258,120 @@ check_edges(const qm_tile *t, int z, int x, int y, qm_report *r)
 	free(mark);
 }
 
+static const qm_tile *sort_tile; /* qsort has no context argument */
+
+static int
+cmpplace(const void *a, const void *b)
+{
+	const qm_tile *t = sort_tile;
+	uint32_t i = *(const uint32_t *)a, j = *(const uint32_t *)b;
+
+	if (t->u[i] != t->u[j])
+		return t->u[i] < t->u[j] ? -1 : 1;
+	if (t->v[i] != t->v[j])
+		return t->v[i] < t->v[j] ? -1 : 1;
+	if (t->h[i] != t->h[j])
+		return t->h[i] < t->h[j] ? -1 : 1;
+	return i < j ? -1 : i > j;
+}
+
+typedef struct {
+	uint32_t a, b; /* a < b: the edge's ends, vertices of one place one */
+	int dir;       /* 1 when the triangle runs a to b */
+} edge;
+
+static int
+cmpedge(const void *x, const void *y)
+{
+	const edge *p = x, *q = y;
+
+	if (p->a != q->a)
+		return p->a < q->a ? -1 : 1;
+	return p->b < q->b ? -1 : p->b > q->b;
+}
+
+/* Per vertex the first vertex at its place and height: vertices that
+ * coincide are one point of the surface drawn. */
+static uint32_t *
+places(const qm_tile *t)
+{
+	uint32_t *o = malloc(((size_t)t->n + 1) * sizeof *o);
+	uint32_t *c = malloc(((size_t)t->n + 1) * sizeof *c);
+
+	if (o == NULL || c == NULL) {
+		free(o), free(c);
+		return NULL;
+	}
+	for (uint32_t i = 0; i < t->n; i++)
+		o[i] = i;
+	sort_tile = t;
+	qsort(o, t->n, sizeof *o, cmpplace);
+	for (uint32_t k = 0; k < t->n; k++)
+		c[o[k]] = k > 0 && t->u[o[k]] == t->u[o[k - 1]] &&
+		    t->v[o[k]] == t->v[o[k - 1]] &&
+		    t->h[o[k]] == t->h[o[k - 1]] ? c[o[k - 1]] : o[k];
+	free(o);
+	return c;
+}
+
+static int
+border(const qm_tile *t, uint32_t a, uint32_t b)
+{
+	return (t->u[a] == 0 && t->u[b] == 0) ||
+	    (t->u[a] == QM_MAXQ && t->u[b] == QM_MAXQ) ||
+	    (t->v[a] == 0 && t->v[b] == 0) ||
+	    (t->v[a] == QM_MAXQ && t->v[b] == QM_MAXQ);
+}
+
+/* The surface drawn is closed: every edge inside the tile belongs to two
+ * triangles, running opposite ways; one on the tile's border to one. An
+ * edge of one triangle inside is a crack (a T-junction, two vertices at
+ * one place with other heights); of three or more, an overlap. */
+static void
+check_closed(const qm_tile *t, int z, int x, int y, qm_report *r)
+{
+	uint32_t *c = places(t);
+	edge *e = malloc((3 * (size_t)t->ntri + 1) * sizeof *e);
+	size_t n = 0, open = 0, over = 0, fo = 0, fv = 0;
+
+	if (c == NULL || e == NULL)
+		goto done;
+	for (size_t k = 0; k < 3 * (size_t)t->ntri; k++) {
+		int64_t p = t->idx[k], q = t->idx[k % 3 == 2 ? k - 2 : k + 1];
+
+		if (p < 0 || q < 0 || p >= t->n || q >= t->n ||
+		    c[p] == c[q])
+			continue;
+		e[n].dir = c[p] < c[q];
+		e[n].a = e[n].dir ? c[p] : c[q], e[n].b = e[n].dir ? c[q] : c[p];
+		n++;
+	}
+	qsort(e, n, sizeof *e, cmpedge);
+	for (size_t i = 0, j; i < n; i = j) {
+		for (j = i + 1; j < n && !cmpedge(&e[i], &e[j]); j++)
+			;
+		if (j - i == 1 && !border(t, e[i].a, e[i].b) && !open++)
+			fo = i;
+		if ((j - i > 2 || (j - i == 2 && e[i].dir == e[i + 1].dir)) &&
+		    !over++)
+			fv = i;
+	}
+	if (open)
+		qm_issue_add(r, QM_HOLE, z, x, y, "%zu edges inside the tile "
+		    "belong to one triangle only, a crack; the first from "
+		    "vertex %u (u %d, v %d, height %d) to %u (u %d, v %d, "
+		    "height %d)", open, e[fo].a, t->u[e[fo].a], t->v[e[fo].a],
+		    t->h[e[fo].a], e[fo].b, t->u[e[fo].b], t->v[e[fo].b],
+		    t->h[e[fo].b]);
+	if (over)
+		qm_issue_add(r, QM_HOLE, z, x, y, "%zu edges shared by "
+		    "triangles running the same way or by three or more, an "
+		    "overlap; the first from vertex %u to %u", over, e[fv].a,
+		    e[fv].b);
+done:
+	free(c), free(e);
+}
+
 /* Oct-encoded normals (CesiumJS's AttributeCompression.octDecode) must
  * point up, out of the ground. */
 static void
@@ -254,7 +395,9 @@ check_normals(const qm_tile *t, int z, int x, int y, qm_report *r)
 		geo_ellipsoid(llh[0], llh[1], foot, up);
 		dot = (nx * up[0] + ny * up[1] + nz * up[2]) /
 		    sqrt(nx * nx + ny * ny + nz * nz);
-		if (dot <= 0) {
+		/* a height field's normals point up; 2 deg for the 8-bit
+		 * octahedral quantisation */
+		if (dot < -sin(2 * M_PI / 180)) {
 			qm_issue_add(r, QM_EXTENSION, z, x, y, "vertex %u's "
 			    "normal points %.1f deg from up, into the "
 			    "ground", i, acos(fmax(-1, dot)) * 180 / M_PI);
@@ -316,5 +459,6 @@ qm_tile_check(const qm_tile *t, int z, int x, int y, int normals,
 	check_geometry(t, z, x, y, r);
 	check_triangles(t, z, x, y, r);
 	check_edges(t, z, x, y, r);
+	check_closed(t, z, x, y, r);
 	check_extensions(t, z, x, y, normals, r);
 }
