@@ -148,9 +148,9 @@ check_geometry(const qm_tile *t, int z, int x, int y, qm_report *r)
 			dx += (p[k] - t->sphere[k]) * (p[k] - t->sphere[k]);
 		if (sqrt(dx) - t->sphere[3] > out)
 			out = sqrt(dx) - t->sphere[3], io = i;
-		/* a NaN point is never culled (CesiumJS's test is false):
-		 * nothing to check */
-		if (isnan(pm))
+		/* a point not finite (NaN, infinite) is never culled:
+		 * CesiumJS's comparisons with it are false */
+		if (!isfinite(pm))
 			continue;
 		m = horizon_magnitude(p, d, radii);
 		if (!(m > 0) || !isfinite(m)) {
