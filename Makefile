@@ -45,6 +45,7 @@ libs_raster  := -lOpenEXRCore-3_1
 pkgs_dem     := gdal
 pkgs_pyramid := jansson
 pkgs_tiles3d := jansson
+pkgs_verify  := zlib
 pkgs_play    := egl epoxy glfw3 stb
 # the programs: the layers each uses (cli.c, their shared start-up, uses
 # uses_cli)

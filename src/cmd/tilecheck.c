@@ -2,6 +2,7 @@
  * its options into a vf_args, then vf_run, which prints the report. No GL.
  * Exit 0 pass, 1 violations, 2 usage, 3 cannot check (as cmp(1) has it). */
 #include "cli.h"
+#include "verify/qm.h"
 #include "verify/verify.h"
 
 enum { CANNOT_CHECK = 3 };
@@ -9,6 +10,7 @@ enum { CANNOT_CHECK = 3 };
 static const char usage[] =
     "[--dem dem] [--tau t,...] [-D datum] [-e encoding] [-H datum]\n"
     "                 [-N nodata] [-n name] [-s dx[,dy]] dir\n"
+    "       tilecheck --terrain [--dump] [--dem dem] [DEM options] outdir\n"
     "  dir             the pyramid: index, blocks, borders, saturation, "
     "triangulations\n"
     "                  at a sweep of tolerances\n"
@@ -16,9 +18,11 @@ static const char usage[] =
     "                  for a mosaic): check its errors too\n"
     "  --tau t,...     tolerances in metres instead of each level's sweep\n"
     "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+    "  --terrain       outdir is quantized-mesh terrain (layer.json, tiles)\n"
+    "  --dump          per tile: vertices, triangles, checksum\n"
     "exit status: 0 pass, 1 violations, 2 usage, 3 cannot check\n";
 
-enum { OPT_DEM = 256, OPT_TAU };
+enum { OPT_DEM = 256, OPT_TAU, OPT_TERRAIN, OPT_DUMP };
 
 int
 main(int argc, char **argv)
@@ -26,9 +30,12 @@ main(int argc, char **argv)
 	static const struct option longopts[] = {
 		{ "dem", required_argument, NULL, OPT_DEM },
 		{ "tau", required_argument, NULL, OPT_TAU },
+		{ "terrain", no_argument, NULL, OPT_TERRAIN },
+		{ "dump", no_argument, NULL, OPT_DUMP },
 		{ NULL, 0, NULL, 0 },
 	};
 	vf_args a = { 0 };
+	qm_args q = { 0 };
 	cli c;
 	int ch, r;
 
@@ -44,6 +51,10 @@ main(int argc, char **argv)
 				    "%d numbers >= 0, comma-separated", optarg,
 				    VF_MAXTAU);
 			break;
+		case OPT_TERRAIN:
+		case OPT_DUMP:
+			q.dump |= ch == OPT_DUMP, q.dir = "";
+			break;
 		default:
 			return cli_usage_error(&c);
 		}
@@ -52,6 +63,11 @@ main(int argc, char **argv)
 		return c.status;
 	if (optind != argc - 1)
 		return cli_usage_error(&c);
+	if (q.dir != NULL) { /* --terrain (tilecheck(1) TERRAIN) */
+		q.dir = argv[optind], q.dem_path = a.dem_path, q.dem = c.dem;
+		r = qm_run(&q, c.prog);
+		return r < 0 ? CANNOT_CHECK : r;
+	}
 	a.dir = argv[optind];
 	a.dem = c.dem;
 	/* vf_run has said why it cannot check */

@@ -29,6 +29,7 @@ headers() {
 	libdeflate) echo 'libdeflate\.h' ;;
 	gdal) echo 'gdal[a-z_]*\.h|cpl_[a-z_]*\.h|ogr_[a-z_]*\.h' ;;
 	jansson) echo 'jansson\.h' ;;
+	zlib) echo 'zlib\.h' ;;
 	egl) echo 'EGL/' ;;
 	epoxy) echo 'epoxy/' ;;
 	glfw3) echo 'GLFW/' ;;
