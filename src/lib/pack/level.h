@@ -9,9 +9,10 @@
  * diamond's two triangles without the vertex; it also raises its block's
  * base error (its distance from the finest triangles). On undisplaced
  * levels the triangles' chords along a DEM row are whole columns, found
- * once per scale, kind and centre row (level_scan.c); displaced levels
- * use the general chord with each vertex's position found once per
- * scale; both give the same values bit for bit. Once no later DEM
+ * once per scale, kind and centre row (undisplaced_scan.c); displaced
+ * levels use the general chord with each vertex's position found once
+ * per scale (exact_error.c, which maps the variants); both give the same
+ * values bit for bit. Once no later DEM
  * row can reach the local errors a block row's saturation needs, its
  * errors are saturated, children before parents, over a band of 128 rows
  * either side (a vertex's descendants lie within 126 rows of it, a block

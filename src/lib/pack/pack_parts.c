@@ -10,9 +10,9 @@
 
 #include "base/outfile.h"
 
-/* How many parts piece p of level pl runs in: enough row bands of
+/* How many parts piece p of level pl runs in: enough runs of DEM rows of
  * nearly equal height that none holds more than a->part_samples DEM
- * samples of the piece's window (and a row more), at most a band a row;
+ * samples of the piece's window (and a row more), at most a part a row;
  * 1, the piece whole, when it holds no more or part_samples is 0. */
 int
 pk_nparts(const work *w, int l, const tiles_piece *p)
