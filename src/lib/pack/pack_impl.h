@@ -1,6 +1,7 @@
 /* pack_impl.h - what pack.c (a pyramid in one process), pack_jobs.c (in
- * separate processes: pieces, gather, list) and pack_parts.c (pieces in
- * parts of rows) share. Private to those three. */
+ * separate processes: pieces, gather, list), pack_parts.c (pieces in
+ * parts of rows) and pack_record.c (the jobs' records, which both of the
+ * latter write) share. Private to those four. */
 #ifndef TL_PACK_IMPL_H
 #define TL_PACK_IMPL_H
 
@@ -70,7 +71,7 @@ tiles_piece *pk_level_cut(const pyramid_level *pl, int *n, tl_err *e);
 /* What piece p of level l reads (tiles_piece_window). */
 void pk_window(const work *w, int l, const tiles_piece *p, tiles_window *win);
 
-/* pack_jobs.c: a text record of a job at path, written last and
+/* pack_record.c: a text record of a job at path, written last and
  * atomically: pk_record_open's stream, then pk_record_close (which
  * commits it, or removes it on a write error). */
 FILE *pk_record_open(tl_outfile *o, const char *path, tl_err *e);

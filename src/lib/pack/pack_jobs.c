@@ -52,30 +52,6 @@ record_path(char *buf, size_t n, const char *dir, int l, int b0, int b1)
 	snprintf(buf, n, "%s/" PIECES "/%d-%d-%d", dir, l, b0, b1);
 }
 
-FILE *
-pk_record_open(tl_outfile *o, const char *path, tl_err *e)
-{
-	FILE *f;
-
-	if (tl_out_begin(o, path, e) < 0)
-		return NULL;
-	if ((f = fdopen(dup(o->fd), "w")) == NULL) {
-		tl_out_abort(o);
-		tl_failsys(e, "%s", path);
-	}
-	return f;
-}
-
-int
-pk_record_close(tl_outfile *o, FILE *f, tl_err *e)
-{
-	if (fclose(f) != 0) {
-		tl_out_abort(o);
-		return tl_failsys(e, "%s", o->path);
-	}
-	return tl_out_commit(o, e);
-}
-
 /* The piece's record, written last: its blocks' index entries and its
  * stats, exact (%.17g). */
 static int
