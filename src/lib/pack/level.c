@@ -89,7 +89,7 @@ shares_init(state *s, int n, tl_err *e)
 /* The centres whose local errors saturating piece p reads: its block
  * columns and REACH either side. */
 static void
-centres(const tiles_level *L, const tiles_piece *p, int *lo, int *hi)
+centres(const level_args *L, const level_piece *p, int *lo, int *hi)
 {
 	int Pl = pyramid_nblocks(L->size[0]) * BT_CELLS + 1;
 
@@ -99,7 +99,7 @@ centres(const tiles_level *L, const tiles_piece *p, int *lo, int *hi)
 
 /* The rows a run reads: a part's, or every one. */
 static void
-state_rows(state *s, const tiles_part *q)
+state_rows(state *s, const level_part *q)
 {
 	if (q != NULL) {
 		s->lo = q->lo, s->hi = q->hi;
@@ -107,7 +107,7 @@ state_rows(state *s, const tiles_part *q)
 		s->r0 = q->r0, s->r1 = q->r1;
 		s->next_out = q->g0;
 	} else {
-		centres(s->L, &(tiles_piece){ s->b0, s->b1 }, &s->lo, &s->hi);
+		centres(s->L, &(level_piece){ s->b0, s->b1 }, &s->lo, &s->hi);
 		s->y0 = 0, s->y1 = s->d != NULL ? dem_georef(s->d)->height : 0;
 		s->r0 = 0, s->r1 = s->Q;
 	}
@@ -117,10 +117,10 @@ state_rows(state *s, const tiles_part *q)
 /* A run of piece pc: scanning d (all its rows, or part q's), or with d
  * NULL reading its local errors; w0 is the DEM's width. */
 static int
-state_init(state *s, const tiles_level *L, const tiles_piece *pc, int w0,
-    dem *d, const tiles_part *q, tl_err *e)
+state_init(state *s, const level_args *L, const level_piece *pc, int w0,
+    dem *d, const level_part *q, tl_err *e)
 {
-	tiles_window win;
+	level_window win;
 	size_t ring;
 
 	memset(s, 0, sizeof *s);
@@ -130,7 +130,7 @@ state_init(state *s, const tiles_level *L, const tiles_piece *pc, int w0,
 	s->by = pyramid_nblocks(L->size[1]);
 	s->Pl = s->bx * BT_CELLS + 1, s->Q = s->by * BT_CELLS + 1;
 	s->step = (double)(1L << L->level);
-	tiles_piece_window(L, s->W0, pc, &win);
+	level_piece_window(L, s->W0, pc, &win);
 	s->b0 = pc->b0, s->b1 = pc->b1;
 	s->c0 = win.c0, s->cend = win.c1, s->P = win.c1 - win.c0;
 	s->d0 = win.d0, s->dend = win.d1;
@@ -194,8 +194,8 @@ state_init(state *s, const tiles_level *L, const tiles_piece *pc, int w0,
 #define HALO REACH
 
 void
-tiles_piece_window(const tiles_level *L, int w0, const tiles_piece *p,
-    tiles_window *w)
+level_piece_window(const level_args *L, int w0, const level_piece *p,
+    level_window *w)
 {
 	int Pl = pyramid_nblocks(L->size[0]) * BT_CELLS + 1;
 	long S = 1L << L->level, c1;
@@ -214,7 +214,7 @@ tiles_piece_window(const tiles_level *L, int w0, const tiles_piece *p,
 }
 
 int
-tiles_pieces(const tiles_level *L, int cols, tiles_piece *p, int max)
+level_pieces(const level_args *L, int cols, level_piece *p, int max)
 {
 	int bx = pyramid_nblocks(L->size[0]), n = (bx + cols - 1) / cols;
 
@@ -227,16 +227,16 @@ tiles_pieces(const tiles_level *L, int cols, tiles_piece *p, int max)
 }
 
 int
-tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e)
+level_run(const level_args *L, dem *d, level_stats *st, tl_err *e)
 {
-	tiles_piece all = { 0, pyramid_nblocks(L->size[0]) };
+	level_piece all = { 0, pyramid_nblocks(L->size[0]) };
 
-	return tiles_run_piece(L, &all, d, st, e);
+	return level_run_piece(L, &all, d, st, e);
 }
 
 void
-tiles_part_window(const tiles_level *L, const tiles_piece *p, int y0,
-    int y1, tiles_part *q)
+level_part_window(const level_args *L, const level_piece *p, int y0,
+    int y1, level_part *q)
 {
 	int Q = pyramid_nblocks(L->size[1]) * BT_CELLS + 1;
 	long S = 1L << L->level;
@@ -255,13 +255,13 @@ tiles_part_window(const tiles_level *L, const tiles_piece *p, int y0,
 
 
 int
-tiles_run_piece(const tiles_level *L, const tiles_piece *pc, dem *d,
-    tiles_stats *st, tl_err *e)
+level_run_piece(const level_args *L, const level_piece *pc, dem *d,
+    level_stats *st, tl_err *e)
 {
 	state s;
 	int r;
 
-	assert(L->threads <= TILES_MAXTHREADS);
+	assert(L->threads <= LEVEL_MAXTHREADS);
 	memset(st, 0, sizeof *st);
 	if (state_init(&s, L, pc, dem_georef(d)->width, d, NULL, e) < 0)
 		return -1;
@@ -271,15 +271,15 @@ tiles_run_piece(const tiles_level *L, const tiles_piece *pc, dem *d,
 }
 
 int
-tiles_run_part(const tiles_level *L, const tiles_piece *pc,
-    const tiles_part *q, dem *d, tiles_err_fn out, void *ctx, double *base,
-    tiles_stats *st, tl_err *e)
+level_run_part(const level_args *L, const level_piece *pc,
+    const level_part *q, dem *d, level_err_fn out, void *ctx, double *base,
+    level_stats *st, tl_err *e)
 {
 	size_t nb;
 	state s;
 	int r;
 
-	assert(L->threads <= TILES_MAXTHREADS);
+	assert(L->threads <= LEVEL_MAXTHREADS);
 	assert(q->y1 <= dem_georef(d)->height);
 	memset(st, 0, sizeof *st);
 	if (state_init(&s, L, pc, dem_georef(d)->width, d, q, e) < 0)
@@ -298,14 +298,14 @@ tiles_run_part(const tiles_level *L, const tiles_piece *pc,
 }
 
 int
-tiles_run_merged(const tiles_level *L, const tiles_piece *pc, int w0,
-    tiles_err_fn in, void *ctx, const double *base, tiles_stats *st,
+level_run_merged(const level_args *L, const level_piece *pc, int w0,
+    level_err_fn in, void *ctx, const double *base, level_stats *st,
     tl_err *e)
 {
 	state s;
 	int r;
 
-	assert(L->threads <= TILES_MAXTHREADS);
+	assert(L->threads <= LEVEL_MAXTHREADS);
 	memset(st, 0, sizeof *st);
 	if (state_init(&s, L, pc, w0, NULL, NULL, e) < 0)
 		return -1;

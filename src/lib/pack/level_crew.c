@@ -21,7 +21,7 @@ ready(const state *s, int bj, double y)
  * pool has a thread per share, so each range is one share (or, with
  * fewer threads, a few in a row). */
 enum task { SCAN, EMIT };
-_Static_assert(TILES_MAXTHREADS <= TL_POOL_MAXTHREADS, "a pool per piece");
+_Static_assert(LEVEL_MAXTHREADS <= TL_POOL_MAXTHREADS, "a pool per piece");
 
 typedef struct {
 	tl_pool *pool;
@@ -126,7 +126,7 @@ run_blocks(state *s, crew *c, tl_err *e)
 static int
 give_out(state *s, int below, tl_err *e)
 {
-	const tiles_part *q = s->part;
+	const level_part *q = s->part;
 
 	for (; s->next_out < q->g1 && s->next_out < below; s->next_out++)
 		if (s->out(s->out_ctx, s->next_out, s->acc + eslot(s,
@@ -169,9 +169,9 @@ run_rows(state *s, crew *c, tl_progress *pr, tl_err *e)
 
 /* A run set up by state_init, on a pool of its shares' threads. */
 int
-lv_run(state *s, tiles_stats *st, tl_err *e)
+lv_run(state *s, level_stats *st, tl_err *e)
 {
-	const tiles_level *L = s->L;
+	const level_args *L = s->L;
 	tl_progress pr;
 	crew c = { 0 };
 	int r;

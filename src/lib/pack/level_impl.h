@@ -11,8 +11,8 @@
  * shares, which the crew runs in parallel: a share writes only its own
  * fields, its columns' local errors and its own base errors, and reads
  * rows the ring has loaded (slot, eslot assert it). */
-#ifndef TL_TILES_IMPL_H
-#define TL_TILES_IMPL_H
+#ifndef TL_PACK_LEVEL_IMPL_H
+#define TL_PACK_LEVEL_IMPL_H
 
 #include <assert.h>
 #include <math.h>
@@ -81,7 +81,7 @@ typedef struct {
  * only the memory is the window's: level column gi is at gi - c0 in the
  * rings, DEM column i at i - d0 in dd. */
 struct state {
-	const tiles_level *L;
+	const level_args *L;
 	dem *d;
 	int Pl, Q;          /* padded level size: blocks x 128 + 1 */
 	int W0;             /* DEM width */
@@ -94,15 +94,15 @@ struct state {
 	int lo, hi;         /* the centres whose local errors it saturates */
 	int y0, y1;         /* the DEM rows it scans (a part's, or all) */
 	int r0, r1;         /* the level rows it may load (likewise) */
-	/* a part (tiles_run_part): local errors given out, rows g0 .. g1-1,
+	/* a part (level_run_part): local errors given out, rows g0 .. g1-1,
 	 * next_out the next; no blocks */
-	const tiles_part *part;
-	tiles_err_fn out;
+	const level_part *part;
+	level_err_fn out;
 	void *out_ctx;
 	int next_out;
 	int yfirst;         /* the level row of the batch's first DEM row */
-	/* a piece from its parts (tiles_run_merged): local errors read */
-	tiles_err_fn in;
+	/* a piece from its parts (level_run_merged): local errors read */
+	level_err_fn in;
 	void *in_ctx;
 	double step;        /* 2^level: level-0 samples per level cell */
 	double margin;      /* how far a displaced vertex may stray */
@@ -118,7 +118,7 @@ struct state {
 	float *satband;     /* SAT_BAND x P: saturated errors */
 	float *dz;
 	unsigned char *dv;  /* a DEM row */
-	tiles_stats *st;
+	level_stats *st;
 	double *dd;         /* BATCH DEM rows as doubles: the window's
 	                     * columns, dend - d0 + 1 apart */
 	int scan;           /* undisplaced and step <= SCAN_MAXSTEP */
@@ -284,6 +284,6 @@ void lv_saturate(state *s, int bj);
 void lv_emit_share(share *t, int bj);
 /* level_crew.c: a run set up by level.c, on a pool of its shares'
  * threads: its stats into st. */
-int lv_run(state *s, tiles_stats *st, tl_err *e);
+int lv_run(state *s, level_stats *st, tl_err *e);
 
 #endif

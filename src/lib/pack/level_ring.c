@@ -26,11 +26,11 @@ keep_e(const state *s)
 
 /* Loads level row r (the next one): a real row, or past the last one a
  * copy of it; columns past the last real one copy its height (padding).
- * Its local errors start at 0, or are read (tiles_run_merged). */
+ * Its local errors start at 0, or are read (level_run_merged). */
 static int
 load_row(state *s, int r, tl_err *e)
 {
-	const tiles_level *L = s->L;
+	const level_args *L = s->L;
 	int n = L->size[0], m = L->size[1];
 	size_t o;
 	long J = (long)r << L->level;
