@@ -35,7 +35,7 @@ state_free(state *s)
 }
 
 /* A share's base errors and, displaced, its rows of positions
- * (vertex_at). */
+ * (vertex_at, exact_error.c). */
 static int
 share_init(state *s, share *t, int lo, int hi, tl_err *e)
 {
