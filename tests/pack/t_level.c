@@ -5,9 +5,10 @@
  * block handed out once in row order with shared borders identical and
  * padding copied, rows asked for in order once each, and a failing
  * callback's error passed on; on rough terrain with holes, levels 0 to
- * 2, the undisplaced levels' integer scan (level_scan.c) gives every E
- * and base error bit for bit as the general test does on the same level
- * displaced by zero offsets. */
+ * 2, the undisplaced levels' integer scan (undisplaced_scan.c) gives
+ * every E and base error bit for bit as the general test
+ * (exact_error.c's tri_row) does on the same level displaced by zero
+ * offsets. */
 #include <float.h>
 #include <limits.h>
 #include <math.h>
@@ -103,17 +104,17 @@ block_fn(void *ctx, const pyramid_block *b, tl_err *e)
 }
 
 typedef struct {
-	tiles_stats st;
+	level_stats st;
 	sink s;
 	rows R;
 	int r;
 	tl_err e;
 } run;
 
-/* A piece's local errors, the maximum over its parts (tiles_run_part):
+/* A piece's local errors, the maximum over its parts (level_run_part):
  * level columns lo .. hi-1 of every row of the padded level. */
 typedef struct {
-	const tiles_part *q;
+	const level_part *q;
 	int lo, n, next, bad_order;
 	float *acc;
 } merged;
@@ -147,7 +148,7 @@ part_in(void *ctx, int g, float *err, tl_err *e)
  * (dem_open_window) and asking for level rows from its own first one;
  * the samples counted, summed. Checks the rows given out and read. */
 static int
-parts_merge(const tiles_level *L, const tiles_piece *p, const char *path,
+parts_merge(const level_args *L, const level_piece *p, const char *path,
     int nrows, rows *R, merged *m, double *base, long long *samples,
     tl_err *e)
 {
@@ -155,11 +156,11 @@ parts_merge(const tiles_level *L, const tiles_piece *p, const char *path,
 	int Q = pyramid_nblocks(L->size[1]) * BT_CELLS + 1;
 	int nb = (p->b1 - p->b0) * pyramid_nblocks(L->size[1]), r = 0, bad = 0;
 	double *pb = calloc(nb, sizeof *pb);
-	tiles_window win;
-	tiles_part q;
+	level_window win;
+	level_part q;
 
-	tiles_piece_window(L, L->m->width, p, &win);
-	tiles_part_window(L, p, 0, 1, &q);
+	level_piece_window(L, L->m->width, p, &win);
+	level_part_window(L, p, 0, 1, &q);
 	memset(m, 0, sizeof *m);
 	m->lo = q.lo, m->n = q.hi - q.lo;
 	m->acc = calloc((size_t)Q * m->n, sizeof *m->acc);
@@ -167,9 +168,9 @@ parts_merge(const tiles_level *L, const tiles_piece *p, const char *path,
 	for (int y0 = 0; r == 0 && y0 < L->m->height; y0 += nrows) {
 		int y1 = y0 + nrows < L->m->height ? y0 + nrows :
 		    L->m->height;
-		tiles_stats ps;
+		level_stats ps;
 		dem *d;
-		tiles_part_window(L, p, y0, y1, &q);
+		level_part_window(L, p, y0, y1, &q);
 		if ((d = dem_open_window(path, &none, (int)win.d0, (int)win.d1,
 		    y0, y1, e)) == NULL) {
 			r = -1;
@@ -177,7 +178,7 @@ parts_merge(const tiles_level *L, const tiles_piece *p, const char *path,
 		}
 		m->q = &q, m->next = q.g0;
 		R->next = q.r0;
-		r = tiles_run_part(L, p, &q, d, part_out, m, pb, &ps, e);
+		r = level_run_part(L, p, &q, d, part_out, m, pb, &ps, e);
 		dem_close(d);
 		if (m->next != q.g1 || R->next != (q.r1 < L->size[1] ? q.r1 :
 		    L->size[1]))
@@ -195,11 +196,11 @@ parts_merge(const tiles_level *L, const tiles_piece *p, const char *path,
 	return r;
 }
 
-/* Piece p in parts of nrows DEM rows, merged (tiles_run_merged); its
+/* Piece p in parts of nrows DEM rows, merged (level_run_merged); its
  * stats to st. */
 static int
-run_parts(const tiles_level *L, const tiles_piece *p, const char *path,
-    int nrows, rows *R, tiles_stats *st, tl_err *e)
+run_parts(const level_args *L, const level_piece *p, const char *path,
+    int nrows, rows *R, level_stats *st, tl_err *e)
 {
 	int Q = pyramid_nblocks(L->size[1]) * BT_CELLS + 1;
 	int nb = (p->b1 - p->b0) * pyramid_nblocks(L->size[1]), r;
@@ -210,7 +211,7 @@ run_parts(const tiles_level *L, const tiles_piece *p, const char *path,
 	r = parts_merge(L, p, path, nrows, R, &m, base, &samples, e);
 	m.next = 0, R->next = 0;
 	if (r == 0)
-		r = tiles_run_merged(L, p, L->m->width, part_in, &m, base, st,
+		r = level_run_merged(L, p, L->m->width, part_in, &m, base, st,
 		    e);
 	st->samples = samples;
 	if (r == 0 && (m.bad_order || m.next != Q))
@@ -231,7 +232,7 @@ run_level_in(run *u, const char *path, int level, int w, int h,
     int cols, int jitter, int nrows)
 {
 	static const dem_opts none;
-	tiles_level L = { 0 };
+	level_args L = { 0 };
 	geo_metric m = { 0 };
 	size_t nb, ng;
 	dem *d;
@@ -261,17 +262,17 @@ run_level_in(run *u, const char *path, int level, int w, int h,
 	L.row = row_fn, L.row_ctx = &u->R;
 	L.block = block_fn, L.block_ctx = &u->s;
 	if (cols == 0) {
-		u->r = tiles_run(&L, d, &u->st, &u->e);
+		u->r = level_run(&L, d, &u->st, &u->e);
 		goto done;
 	}
-	tiles_piece p[64];
-	int n = tiles_pieces(&L, cols, p, 64);
+	level_piece p[64];
+	int n = level_pieces(&L, cols, p, 64);
 	u->r = 0;
 	for (int k = 0; k < n && u->r == 0; k++) {
-		tiles_stats st;
+		level_stats st;
 		u->R.next = 0; /* each piece reads every row */
 		u->r = nrows > 0 ? run_parts(&L, &p[k], path, nrows, &u->R,
-		    &st, &u->e) : tiles_run_piece(&L, &p[k], d, &st, &u->e);
+		    &st, &u->e) : level_run_piece(&L, &p[k], d, &st, &u->e);
 		u->st.max_e = st.max_e > u->st.max_e ? st.max_e : u->st.max_e;
 		u->st.max_base = st.max_base > u->st.max_base ? st.max_base :
 		    u->st.max_base;
@@ -689,8 +690,8 @@ test_part_errors(void)
 			int w = geo_level_size(W, level), h = geo_level_size(H,
 			    level), Q = pyramid_nblocks(h) * BT_CELLS + 1;
 			float *v = malloc((size_t)w * h * sizeof *v);
-			tiles_level L = { 0 };
-			tiles_piece p[8];
+			level_args L = { 0 };
+			level_piece p[8];
 			rows R = { 0 };
 			memset(v, 0, (size_t)w * h * sizeof *v);
 			R.z = v, R.w = w, R.h = h, R.fail_at = -1;
@@ -698,7 +699,7 @@ test_part_errors(void)
 			L.level = level, L.size[0] = w, L.size[1] = h;
 			L.displaced = disp, L.m = &gm, L.threads = 1;
 			L.row = row_fn, L.row_ctx = &R;
-			tiles_pieces(&L, 1, p, 8);
+			level_pieces(&L, 1, p, 8);
 			/* the second piece: halos on both sides */
 			int nb = pyramid_nblocks(h), same = 1, r;
 			double *b1 = calloc(nb, sizeof *b1), *b2 = calloc(nb,

@@ -1,4 +1,5 @@
-/* graph.c - the supervisor of a process graph (graph.h). */
+/* graph.c - the supervisor of a process graph (graph.h): building and
+ * running a graph; the stop signal is graph_signal.c's. */
 #define _GNU_SOURCE /* close_range */
 #include <assert.h>
 #include <errno.h>
@@ -14,16 +15,6 @@
 #include <unistd.h>
 
 #include "jobs/graph_impl.h"
-
-/* The one piece of process state: the signal that asks the supervisor to
- * stop, set by its handler (a handler can reach nothing else). */
-static volatile sig_atomic_t stop_signal;
-
-static void
-on_signal(int sig)
-{
-	stop_signal = sig;
-}
 
 graph *
 graph_new(const char *prog, const char *bindir, tl_err *e)
@@ -243,21 +234,15 @@ start(graph *g, stage *s, tl_err *e)
 int
 graph_run(graph *g, int *status, tl_err *e)
 {
-	struct sigaction sa = { .sa_handler = on_signal };
-	const int sigs[3] = { SIGINT, SIGTERM, SIGHUP };
 	int st = 1, r = 0;
 	tl_err later;
 
-	/* installed for good: a signal between two graphs must still stop
-	 * the next one and reach the caller */
-	sigemptyset(&sa.sa_mask);
-	for (int i = 0; i < 3; i++)
-		sigaction(sigs[i], &sa, NULL);
+	graph_catch_signals();
 	if (g->progress != NULL && pipe2(g->prog_fd, O_CLOEXEC) < 0)
 		r = sysfail(g, "pipe", e);
 	for (int k = 0; k < g->n; k++)
 		g->st[k].up = g->st[k].in >= 0 ? writer_of(g, k) : -1;
-	for (int k = 0; k < g->n && r == 0 && !stop_signal; k++)
+	for (int k = 0; k < g->n && r == 0 && !graph_signal(); k++)
 		r = start(g, &g->st[k], e);
 	close_owned(g); /* the stages hold their ends now */
 	if (g->prog_fd[1] >= 0)
@@ -274,10 +259,4 @@ graph_run(graph *g, int *status, tl_err *e)
 	if (status != NULL)
 		*status = r < 0 ? st : 0;
 	return r;
-}
-
-int
-graph_signal(void)
-{
-	return stop_signal;
 }

@@ -1,6 +1,7 @@
 /* graph_impl.h - the supervisor's insides, shared by graph.c (building
- * and running a graph), graph_child.c (a stage's side of the fork) and
- * graph_wait.c (watching the stages). */
+ * and running a graph), graph_child.c (a stage's side of the fork),
+ * graph_wait.c (watching the stages) and graph_signal.c (the stop
+ * signal). */
 #ifndef TL_GRAPH_IMPL_H
 #define TL_GRAPH_IMPL_H
 
@@ -55,5 +56,8 @@ void graph_child(const graph *g, const stage *s, int errw)
 int graph_supervise(graph *g, int *status, tl_err *e);
 /* Sends sig to every stage still running, and what it started. */
 void graph_signal_all(graph *g, int sig);
+/* graph_signal.c: INT, TERM and HUP caught from now on, for good, each
+ * recorded for graph_signal. */
+void graph_catch_signals(void);
 
 #endif

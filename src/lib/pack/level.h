@@ -9,9 +9,10 @@
  * diamond's two triangles without the vertex; it also raises its block's
  * base error (its distance from the finest triangles). On undisplaced
  * levels the triangles' chords along a DEM row are whole columns, found
- * once per scale, kind and centre row (level_scan.c); displaced levels
- * use the general chord with each vertex's position found once per
- * scale; both give the same values bit for bit. Once no later DEM
+ * once per scale, kind and centre row (undisplaced_scan.c); displaced
+ * levels use the general chord with each vertex's position found once
+ * per scale (exact_error.c, which maps the variants); both give the same
+ * values bit for bit. Once no later DEM
  * row can reach the local errors a block row's saturation needs, its
  * errors are saturated, children before parents, over a band of 128 rows
  * either side (a vertex's descendants lie within 126 rows of it, a block
@@ -34,8 +35,8 @@
  * per scale and thread; plus one whole row of the level from the row
  * callback. A part holds the same but the saturation band; a piece from
  * its parts the same but the DEM rows. */
-#ifndef TL_TILES_H
-#define TL_TILES_H
+#ifndef TL_PACK_LEVEL_H
+#define TL_PACK_LEVEL_H
 
 #include "dem/dem.h"
 #include "pyramid/pyramid.h"
@@ -45,41 +46,41 @@
  * 1D levels), n entries each. Rows are asked for in order, once each,
  * always the same columns: a piece's window, or the whole row; from row
  * 0, or a part's first row r0. */
-typedef int (*tiles_row_fn)(void *ctx, int r, int c0, int n, float *z,
+typedef int (*level_row_fn)(void *ctx, int r, int c0, int n, float *z,
     float *x, float *y, tl_err *e);
 /* A finished block; the callee writes it (b is reused afterwards). With
  * threads > 1 it is called from several threads at once, for different
  * blocks of one block row (block rows come in order, a row's blocks in
  * any order). */
-typedef int (*tiles_block_fn)(void *ctx, const pyramid_block *b, tl_err *e);
+typedef int (*level_block_fn)(void *ctx, const pyramid_block *b, tl_err *e);
 
 typedef struct {
 	int level;
 	int size[2];     /* the level's vertices */
 	int displaced;
 	const geo_metric *m;
-	tiles_row_fn row;
+	level_row_fn row;
 	void *row_ctx;
-	tiles_block_fn block;
+	level_block_fn block;
 	void *block_ctx;
 	const char *label; /* progress on a terminal, or NULL */
 	/* or, if not NULL, told the DEM rows scanned, batch by batch (from
 	 * the thread running the piece) */
 	void (*progress)(void *ctx, int rows);
 	void *progress_ctx;
-	int threads;       /* 1 .. TILES_MAXTHREADS: the columns in shares */
-} tiles_level;
+	int threads;       /* 1 .. LEVEL_MAXTHREADS: the columns in shares */
+} level_args;
 
-#define TILES_MAXTHREADS 64
+#define LEVEL_MAXTHREADS 64
 
 typedef struct {
 	double max_base;   /* largest base error of any block */
 	double max_e;      /* largest finite E */
 	long long samples; /* valid DEM samples measured */
-} tiles_stats;
+} level_stats;
 
 /* The whole level. */
-int tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e);
+int level_run(const level_args *L, dem *d, level_stats *st, tl_err *e);
 
 /* A piece of a level: the blocks of block columns [b0, b1), all block
  * rows. Pieces are independent: run in any order, on threads or in
@@ -87,7 +88,7 @@ int tiles_run(const tiles_level *L, dem *d, tiles_stats *st, tl_err *e);
  * for bit; each holds its window of columns, not the level's width. */
 typedef struct {
 	int b0, b1;
-} tiles_piece;
+} level_piece;
 
 /* What a piece reads and writes: level columns [c0, c1) of every row of
  * the vertex map (the row callback still gives whole rows), DEM columns
@@ -98,17 +99,17 @@ typedef struct {
 	int b0, b1;
 	int c0, c1;
 	long d0, d1;
-} tiles_window;
+} level_window;
 
-void tiles_piece_window(const tiles_level *L, int w0, const tiles_piece *p,
-    tiles_window *w);
+void level_piece_window(const level_args *L, int w0, const level_piece *p,
+    level_window *w);
 /* The level's block columns in n = ceil(blocks / cols) pieces of nearly
  * equal width, at most max of them written to p; returns n. */
-int tiles_pieces(const tiles_level *L, int cols, tiles_piece *p, int max);
+int level_pieces(const level_args *L, int cols, level_piece *p, int max);
 /* Piece p of the level: its blocks to L->block, its stats to st (the
  * samples counted are those of its own DEM columns). */
-int tiles_run_piece(const tiles_level *L, const tiles_piece *p, dem *d,
-    tiles_stats *st, tl_err *e);
+int level_run_piece(const level_args *L, const level_piece *p, dem *d,
+    level_stats *st, tl_err *e);
 
 /* A piece also runs in parts, so that no job scans more than a bound of
  * DEM samples however coarse the level: a part scans the piece's DEM
@@ -118,7 +119,7 @@ int tiles_run_piece(const tiles_level *L, const tiles_piece *p, dem *d,
  * centre a diamond of those rows has) and the piece's blocks' base
  * errors. Each is a maximum over the part's samples, so the maximum over
  * parts whose rows partition the DEM's is what the whole piece measures,
- * bit for bit; tiles_run_merged then saturates and hands out the blocks.
+ * bit for bit; level_run_merged then saturates and hands out the blocks.
  * A part reads level rows [r0, r1) of the vertex map: its diamonds'
  * vertices. */
 typedef struct {
@@ -126,26 +127,26 @@ typedef struct {
 	int g0, g1;
 	int lo, hi;
 	int r0, r1;
-} tiles_part;
+} level_part;
 
-void tiles_part_window(const tiles_level *L, const tiles_piece *p, int y0,
-    int y1, tiles_part *q);
+void level_part_window(const level_args *L, const level_piece *p, int y0,
+    int y1, level_part *q);
 /* Local errors of level row g, level columns [lo, hi): a part's given out
  * (rows g0 .. g1-1 in order), or a piece's read back (rows 0 .. all of
  * the padded level, blocks x 128 + 1, in order; zero where no part
  * reaches). */
-typedef int (*tiles_err_fn)(void *ctx, int g, float *err, tl_err *e);
+typedef int (*level_err_fn)(void *ctx, int g, float *err, tl_err *e);
 /* Part q of piece p: its local errors to out, its blocks' base errors to
  * base ((b1 - b0) x block rows, a block row after another), the samples
  * of its own columns and rows to st->samples. */
-int tiles_run_part(const tiles_level *L, const tiles_piece *p,
-    const tiles_part *q, dem *d, tiles_err_fn out, void *ctx, double *base,
-    tiles_stats *st, tl_err *e);
+int level_run_part(const level_args *L, const level_piece *p,
+    const level_part *q, dem *d, level_err_fn out, void *ctx, double *base,
+    level_stats *st, tl_err *e);
 /* Piece p from its parts' local errors (in) and base errors (maxima over
- * the parts, laid out as tiles_run_part's): its blocks to L->block, its
+ * the parts, laid out as level_run_part's): its blocks to L->block, its
  * stats but samples to st; w0 is the DEM's width. */
-int tiles_run_merged(const tiles_level *L, const tiles_piece *p, int w0,
-    tiles_err_fn in, void *ctx, const double *base, tiles_stats *st,
+int level_run_merged(const level_args *L, const level_piece *p, int w0,
+    level_err_fn in, void *ctx, const double *base, level_stats *st,
     tl_err *e);
 
 #endif

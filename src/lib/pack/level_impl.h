@@ -1,8 +1,18 @@
-/* level_impl.h - the state of a level's errors, shared by level.c (rows,
- * saturation, blocks, the general containment test) and level_scan.c (the
- * exact integer scan of undisplaced levels). Private to those two. */
-#ifndef TL_TILES_IMPL_H
-#define TL_TILES_IMPL_H
+/* level_impl.h - the state of a level's run, shared by the files that
+ * make a level's errors and blocks (level.h): level.c (set-up, pieces,
+ * parts), level_crew.c (the pass, on the shares' threads), level_ring.c
+ * (the rings of rows), exact_error.c (the kernel: the errors a DEM row
+ * raises; its head maps the variants), undisplaced_scan.c (the kernel's
+ * integer scan of undisplaced levels), level_saturate.c (saturation) and
+ * level_blocks.c (the block hand-out). Private to those.
+ *
+ * Contract: a state is set up by level.c for one run (a piece, a part or
+ * a piece from its parts) and used by one thread at a time but for its
+ * shares, which the crew runs in parallel: a share writes only its own
+ * fields, its columns' local errors and its own base errors, and reads
+ * rows the ring has loaded (slot, eslot assert it). */
+#ifndef TL_PACK_LEVEL_IMPL_H
+#define TL_PACK_LEVEL_IMPL_H
 
 #include <assert.h>
 #include <math.h>
@@ -17,11 +27,13 @@
  * vertex: 32+32+16+16+...+1+1), a block centre's within 190: saturating a
  * block row reads local errors 128 rows either side of it. */
 #define REACH BT_CELLS
-#define BAND (BT_CELLS + 2 * REACH + 1) /* rows saturated per block row */
+/* the saturation band: the rows saturated per block row */
+#define SAT_BAND (BT_CELLS + 2 * REACH + 1)
 #define RINGV 512   /* level rows of heights and offsets held; a power of 2 */
-/* level rows of local errors held: a block row's band starts 128 rows
- * before it, and the rows loaded when it is handed out reach 484 past it
- * (ready at 322, a batch of 32, 130 below the DEM row): 612 at most */
+/* level rows of local errors held: a block row's saturation band starts
+ * 128 rows before it, and the rows loaded when it is handed out reach 484
+ * past it (ready at 322, a batch of 32, 130 below the DEM row): 612 at
+ * most */
 #define RINGE 640
 /* Closed containment, level units: 3D positions come from float32
  * offsets, so a sample on a shared edge must count on both sides; in 1D
@@ -54,12 +66,13 @@ typedef struct {
 		int tag[8];
 		double *x, *y;  /* VC_ROWS x n */
 	} vc[8];
-} strip;
+} share;
 #define VC_ROWS 8
 
 /* DEM rows scanned between two meetings of the threads: the rings hold
- * what a batch reaches (a block row's band is final 322 rows past its
- * first, the rows loaded reach 130 past the DEM row: 452 + 32 < RINGV). */
+ * what a batch reaches (a block row's saturation band is final 322 rows
+ * past its first, the rows loaded reach 130 past the DEM row: 452 + 32 <
+ * RINGV). */
 #define BATCH 32
 
 /* A piece's window: what it holds of each row. Coordinates (columns,
@@ -68,7 +81,7 @@ typedef struct {
  * only the memory is the window's: level column gi is at gi - c0 in the
  * rings, DEM column i at i - d0 in dd. */
 struct state {
-	const tiles_level *L;
+	const level_args *L;
 	dem *d;
 	int Pl, Q;          /* padded level size: blocks x 128 + 1 */
 	int W0;             /* DEM width */
@@ -81,15 +94,15 @@ struct state {
 	int lo, hi;         /* the centres whose local errors it saturates */
 	int y0, y1;         /* the DEM rows it scans (a part's, or all) */
 	int r0, r1;         /* the level rows it may load (likewise) */
-	/* a part (tiles_run_part): local errors given out, rows g0 .. g1-1,
+	/* a part (level_run_part): local errors given out, rows g0 .. g1-1,
 	 * next_out the next; no blocks */
-	const tiles_part *part;
-	tiles_err_fn out;
+	const level_part *part;
+	level_err_fn out;
 	void *out_ctx;
 	int next_out;
 	int yfirst;         /* the level row of the batch's first DEM row */
-	/* a piece from its parts (tiles_run_merged): local errors read */
-	tiles_err_fn in;
+	/* a piece from its parts (level_run_merged): local errors read */
+	level_err_fn in;
 	void *in_ctx;
 	double step;        /* 2^level: level-0 samples per level cell */
 	double margin;      /* how far a displaced vertex may stray */
@@ -102,29 +115,29 @@ struct state {
 	float *acc;         /* RINGE x P: local errors */
 	int loaded;         /* level rows [0, loaded) have been loaded */
 	int next_bj;        /* next block row to hand out */
-	float *band;        /* BAND x P: saturated errors */
+	float *satband;     /* SAT_BAND x P: saturated errors */
 	float *dz;
 	unsigned char *dv;  /* a DEM row */
-	tiles_stats *st;
+	level_stats *st;
 	double *dd;         /* BATCH DEM rows as doubles: the window's
 	                     * columns, dend - d0 + 1 apart */
 	int scan;           /* undisplaced and step <= SCAN_MAXSTEP */
 	int avx2;           /* the CPU has AVX2: the hot loops' AVX2 copies */
-	int nstrip;
-	strip *strips;
+	int nshare;
+	share *shares;
 };
 
 /* The leaves a share measures: the cells starting in its columns and in
  * the piece's blocks (base errors are the piece's blocks' only). */
 static inline int
-leaf_lo(const strip *t)
+leaf_lo(const share *t)
 {
 	int b = t->s->b0 * BT_CELLS;
 	return t->lo > b ? t->lo : b;
 }
 
 static inline int
-leaf_hi(const strip *t)
+leaf_hi(const share *t)
 {
 	int b = t->s->b1 * BT_CELLS;
 	return t->hi < b ? t->hi : b;
@@ -132,7 +145,7 @@ leaf_hi(const strip *t)
 
 /* The base error of the block of cell (ci, cj), one of the piece's. */
 static inline double *
-base_at(const strip *t, int cj, int ci)
+base_at(const share *t, int cj, int ci)
 {
 	const state *s = t->s;
 	int bi = ci / BT_CELLS;
@@ -156,6 +169,19 @@ eslot(const state *s, int gj)
 {
 	assert(gj >= s->r0 && gj < s->loaded && gj >= s->loaded - RINGE);
 	return (size_t)(gj % RINGE) * s->P;
+}
+
+/* fmin/fmax are library calls here; these inline. */
+static inline __attribute__((always_inline)) double
+dmin(double a, double b)
+{
+	return a < b ? a : b;
+}
+
+static inline __attribute__((always_inline)) double
+dmax(double a, double b)
+{
+	return a > b ? a : b;
 }
 
 /* Four doubles as one value (GCC's vector extension): the operations are
@@ -232,13 +258,32 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 	return w;
 }
 
-/* The exact integer scan (level_scan.c) applies to undisplaced levels up
- * to this step: there every chord end of a triangle is a whole DEM
- * column and the tolerances EPS change nothing (see level_scan.c). */
+/* The exact integer scan (undisplaced_scan.c) applies to undisplaced
+ * levels up to this step: there every chord end of a triangle is a whole
+ * DEM column and the tolerances EPS change nothing (see
+ * undisplaced_scan.c). */
 #define SCAN_MAXSTEP 1024
 
-/* The local and base errors the DEM row J (t->dd) raises in t's
- * columns, as tri_row's loops in level.c would raise them, bit for bit. */
-void tiles_scan_row(strip *t, int J);
+/* exact_error.c: the local and base errors DEM row J (t->dd) raises in
+ * t's columns, by the variant that serves the level; where each column
+ * of the piece falls among the lattice's nodes (state init, displaced
+ * levels of a lattice metric). */
+void lv_error_row(share *t, int J);
+void lv_node_columns(state *s);
+/* undisplaced_scan.c: lv_error_row on an undisplaced level (s->scan), as
+ * tri_row's loops in exact_error.c would raise them, bit for bit. */
+void lv_scan_undisplaced(share *t, int J);
+/* level_ring.c: level rows up to r (at most the run's last, r1 - 1)
+ * loaded into the rings. */
+int lv_ensure(state *s, int r, tl_err *e);
+/* level_saturate.c: block row bj's saturation band saturated (its level
+ * rows' local errors must be final). */
+void lv_saturate(state *s, int bj);
+/* level_blocks.c: t's blocks of block row bj (saturated) handed to the
+ * block callback; a failure is t->failed and t->err. */
+void lv_emit_share(share *t, int bj);
+/* level_crew.c: a run set up by level.c, on a pool of its shares'
+ * threads: its stats into st. */
+int lv_run(state *s, level_stats *st, tl_err *e);
 
 #endif

@@ -204,9 +204,9 @@ on_rows(void *ctx, int rows)
 }
 
 void
-pk_merge_stats(work *w, int l, const tiles_stats *st)
+pk_merge_stats(work *w, int l, const level_stats *st)
 {
-	tiles_stats *o = &w->out[l].st;
+	level_stats *o = &w->out[l].st;
 
 	pthread_mutex_lock(&w->mu);
 	o->max_e = st->max_e > o->max_e ? st->max_e : o->max_e;
@@ -220,7 +220,7 @@ pk_merge_stats(work *w, int l, const tiles_stats *st)
  * it independently), its blocks written into the directory being built. */
 /* Level l over its open vertex map v, its blocks into k. */
 void
-pk_level_setup(work *w, int l, vmap *v, sink *k, int threads, tiles_level *L)
+pk_level_setup(work *w, int l, vmap *v, sink *k, int threads, level_args *L)
 {
 	k->dir = w->tmp, k->attrs = v->h, k->L = &w->ix->lev[l];
 	memset(L, 0, sizeof *L);
@@ -234,11 +234,11 @@ pk_level_setup(work *w, int l, vmap *v, sink *k, int threads, tiles_level *L)
 }
 
 int
-pk_run_piece(work *w, int l, const tiles_piece *p, int threads, tl_err *e)
+pk_run_piece(work *w, int l, const level_piece *p, int threads, tl_err *e)
 {
 	const georef *g = dem_georef(w->d);
-	tiles_level L;
-	tiles_stats st;
+	level_args L;
+	level_stats st;
 	meter mt;
 	vmap v;
 	sink k;
@@ -250,13 +250,13 @@ pk_run_piece(work *w, int l, const tiles_piece *p, int threads, tl_err *e)
 	pk_level_setup(w, l, &v, &k, threads, &L);
 	mt.w = w, mt.width = g->width;
 	if (p != NULL) {
-		tiles_window win;
-		tiles_piece_window(&L, g->width, p, &win);
+		level_window win;
+		level_piece_window(&L, g->width, p, &win);
 		mt.width = win.d1 - win.d0;
 	}
 	L.progress = on_rows, L.progress_ctx = &mt;
-	r = p != NULL ? tiles_run_piece(&L, p, w->d, &st, e) :
-	    tiles_run(&L, w->d, &st, e);
+	r = p != NULL ? level_run_piece(&L, p, w->d, &st, e) :
+	    level_run(&L, w->d, &st, e);
 	if (r == 0)
 		pk_merge_stats(w, l, &st);
 done:
@@ -268,7 +268,7 @@ done:
 typedef struct {
 	int l;
 	int whole;         /* the whole level (a FIFO), not piece p */
-	tiles_piece p;
+	level_piece p;
 } job;
 
 typedef struct {
@@ -337,18 +337,18 @@ run_queue(queue *q, int workers, tl_err *e)
 /* Level pl's pieces, as every mode cuts them (threads, -l, -p, -g): how
  * many, and (pk_level_cut) the pieces themselves, allocated. */
 static int
-level_npieces(const pyramid_level *pl, tiles_piece *p, int max)
+level_npieces(const pyramid_level *pl, level_piece *p, int max)
 {
-	tiles_level L = { .level = pl->level };
+	level_args L = { .level = pl->level };
 
 	L.size[0] = pl->size[0];
-	return tiles_pieces(&L, PIECE_BLOCKS(pl->displaced), p, max);
+	return level_pieces(&L, PIECE_BLOCKS(pl->displaced), p, max);
 }
 
-tiles_piece *
+level_piece *
 pk_level_cut(const pyramid_level *pl, int *n, tl_err *e)
 {
-	tiles_piece *p;
+	level_piece *p;
 
 	*n = level_npieces(pl, NULL, 0);
 	if ((p = tl_alloc(*n, sizeof *p, e)) != NULL)
@@ -357,12 +357,12 @@ pk_level_cut(const pyramid_level *pl, int *n, tl_err *e)
 }
 
 void
-pk_window(const work *w, int l, const tiles_piece *p, tiles_window *win)
+pk_window(const work *w, int l, const level_piece *p, level_window *win)
 {
-	tiles_level L = { .level = l };
+	level_args L = { .level = l };
 
 	L.size[0] = w->ix->lev[l].size[0];
-	tiles_piece_window(&L, w->ix->geo.width, p, win);
+	level_piece_window(&L, w->ix->geo.width, p, win);
 }
 
 /* Whether some level comes through a FIFO (or stdin): a pipeline
@@ -397,7 +397,7 @@ run_levels(work *w, tl_err *e)
 	if ((q.job = tl_alloc(n, sizeof *q.job, e)) == NULL)
 		return -1;
 	for (int l = 0; l < nl; l++) {
-		tiles_piece *p;
+		level_piece *p;
 		int m;
 		if (w->fifo) {
 			q.job[q.n++] = (job){ .l = l, .whole = 1 };
@@ -409,7 +409,7 @@ run_levels(work *w, tl_err *e)
 			return -1;
 		}
 		for (int k = 0; k < m; k++) {
-			tiles_window win;
+			level_window win;
 			q.job[q.n++] = (job){ .l = l, .p = p[k] };
 			pk_window(w, l, &p[k], &win);
 			total += (long long)g->height * (win.d1 - win.d0);

@@ -14,7 +14,7 @@
 #include "qem/fqm.h"
 #include "pack/level.h"
 
-#define PACK_MAXJOBS TILES_MAXTHREADS
+#define PACK_MAXJOBS LEVEL_MAXTHREADS
 
 typedef struct {
 	const char *dem_path; /* the DEM the levels were made from */
@@ -36,7 +36,7 @@ typedef struct {
 	int size[2];   /* vertices */
 	int blocks[2];
 	int displaced;
-	tiles_stats st;
+	level_stats st;
 } pack_level;
 
 /* Makes a->dir, or leaves nothing; out[0 .. a->nlevels-1] is filled
@@ -64,9 +64,9 @@ int pack_gather(const pack_args *a, const char *dir, pack_level *out,
  *
  * A piece whose DEM window holds more than a->part_samples samples is
  * made in parts: pack_piece with y1 > 0 makes the part of DEM rows
- * [y0, y1) (tiles_run_part): its local errors and a record of its base
+ * [y0, y1) (level_run_part): its local errors and a record of its base
  * errors and samples under work/.parts; then pack_piece with y1 0 makes
- * the piece from them (tiles_run_merged), byte for byte as whole. So no
+ * the piece from them (level_run_merged), byte for byte as whole. So no
  * job scans more than part_samples DEM samples (and a row), however
  * coarse its level. A part, like a piece, leaves no half-written file
  * and writes its record last. */

@@ -1,6 +1,7 @@
 /* pack_impl.h - what pack.c (a pyramid in one process), pack_jobs.c (in
- * separate processes: pieces, gather, list) and pack_parts.c (pieces in
- * parts of rows) share. Private to those three. */
+ * separate processes: pieces, gather, list), pack_parts.c (pieces in
+ * parts of rows) and pack_record.c (the jobs' records, which both of the
+ * latter write) share. Private to those four. */
 #ifndef TL_PACK_IMPL_H
 #define TL_PACK_IMPL_H
 
@@ -57,20 +58,20 @@ void pk_vmap_close(vmap *v);
 int pk_level_entry(pyramid_level *pl, int l, const vmap *v, tl_err *e);
 /* Level l over its open vertex map v, its blocks into k. */
 void pk_level_setup(work *w, int l, vmap *v, sink *k, int threads,
-    tiles_level *L);
+    level_args *L);
 /* Piece p of level l (p NULL: the whole level, from a FIFO). */
-int pk_run_piece(work *w, int l, const tiles_piece *p, int threads,
+int pk_run_piece(work *w, int l, const level_piece *p, int threads,
     tl_err *e);
 /* A piece's stats into level l's. */
-void pk_merge_stats(work *w, int l, const tiles_stats *st);
+void pk_merge_stats(work *w, int l, const level_stats *st);
 /* The levels' sizes and blocks into out, from the index. */
 void pk_report_levels(const pyramid_index *ix, pack_level *out);
 /* Level pl's pieces, as every mode cuts them, allocated; *n of them. */
-tiles_piece *pk_level_cut(const pyramid_level *pl, int *n, tl_err *e);
-/* What piece p of level l reads (tiles_piece_window). */
-void pk_window(const work *w, int l, const tiles_piece *p, tiles_window *win);
+level_piece *pk_level_cut(const pyramid_level *pl, int *n, tl_err *e);
+/* What piece p of level l reads (level_piece_window). */
+void pk_window(const work *w, int l, const level_piece *p, level_window *win);
 
-/* pack_jobs.c: a text record of a job at path, written last and
+/* pack_record.c: a text record of a job at path, written last and
  * atomically: pk_record_open's stream, then pk_record_close (which
  * commits it, or removes it on a write error). */
 FILE *pk_record_open(tl_outfile *o, const char *path, tl_err *e);
@@ -79,10 +80,10 @@ int pk_record_close(tl_outfile *o, FILE *f, tl_err *e);
 /* pack_parts.c: how many parts piece p of level pl runs in (1: whole),
  * under w->a->part_samples; part k's DEM rows [y0, y1); a part made into
  * w->tmp/.parts; a piece made from its n parts there. */
-int pk_nparts(const work *w, int l, const tiles_piece *p);
+int pk_nparts(const work *w, int l, const level_piece *p);
 void pk_part_rows(int height, int n, int k, int *y0, int *y1);
-int pk_run_part(work *w, int l, const tiles_piece *p, int y0, int y1,
+int pk_run_part(work *w, int l, const level_piece *p, int y0, int y1,
     tl_err *e);
-int pk_run_merged(work *w, int l, const tiles_piece *p, int n, tl_err *e);
+int pk_run_merged(work *w, int l, const level_piece *p, int n, tl_err *e);
 
 #endif

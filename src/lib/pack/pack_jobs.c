@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "base/outfile.h"
 
@@ -35,7 +34,7 @@ level_read(work *w, int l, tl_err *e)
 static int
 is_piece(const pyramid_level *pl, int b0, int b1, int *n, tl_err *e)
 {
-	tiles_piece *p = pk_level_cut(pl, n, e);
+	level_piece *p = pk_level_cut(pl, n, e);
 	int r = 0;
 
 	if (p == NULL)
@@ -52,37 +51,13 @@ record_path(char *buf, size_t n, const char *dir, int l, int b0, int b1)
 	snprintf(buf, n, "%s/" PIECES "/%d-%d-%d", dir, l, b0, b1);
 }
 
-FILE *
-pk_record_open(tl_outfile *o, const char *path, tl_err *e)
-{
-	FILE *f;
-
-	if (tl_out_begin(o, path, e) < 0)
-		return NULL;
-	if ((f = fdopen(dup(o->fd), "w")) == NULL) {
-		tl_out_abort(o);
-		tl_failsys(e, "%s", path);
-	}
-	return f;
-}
-
-int
-pk_record_close(tl_outfile *o, FILE *f, tl_err *e)
-{
-	if (fclose(f) != 0) {
-		tl_out_abort(o);
-		return tl_failsys(e, "%s", o->path);
-	}
-	return tl_out_commit(o, e);
-}
-
 /* The piece's record, written last: its blocks' index entries and its
  * stats, exact (%.17g). */
 static int
 record_write(const work *w, int l, int b0, int b1, tl_err *e)
 {
 	const pyramid_level *pl = &w->ix->lev[l];
-	const tiles_stats *st = &w->out[l].st;
+	const level_stats *st = &w->out[l].st;
 	char path[4096];
 	tl_outfile o;
 	FILE *f;
@@ -104,12 +79,12 @@ record_write(const work *w, int l, int b0, int b1, tl_err *e)
 /* Reads piece p of level l's record from the work directory dir into
  * the index and stats. */
 static int
-record_read(work *w, int l, const tiles_piece *p, void *ctx, tl_err *e)
+record_read(work *w, int l, const level_piece *p, void *ctx, tl_err *e)
 {
 	pyramid_level *pl = &w->ix->lev[l];
 	const char *dir = ctx;
 	int b0 = p->b0, b1 = p->b1;
-	tiles_stats st = { 0 };
+	level_stats st = { 0 };
 	char path[4096];
 	int rl, r0, r1, n = 0;
 	FILE *f;
@@ -185,9 +160,9 @@ work_close(work *w, pyramid_index *ix, geo_metric *m)
  * window scans, so that a job's disk and time do not grow with the
  * DEM's width (the header, opened by work_open, is replaced). */
 static int
-open_window(work *w, int l, const tiles_piece *p, tl_err *e)
+open_window(work *w, int l, const level_piece *p, tl_err *e)
 {
-	tiles_window win;
+	level_window win;
 	dem *d;
 
 	pk_window(w, l, p, &win);
@@ -215,11 +190,11 @@ work_subdir(const char *dir, const char *name, tl_err *e)
 
 /* fn on every piece of every level, level 0 first, until one fails. */
 static int
-each_piece(work *w, int (*fn)(work *, int, const tiles_piece *, void *,
+each_piece(work *w, int (*fn)(work *, int, const level_piece *, void *,
     tl_err *), void *ctx, tl_err *e)
 {
 	for (int l = 0; l < w->a->nlevels; l++) {
-		tiles_piece *p;
+		level_piece *p;
 		int n, r = 0;
 		if ((p = pk_level_cut(&w->ix->lev[l], &n, e)) == NULL)
 			return -1;
@@ -235,7 +210,7 @@ each_piece(work *w, int (*fn)(work *, int, const tiles_piece *, void *,
 /* Which job (l, b0, b1) with rows (y0, y1) is (y1 0: the piece): one
  * of pack_list's, checked. Returns the piece's parts, 1 when whole. */
 static int
-job_check(work *w, int l, const tiles_piece *p, int y0, int y1, tl_err *e)
+job_check(work *w, int l, const level_piece *p, int y0, int y1, tl_err *e)
 {
 	int k, n, np;
 
@@ -261,7 +236,7 @@ pack_piece(const pack_args *a, int l, int b0, int b1, int y0, int y1,
     tl_err *e)
 {
 	pack_level *out = tl_alloc(a->nlevels, sizeof *out, e);
-	tiles_piece p = { b0, b1 };
+	level_piece p = { b0, b1 };
 	pyramid_index ix = { 0 };
 	geo_metric m = { 0 };
 	work w = { 0 };
@@ -333,7 +308,7 @@ done:
 
 /* A piece's line for -l, after its parts' lines. */
 static int
-list_piece(work *w, int l, const tiles_piece *p, void *f, tl_err *e)
+list_piece(work *w, int l, const level_piece *p, void *f, tl_err *e)
 {
 	int np = pk_nparts(w, l, p);
 

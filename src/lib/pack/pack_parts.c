@@ -1,5 +1,5 @@
 /* pack_parts.c - a tilepack piece in parts of DEM rows, and the piece
- * from its parts (pack.h, level.h: tiles_run_part, tiles_run_merged). */
+ * from its parts (pack.h, level.h: level_run_part, level_run_merged). */
 #include "pack/pack_impl.h"
 
 #include <errno.h>
@@ -10,16 +10,16 @@
 
 #include "base/outfile.h"
 
-/* How many parts piece p of level pl runs in: enough row bands of
+/* How many parts piece p of level pl runs in: enough runs of DEM rows of
  * nearly equal height that none holds more than a->part_samples DEM
- * samples of the piece's window (and a row more), at most a band a row;
+ * samples of the piece's window (and a row more), at most a part a row;
  * 1, the piece whole, when it holds no more or part_samples is 0. */
 int
-pk_nparts(const work *w, int l, const tiles_piece *p)
+pk_nparts(const work *w, int l, const level_piece *p)
 {
 	const georef *g = &w->ix->geo;
 	long long n, bound = w->a->part_samples;
-	tiles_window win;
+	level_window win;
 
 	if (bound <= 0)
 		return 1;
@@ -37,7 +37,7 @@ pk_part_rows(int height, int n, int k, int *y0, int *y1)
 }
 
 static void
-part_path(char *buf, size_t n, const char *dir, int l, const tiles_piece *p,
+part_path(char *buf, size_t n, const char *dir, int l, const level_piece *p,
     int y0, const char *ext)
 {
 	snprintf(buf, n, "%s/" PARTS "/%d-%d-%d-%d%s", dir, l, p->b0, p->b1, y0,
@@ -55,7 +55,7 @@ part_out(void *ctx, int g, float *err, tl_err *e)
 /* The part's record, written last: its rows, its samples, its blocks'
  * base errors (%.17g: exact). */
 static int
-part_record(const char *path, int l, const tiles_piece *p, int y0, int y1,
+part_record(const char *path, int l, const level_piece *p, int y0, int y1,
     const double *base, int by, long long samples, tl_err *e)
 {
 	tl_outfile o;
@@ -75,7 +75,7 @@ part_record(const char *path, int l, const tiles_piece *p, int y0, int y1,
 /* Reads part (l, p, y0, y1)'s record: its base errors raised into base,
  * its samples added to *samples. */
 static int
-part_read(const char *dir, int l, const tiles_piece *p, int y0, int y1,
+part_read(const char *dir, int l, const level_piece *p, int y0, int y1,
     double *base, int by, long long *samples, tl_err *e)
 {
 	char path[4096];
@@ -118,17 +118,17 @@ bad:
  * vertex map from the part's first row, its local errors into an EXR
  * (channel E, level columns lo.., rows g0..), then its record. */
 int
-pk_run_part(work *w, int l, const tiles_piece *p, int y0, int y1, tl_err *e)
+pk_run_part(work *w, int l, const level_piece *p, int y0, int y1, tl_err *e)
 {
 	const georef *g = dem_georef(w->d);
 	char exr[4096], rec[4096];
 	int by = pyramid_nblocks(w->ix->lev[l].size[1]), r = -1;
 	double *base = tl_alloc((size_t)(p->b1 - p->b0) * by, sizeof *base, e);
 	rs_writer *out = NULL;
-	tiles_level L;
-	tiles_window win;
-	tiles_part q;
-	tiles_stats st;
+	level_args L;
+	level_window win;
+	level_part q;
+	level_stats st;
 	rs_header h;
 	dem *d = NULL;
 	vmap v = { 0 };
@@ -138,8 +138,8 @@ pk_run_part(work *w, int l, const tiles_piece *p, int y0, int y1, tl_err *e)
 	if (base == NULL || pk_vmap_open(&v, w->a->levels[l], l, g, e) < 0)
 		goto done;
 	pk_level_setup(w, l, &v, &k, w->a->jobs, &L);
-	tiles_piece_window(&L, g->width, p, &win);
-	tiles_part_window(&L, p, y0, y1, &q);
+	level_piece_window(&L, g->width, p, &win);
+	level_part_window(&L, p, y0, y1, &q);
 	rs_header_init(&h, q.hi - q.lo, q.g1 - q.g0);
 	part_path(exr, sizeof exr, w->tmp, l, p, y0, ".exr");
 	part_path(rec, sizeof rec, w->tmp, l, p, y0, "");
@@ -149,7 +149,7 @@ pk_run_part(work *w, int l, const tiles_piece *p, int y0, int y1, tl_err *e)
 	    rs_set_int(&h, RS_ATTR_X0, q.lo, e) < 0 ||
 	    (out = rs_create(exr, &h, RS_ZIP, e)) == NULL)
 		goto done;
-	if (tiles_run_part(&L, p, &q, d, part_out, out, base, &st, e) < 0)
+	if (level_run_part(&L, p, &q, d, part_out, out, base, &st, e) < 0)
 		goto done;
 	r = rs_finish(out, e);
 	out = NULL;
@@ -170,9 +170,9 @@ done:
 typedef struct {
 	const char *dir;
 	int l;
-	const tiles_piece *p;
+	const level_piece *p;
 	int n;             /* parts */
-	tiles_part *q;     /* their windows */
+	level_part *q;     /* their windows */
 	rs_reader **r;
 	int first;         /* parts before it are done with */
 	float *row;
@@ -223,15 +223,15 @@ merge_row(void *ctx, int g, float *err, tl_err *e)
  * records' base errors and samples, their local errors merged as the
  * piece's blocks are made. */
 int
-pk_run_merged(work *w, int l, const tiles_piece *p, int n, tl_err *e)
+pk_run_merged(work *w, int l, const level_piece *p, int n, tl_err *e)
 {
 	const georef *g = dem_georef(w->d);
 	int by = pyramid_nblocks(w->ix->lev[l].size[1]), r = -1;
 	double *base = tl_alloc((size_t)(p->b1 - p->b0) * by, sizeof *base, e);
 	merge m = { w->tmp, l, p, n, NULL, NULL, 0, NULL };
 	long long samples = 0;
-	tiles_level L;
-	tiles_stats st;
+	level_args L;
+	level_stats st;
 	vmap v = { 0 };
 	sink k;
 
@@ -244,13 +244,13 @@ pk_run_merged(work *w, int l, const tiles_piece *p, int n, tl_err *e)
 	for (int i = 0; i < n; i++) {
 		int y0, y1;
 		pk_part_rows(g->height, n, i, &y0, &y1);
-		tiles_part_window(&L, p, y0, y1, &m.q[i]);
+		level_part_window(&L, p, y0, y1, &m.q[i]);
 		if (part_read(w->tmp, l, p, y0, y1, base, by, &samples, e) < 0)
 			goto done;
 	}
 	if ((m.row = tl_alloc(m.q[0].hi - m.q[0].lo, sizeof *m.row,
 	    e)) == NULL ||
-	    tiles_run_merged(&L, p, g->width, merge_row, &m, base, &st, e) < 0)
+	    level_run_merged(&L, p, g->width, merge_row, &m, base, &st, e) < 0)
 		goto done;
 	st.samples = samples;
 	pk_merge_stats(w, l, &st);

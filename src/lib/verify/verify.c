@@ -1,13 +1,12 @@
 /* verify.c - the brute-force pyramid checker (verify.h): the pyramid as a
- * whole (levels, stray files, the DEM), the violations noted, the level
- * checks run (verify_level.c). */
+ * whole (levels, stray files, the DEM), the level checks run
+ * (verify_level.c); the violations are noted by verify_note.c. */
 #include "verify/verify_impl.h"
 
 #include <assert.h>
 #include <dirent.h>
 #include <float.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,40 +32,6 @@ vf_opts_init(vf_opts *o)
 	o->nsweep = 10;
 	o->max_issues = 20;
 	o->local = 1;
-}
-
-void
-vf_note(vf_checker *c, int kind, int level, int bi, int bj, int gi, int gj,
-    double tau, const char *fmt, ...)
-{
-	vf_report *r = c->r;
-	int *kept = level >= 0 ? r->lev[level].kept : r->kept;
-	vf_issue *s;
-	va_list ap;
-
-	assert(kind >= 0 && kind < VF_NKIND && level < r->nlevels);
-	r->count[kind]++;
-	r->total++;
-	if (level >= 0)
-		r->lev[level].count[kind]++;
-	if (kept[kind] >= c->o.max_issues)
-		return;
-	if (r->nissue == r->capissue) {
-		int cap = r->capissue ? 2 * r->capissue : 64;
-		vf_issue *p = realloc(r->issue, (size_t)cap * sizeof *p);
-		if (p == NULL)
-			return; /* counted, not kept */
-		r->issue = p, r->capissue = cap;
-	}
-	kept[kind]++;
-	s = &r->issue[r->nissue++];
-	s->kind = kind, s->level = level;
-	s->block[0] = bi, s->block[1] = bj;
-	s->vertex[0] = gi, s->vertex[1] = gj;
-	s->tau = tau;
-	va_start(ap, fmt);
-	vsnprintf(s->text, sizeof s->text, fmt, ap);
-	va_end(ap);
 }
 
 /* What the index lists for block k of level l is plausible: a z range,

@@ -68,7 +68,7 @@ typedef struct {
 	int I, J, n;     /* worst sample; samples inside */
 } vf_devmax;
 
-/* verify.c: one violation, counted; the first o.max_issues of each kind
+/* verify_note.c: one violation, counted; the first o.max_issues of each kind
  * and level kept. level -1: the pyramid; bi, gi -1: no block, vertex. */
 void vf_note(vf_checker *c, int kind, int level, int bi, int bj, int gi,
     int gj, double tau, const char *fmt, ...)

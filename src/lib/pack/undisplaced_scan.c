@@ -1,7 +1,8 @@
-/* level_scan.c - the local and base errors of an undisplaced level, by
- * whole DEM columns (see level_impl.h).
+/* undisplaced_scan.c - the kernel's integer scan: the local and base
+ * errors of an undisplaced level, by whole DEM columns (see
+ * exact_error.c for when it serves, level_impl.h).
  *
- * tri_row (level.c) finds, for one DEM row and one triangle, the chord
+ * tri_row (exact_error.c) finds, for one DEM row and one triangle, the chord
  * through the triangle in double-precision geometry with tolerances EPS,
  * then the largest |plane - DEM| over the valid samples on it. On an
  * undisplaced level every triangle of the 4-8 hierarchy (and every leaf)
@@ -287,11 +288,11 @@ scan_template(const state *s, const double *dd, const tmpl *t,
 		scan_template_body(s, dd, t, o, first, end, stride);
 }
 
-/* row_diamonds (level.c) by templates: the diamonds along a centre row
+/* row_diamonds (exact_error.c) by templates: the diamonds along a centre row
  * alternate between two shapes (square diamonds' diagonals alternate;
  * edge diamonds are all alike). Those centred in the share's columns. */
 static void
-scan_diamonds(strip *sh, int J, double y, int h, int edge)
+scan_diamonds(share *sh, int J, double y, int h, int edge)
 {
 	state *s = sh->s;
 	double reach = h + s->margin;
@@ -331,10 +332,10 @@ scan_diamonds(strip *sh, int J, double y, int h, int edge)
 	}
 }
 
-/* row_leaves (level.c) by templates: a cell's diagonal alternates with
+/* row_leaves (exact_error.c) by templates: a cell's diagonal alternates with
  * ci + cj. */
 static void
-scan_leaves(strip *sh, int J, double y)
+scan_leaves(share *sh, int J, double y)
 {
 	state *s = sh->s;
 	int lo = leaf_lo(sh), end = leaf_hi(sh);
@@ -373,7 +374,7 @@ scan_leaves(strip *sh, int J, double y)
 }
 
 void
-tiles_scan_row(strip *t, int J)
+lv_scan_undisplaced(share *t, int J)
 {
 	double y = J / t->s->step;
 
