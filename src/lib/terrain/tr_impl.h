@@ -1,0 +1,117 @@
+/* tr_impl.h - the pieces of the terrain export (terrain.h): the encoder
+ * (qm_encode.c), a tile's mesh (tr_mesh.c, tr_clip.c), its measured
+ * error (tr_measure.c), layer.json (tr_layer.c), the run (tr_run.c). */
+#ifndef TL_TR_IMPL_H
+#define TL_TR_IMPL_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "pyramid/pyramid.h"
+#include "terrain/terrain.h"
+
+#define QM_MAX 32767 /* u, v, height quantised to 0 .. QM_MAX */
+
+/* --- the encoder's pieces (qm_encode.c), exposed for the unit test --- */
+
+/* Zig-zag of a delta in -32767 .. 32767: 2d for d >= 0, -2d-1 below. */
+uint16_t qm_zigzag(int d);
+/* High-water-mark code of index i given the highest so far (updated):
+ * highest - i, highest incremented when the code is 0. i <= *highest. */
+uint32_t qm_hwm(uint32_t i, uint32_t *highest);
+/* Oct encoding of a unit vector into two bytes (CesiumJS's
+ * AttributeCompression.octEncode, range 255). */
+void qm_oct(const double n[3], uint8_t out[2]);
+/* CesiumJS's EllipsoidalOccluder.computeHorizonCullingPointFromVertices
+ * on WGS84 (scaled space), direction dir: 0, or -1 when no point exists
+ * (a vertex at or past 90 degrees from dir on the horizon cone). */
+int qm_horizon(const double dir[3], const double *p, int n, double out[3]);
+
+/* --- a tile's mesh ------------------------------------------------- */
+
+/* The mapping of the level-0 grid to longitude and latitude (geographic
+ * DEMs): lon = ax + bx I, lat = ay + by J. */
+typedef struct {
+	double ax, bx, ay, by;
+	int w0, h0;             /* level-0 size: the DEM spans I 0..w0-1 */
+} tr_grid;
+
+/* A tile's vertices (level-0 grid place I, J and height) and triangles. */
+typedef struct {
+	double *x, *y, *h;
+	int nv, cv;
+	int *tri;               /* 3 per triangle */
+	int nt, ct;
+	int *hash, hcap;        /* (x, y) -> vertex + 1 */
+	int *cell, nc, cc;      /* vertices met in the current lattice cell */
+} tr_mesh;
+
+/* A selection triangle: level-0 grid places, heights. */
+typedef struct {
+	double x[3], y[3], h[3];
+} tr_tri;
+
+/* One thread's state. */
+typedef struct {
+	const pyramid_index *ix;
+	const char *dir;
+	tr_grid g;
+	pyramid_block cache[32];
+	int ckey[32][3], cused[32];
+	tr_tri *sel;            /* the selection over the tile */
+	int nsel, csel;
+	tr_mesh m;
+	uint16_t *u, *v, *q;    /* quantised vertices */
+	double *pos;            /* decoded ECEF, 3 each */
+	int *order, *tmp;
+	unsigned char *buf;     /* the encoded tile */
+	size_t nbuf, cbuf;
+	double err;             /* largest error of its tiles this pass */
+	long long tiles, tris, bytes;
+} tr_work;
+
+/* A level's choice: pyramid level p, tolerance tau, lattice n x n cells
+ * per tile. */
+typedef struct {
+	int z, p, n;
+	double tau, el;
+} tr_choice;
+
+/* Block (bi, bj) of pyramid level l through the thread's cache. */
+const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj, tl_err *e);
+
+/* The lon/lat rectangle of tile (z, x, y): west, south, east, north;
+ * lattice line k of the tile (0 .. n) along x and y, exact for all
+ * tiles sharing it. */
+void tr_tile_rect(int z, int x, int y, double r[4]);
+double tr_lattice_lon(int z, int x, int n, int k);
+double tr_lattice_lat(int z, int y, int n, int k);
+
+/* The mesh of tile (x, y) under choice c (tr_mesh.c). */
+int tr_mesh_tile(tr_work *w, const tr_choice *c, int x, int y, tl_err *e);
+void tr_mesh_free(tr_mesh *m);
+/* Vertex of (x, y, h), shared with an earlier one at the same place. */
+int tr_mesh_vertex(tr_mesh *m, double x, double y, double h, tl_err *e);
+int tr_mesh_tri(tr_mesh *m, int a, int b, int c, tl_err *e);
+/* The part of selection triangle t inside [x0,x1] x [y0,y1], into m
+ * (tr_clip.c). */
+int tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e);
+
+/* Quantise, order, decode w->m for tile (z, x, y): fills u, v, q, pos,
+ * the triangles counter-clockwise in u, v; *minh, *maxh the header's
+ * float heights (tr_measure.c). */
+int tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
+    tl_err *e);
+/* The largest distance along the normal between the decoded surface and
+ * every level-0 sample in the tile (tr_measure.c). */
+int tr_measure(tr_work *w, int z, int x, int y, double *err, tl_err *e);
+
+/* The quantized-mesh bytes of the quantised tile into w->buf
+ * (qm_encode.c). */
+int qm_encode(tr_work *w, float minh, float maxh, int gzip, tl_err *e);
+
+/* layer.json into dir (tr_layer.c). */
+int tr_layer_write(const char *dir, const tr_args *a, int maxzoom,
+    const int (*avail)[4], const char *datum, tl_err *e);
+
+#endif
