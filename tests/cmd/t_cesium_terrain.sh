@@ -1,0 +1,96 @@
+# t_cesium_terrain - quantized-mesh terrain of vgis2terrain as CesiumJS's
+# globe terrain: CesiumJS (npm cesium, tests/js) in headless Chromium
+# with software WebGL, the tileset served as plain files from a free
+# localhost port by tests/js/terrain.js, CesiumTerrainProvider.fromUrl,
+# a checkerboard draped through SingleTileImageryProvider. Checked: every
+# level from 0 to maxzoom fetched, no failed request, no console error;
+# sampleTerrainMostDetailed at 24 DEM samples within the deepest level's
+# E_L of the DEM's ellipsoidal height; the checkerboard on the terrain
+# where its rectangle projects; from low views where levels meet, no
+# background pixel enclosed by terrain (no crack), and the same views
+# with globe.showSkirts = false do show cracks: the check can fail.
+# OUT_SHOT=FILE.png: also a picture of the draped terrain, lit, there.
+. "$(dirname "$0")/../lib.sh"
+
+if ! command -v node >/dev/null || [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ]; then
+	ok 0 "CesiumJS terrain in Chromium # SKIP no node or no chromium (scripts/install-deps)"
+	done_testing; exit
+fi
+JS=$TOP/tests/js
+# 513x513 void-free SRTM samples of southern Vancouver Island and the
+# sea (relief -27 to 463 m ellipsoidal), heights made ellipsoidal by
+# PROJ: the DEM the heights are checked against; levels 0 to 14
+gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 1696 2176 513 513 \
+    "$DATA/N48W125.hgt" "$T/srtm.tif"
+/usr/bin/python3 "$TOP/tests/tools/ellipsoidal.py" "$T/srtm.tif" "$T/geo.tif"
+dem2vgis "$T/geo.tif" "$T/pyr" 2>/dev/null
+run "vgis2terrain exports the pyramid" vgis2terrain -q -j 2 "$T/pyr" "$T/qm"
+
+# the DEM's rectangle (the checkerboard's) and 24 valid samples on land
+# (lon lat ellipsoidal height, at the samples' centres), fixed seed
+/usr/bin/python3 - "$T/geo.tif" "$T/samples" >"$T/rect" <<'PY'
+import sys
+import numpy as np
+from osgeo import gdal
+d = gdal.Open(sys.argv[1])
+z = d.ReadAsArray().astype(np.float64)
+g = d.GetGeoTransform()
+h, w = z.shape
+print("%.12f,%.12f,%.12f,%.12f" % (g[0], g[3] + h * g[5], g[0] + w * g[1], g[3]))
+jj, ii = np.nonzero(np.isfinite(z) & (z > 0))
+k = np.random.RandomState(23).choice(len(jj), 24, replace=False)
+with open(sys.argv[2], "w") as f:
+    for j, i in zip(jj[k], ii[k]):
+        f.write("%.10f %.10f %.4f\n" % (g[0] + (i + .5) * g[1],
+                                        g[3] + (j + .5) * g[5], z[j, i]))
+PY
+rect=$(cat "$T/rect")
+
+# views lon,lat,height,heading,pitch[,least levels]: from 30 km above,
+# the whole DEM (the imagery's view); low (800-900 m above the
+# ellipsoid, the land up to 463 m) and oblique with the horizon in the
+# frame, levels 8 to 15 meeting
+top=-124.458,48.3245,30000,0,-90
+low="-124.47,48.27,900,0,-12,3 -124.40,48.28,800,300,-12,3"
+# the browser's profile under $T: nothing of it may outlive a run
+browser() {
+	TMPDIR=$T timeout -k 5 "${limit:-150}" node "$JS/terrain.js" "$@"
+}
+s=$(date +%s)
+# shellcheck disable=SC2086
+browser --imagery --samples "$T/samples" --shot "$T/shot.png" "$T/qm" "$rect" \
+    $top $low >"$T/out" 2>"$T/err"
+st=$?
+sed 's/^/#   /' "$T/out" "$T/err"
+echo "#   $(($(date +%s) - s)) s"
+[ $st -ne 2 ] && grep -q '^tiles fetched' "$T/out" &&
+    ! grep -Eq 'console error|page error|request failed|terrain.js: [0-9]{3} |no tile fetched' "$T/err"
+ok $? "every level from 0 to maxzoom fetched; no failed request; no console error"
+grep -q '^sampleTerrainMostDetailed: 24 samples' "$T/out" &&
+    ! grep -q 'off by' "$T/err"
+ok $? "sampleTerrainMostDetailed at 24 DEM samples within the deepest level's E_L"
+grep -q "checkerboard .* of the rectangle's projection" "$T/out" &&
+    ! grep -Eq 'checkerboard on|draped rectangle|colours missing' "$T/err"
+ok $? "the draped checkerboard seen on the terrain, where its rectangle projects"
+[ "$(grep -c ' 0 holes$' "$T/out")" -eq 3 ] &&
+    ! grep -Eq 'cracks|no background|levels drawn, <' "$T/err"
+ok $? "no crack from the low views where >= 3 levels meet"
+[ $st -eq 0 ]; ok $? "terrain.js: every check passed"
+[ "$(head -c 4 "$T/shot.png" | tail -c 3)" = PNG ]
+ok $? "a PNG screenshot"
+
+# shellcheck disable=SC2086
+fails "globe.showSkirts = false: the crack check fires" 1 \
+    'background pixels enclosed by terrain \(cracks\)' \
+    browser --noskirts "$T/qm" "$rect" $low
+grep cracks "$T/err" | sed 's/^/#   /'
+
+if [ -n "${OUT_SHOT:-}" ]; then	# for the README: lit, low, oblique
+	limit=300 browser --lit --size 800x450 --shot "$OUT_SHOT" "$T/qm" \
+	    "$rect" -124.43,48.24,1400,340,-10 >"$T/out" 2>"$T/err"
+	ok $? "a picture of the draped terrain in $OUT_SHOT"
+fi
+
+! ps -eo args | grep -q "[/]$(basename "$T")/playwright"
+ok $? "no browser left running"
+done_testing
