@@ -16,8 +16,9 @@
 // through the tiles' normals, on a dark sky, no checks (a picture). Over all views: every level 0 to layer.json's maxzoom
 // fetched, no request failed, no console error. --samples: lines
 // "lon lat height" (height above the ellipsoid, the DEM's); CesiumJS's
-// sampleTerrainMostDetailed at each must agree within the deepest
-// level's E_L = 77067.34 m / 2^maxzoom. One line per check on stdout;
+// sampleTerrainMostDetailed at each (a line "sample LON LAT HEIGHT
+// level L CesiumJS H") must be at level maxzoom and agree within its
+// E_L = 77067.34 m / 2^maxzoom. One line per check on stdout;
 // exit 1 when a check fails, 2 on usage or a broken browser. --shot
 // writes the last view's picture; --size: the frame in pixels (default
 // 480x270: SwiftShader's time goes with the pixels). CHROMIUM: the browser (default
@@ -173,12 +174,15 @@ async function heights(page, maxzoom) {
 	const el = E0 / 2 ** maxzoom;
 	let worst = 0, bad = 0;
 	for (let i = 0; i < samples.length; i++) {
-		const d = Math.abs(got[i] - samples[i][2]);
+		const [z, l] = got[i], d = Math.abs(z - samples[i][2]);
 		worst = Math.max(worst, d);
-		if (!(d <= el)) {
+		console.log(`sample ${samples[i].join(' ')} level ${l} ` +
+		    `CesiumJS ${z.toFixed(4)}`);
+		if (!(d <= el) || l !== maxzoom) {
 			bad++;
 			console.error(`terrain.js: sample ${samples[i].join(' ')}: ` +
-			    `CesiumJS ${got[i]}, off by ${d} m > E_${maxzoom} = ${el} m`);
+			    `CesiumJS ${z} at level ${l}, off by ${d} m; ` +
+			    `E_${maxzoom} = ${el} m`);
 		}
 	}
 	console.log(`sampleTerrainMostDetailed: ${samples.length} samples, ` +
