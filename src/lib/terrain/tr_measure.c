@@ -15,29 +15,6 @@
 
 #define NB 32 /* buckets a side for finding a sample's triangle */
 
-const pyramid_block *
-tr_block(tr_work *w, int l, int bi, int bj, tl_err *e)
-{
-	int s = (bi * 7 + bj * 13 + l * 31) & 31;
-	pyramid_block *b = &w->cache[s];
-
-	if (w->cused[s] == 1 && w->ckey[s][0] == l && w->ckey[s][1] == bi &&
-	    w->ckey[s][2] == bj)
-		return b;
-	if (w->cused[s] == 0 && pyramid_block_alloc(b, 0, e) < 0)
-		return NULL;
-	w->cused[s] = 2; /* allocated, holding nothing */
-	if (w->ix->lev[l].displaced)
-		return tl_fail(e, "%s: level %d is displaced (QEM-3D): not "
-		    "exported", w->dir, l), NULL;
-	b->level = l, b->bi = bi, b->bj = bj, b->displaced = 0;
-	if (pyramid_block_load(w->dir, w->ix, b, e) < 0)
-		return NULL;
-	w->cused[s] = 1;
-	w->ckey[s][0] = l, w->ckey[s][1] = bi, w->ckey[s][2] = bj;
-	return b;
-}
-
 static int
 grow(tr_work *w, tl_err *e)
 {
@@ -74,7 +51,8 @@ qarea(const tr_work *w, const int *k)
 	return ax * by - ay * bx;
 }
 
-/* Vertices renumbered by first use; unused ones dropped. */
+/* Vertices renumbered by first use; unused ones dropped but on the
+ * tile's edges. */
 static void
 renumber(tr_work *w)
 {
@@ -89,6 +67,12 @@ renumber(tr_work *w)
 			w->order[k] = n++;
 		m->tri[i] = w->order[k];
 	}
+	/* an edge vertex whose triangles all lost their area to the
+	 * quantisation stays, after the others: the neighbour has it */
+	for (int i = 0; i < m->nv; i++)
+		if (w->order[i] < 0 && (w->u[i] == 0 || w->u[i] == QM_MAX ||
+		    w->v[i] == 0 || w->v[i] == QM_MAX))
+			w->order[i] = n++;
 	for (int i = 0; i < m->nv; i++) {
 		int k = w->order[i];
 		if (k < 0)
@@ -120,12 +104,16 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 		return -1;
 	tr_tile_rect(z, x, y, r);
 	for (int i = 0; i < m->nv; i++) {
-		double lon = w->g.ax + w->g.bx * m->x[i];
-		double lat = w->g.ay + w->g.by * m->y[i];
-		double u = rint((lon - r[0]) / wd * QM_MAX);
-		double v = rint((lat - r[1]) / wd * QM_MAX);
-		w->u[i] = (uint16_t)fmax(0, fmin(QM_MAX, u));
-		w->v[i] = (uint16_t)fmax(0, fmin(QM_MAX, v));
+		double u = rint((m->x[i] - r[0]) / wd * QM_MAX);
+		double v = rint((m->y[i] - r[1]) / wd * QM_MAX);
+		/* on the tile's edge exactly, or off it: a vertex near the
+		 * edge does not join the edge lists, which are the vertices
+		 * the neighbour shares */
+		u = m->x[i] == r[0] ? 0 : m->x[i] == r[2] ? QM_MAX :
+		    fmax(1, fmin(QM_MAX - 1, u));
+		v = m->y[i] == r[1] ? 0 : m->y[i] == r[3] ? QM_MAX :
+		    fmax(1, fmin(QM_MAX - 1, v));
+		w->u[i] = (uint16_t)u, w->v[i] = (uint16_t)v;
 		w->q[i] = 0;
 	}
 	/* counter-clockwise in longitude, latitude; those quantisation
@@ -134,7 +122,7 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 		int *k = m->tri + 3 * t;
 		double ax = m->x[k[1]] - m->x[k[0]], ay = m->y[k[1]] - m->y[k[0]];
 		double bx = m->x[k[2]] - m->x[k[0]], by = m->y[k[2]] - m->y[k[0]];
-		if ((ax * by - ay * bx) * w->g.bx * w->g.by < 0) {
+		if (ax * by - ay * bx < 0) {
 			int s = k[1];
 			k[1] = k[2], k[2] = s;
 		}
@@ -261,65 +249,65 @@ locate(const tr_work *w, const locator *l, double su, double sv)
 }
 
 static int
-measure_block(tr_work *w, const locator *l, int bi, int bj, const int s[4],
+measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
     const double r[4], double *err, tl_err *e)
 {
-	const pyramid_block *b = tr_block(w, 0, bi, bj, e);
+	const double *lon, *lat;
+	const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
 	double wd = r[2] - r[0];
 
 	if (b == NULL)
 		return -1;
-	for (int J = s[1]; J <= s[3]; J++) {
-		if (J < bj * BT_CELLS || J > bj * BT_CELLS + BT_CELLS)
-			continue;
-		double lat = w->g.ay + w->g.by * J;
-		for (int I = s[0]; I <= s[2]; I++) {
-			if (I < bi * BT_CELLS || I > bi * BT_CELLS + BT_CELLS)
+	for (int J = 0; J < BT_SIZE; J++) {
+		if (bj * BT_CELLS + J >= w->g->h0)
+			break;
+		for (int I = 0; I < BT_SIZE && bi * BT_CELLS + I < w->g->w0;
+		    I++) {
+			int k = J * BT_SIZE + I;
+			double f[3], up[3];
+			if (lon[k] < t[0] || lon[k] > t[2] || lat[k] < t[1] ||
+			    lat[k] > t[3])
 				continue;
-			double lon = w->g.ax + w->g.bx * I, f[3], up[3];
-			int t = locate(w, l, (lon - r[0]) / wd * QM_MAX,
-			    (lat - r[1]) / wd * QM_MAX);
-			if (t < 0)
+			int q = locate(w, l, (lon[k] - r[0]) / wd * QM_MAX,
+			    (lat[k] - r[1]) / wd * QM_MAX);
+			if (q < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
-				    "triangle", I, J);
-			const double *n = l->plane + 4 * t;
-			geo_ellipsoid(lon, lat, f, up);
+				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
+			const double *n = l->plane + 4 * q;
+			geo_ellipsoid(lon[k], lat[k], f, up);
 			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
-			double z = b->z[(J - bj * BT_CELLS) * BT_SIZE + I -
-			    bi * BT_CELLS];
-			*err = fmax(*err, fabs(hs - z));
+			*err = fmax(*err, fabs(hs - b->z[k]));
 		}
 	}
 	return 0;
 }
 
+/* Every level-0 sample in the tile and in the terrain's rectangle. */
 int
 tr_measure(tr_work *w, int z, int x, int y, double *err, tl_err *e)
 {
+	const pyramid_level *L0 = &w->ix->lev[0];
 	locator l = { 0 };
-	double r[4], g[4];
-	int s[4], ret = -1;
+	double r[4], t[4];
+	int ret = -1;
 
 	*err = 0;
 	tr_tile_rect(z, x, y, r);
-	g[0] = (r[0] - w->g.ax) / w->g.bx, g[2] = (r[2] - w->g.ax) / w->g.bx;
-	g[1] = (r[1] - w->g.ay) / w->g.by, g[3] = (r[3] - w->g.ay) / w->g.by;
-	s[0] = (int)ceil(fmax(0, fmin(g[0], g[2])));
-	s[2] = (int)floor(fmin(w->g.w0 - 1, fmax(g[0], g[2])));
-	s[1] = (int)ceil(fmax(0, fmin(g[1], g[3])));
-	s[3] = (int)floor(fmin(w->g.h0 - 1, fmax(g[1], g[3])));
-	if (s[0] > s[2] || s[1] > s[3])
+	t[0] = fmax(r[0], w->g->r[0]), t[2] = fmin(r[2], w->g->r[2]);
+	t[1] = fmax(r[1], w->g->r[1]), t[3] = fmin(r[3], w->g->r[3]);
+	if (!(t[0] <= t[2] && t[1] <= t[3]))
 		return 0; /* no sample */
 	if (locate_init(w, &l, e) < 0)
 		goto done;
-	for (int bj = s[1] / BT_CELLS; bj <= s[3] / BT_CELLS; bj++)
-		for (int bi = s[0] / BT_CELLS; bi <= s[2] / BT_CELLS; bi++) {
-			int bj2 = bj >= w->ix->lev[0].blocks[1] ? bj - 1 : bj;
-			int bi2 = bi >= w->ix->lev[0].blocks[0] ? bi - 1 : bi;
-			if (measure_block(w, &l, bi2, bj2, s, r, err, e) < 0)
-				goto done;
-		}
+	for (int k = 0; k < L0->blocks[0] * L0->blocks[1]; k++) {
+		const double *o = w->g->box[0] + 4 * k;
+		if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3])
+			continue;
+		if (measure_block(w, &l, k % L0->blocks[0], k / L0->blocks[0],
+		    t, r, err, e) < 0)
+			goto done;
+	}
 	ret = 0;
 done:
 	free(l.start), free(l.list), free(l.plane);
