@@ -16,8 +16,7 @@ static const char usage[] =
     "  --parent-url URL    layer.json's parentUrl: the terrain past the "
     "DEM\n"
     "  --attribution TEXT  layer.json's attribution\n"
-    "  dir                 the pyramid (dem2vgis(1)), heights ellipsoidal,"
-    " geographic\n"
+    "  dir                 the pyramid (dem2vgis(1)), heights ellipsoidal\n"
     "  outdir              the terrain directory to make (or replace)\n";
 
 static const struct option longopts[] = {
