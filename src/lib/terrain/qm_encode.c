@@ -159,11 +159,10 @@ header(tr_work *w, float minh, float maxh)
 		r = fmax(r, d);
 	}
 	r = r * (1 + 1e-9) + 1e-3; /* every vertex inside, rounding too */
-	if (qm_horizon(c, w->pos, n, hp) < 0) {
-		/* no point sees every vertex over the horizon (a tile of a
-		 * quarter of the globe or more): CesiumJS's own result, the
-		 * largest magnitude (what it computes for such tiles) */
-	}
+	/* where no point sees every vertex over the horizon (a root tile,
+	 * half the globe: CesiumJS's computation has no result), the
+	 * point that sees those it can */
+	(void)qm_horizon(c, w->pos, n, hp);
 	for (int k = 0; k < 3; k++)
 		put_f64(w, c[k]);
 	put_f32(w, minh), put_f32(w, maxh);

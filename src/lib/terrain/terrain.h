@@ -6,7 +6,8 @@
  * sample of the pyramid that it covers, measured on the surface the
  * renderer draws (flat triangles between the decoded vertices, in
  * ECEF, along the ellipsoid's normal); a level that cannot be held is
- * refined, never written over its error. */
+ * refined, never written over its error. Geographic and projected DEMs
+ * (PROJ), heights ellipsoidal. */
 #ifndef TL_TERRAIN_H
 #define TL_TERRAIN_H
 

@@ -63,7 +63,6 @@ typedef struct {
 	int *tri;               /* 3 per triangle */
 	int nt, ct;
 	int *hash, hcap;        /* (x, y) -> vertex + 1 */
-	int *cell, nc, cc;      /* vertices met in the current lattice cell */
 } tr_mesh;
 
 /* A selection triangle: longitudes, latitudes, heights. */
