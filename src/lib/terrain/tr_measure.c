@@ -13,7 +13,6 @@
 #include "geo/wgs84.h"
 #include "terrain/tr_impl.h"
 
-#define NB 32 /* buckets a side for finding a sample's triangle */
 
 static int
 grow(tr_work *w, tl_err *e)
@@ -159,65 +158,84 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 	return 0;
 }
 
-/* Triangles by bucket of the u, v square (CSR in w->tmp-like arrays). */
+/* The triangles by bucket of a grid over the part of the u, v square
+ * that holds samples (the tile within the terrain's rectangle), about
+ * one triangle a bucket. */
 typedef struct {
-	int *start, *list;
-	double *plane; /* per triangle: normal, offset (4) */
+	int *start, *list, nb;
+	double o[2], s[2];  /* bucket of (u, v): ((u, v) - o) * s */
+	double *plane;      /* per triangle: normal, offset (4) */
 } locator;
 
 static int
-locate_init(tr_work *w, locator *l, tl_err *e)
+bucket(const locator *l, double c, int k)
+{
+	int b = (int)floor((c - l->o[k]) * l->s[k]);
+
+	return b < 0 ? 0 : b >= l->nb ? l->nb - 1 : b;
+}
+
+/* Each triangle into the buckets its box meets (counts, then lists). */
+static void
+fill(tr_work *w, locator *l, int pass)
+{
+	for (int t = 0; t < w->m.nt; t++) {
+		const int *k = w->m.tri + 3 * t;
+		double lo[2] = { QM_MAX, QM_MAX }, hi[2] = { 0, 0 };
+		for (int j = 0; j < 3; j++) {
+			lo[0] = fmin(lo[0], w->u[k[j]]), hi[0] = fmax(hi[0], w->u[k[j]]);
+			lo[1] = fmin(lo[1], w->v[k[j]]), hi[1] = fmax(hi[1], w->v[k[j]]);
+		}
+		if (hi[0] < l->o[0] || hi[1] < l->o[1] ||
+		    lo[0] > l->o[0] + l->nb / l->s[0] ||
+		    lo[1] > l->o[1] + l->nb / l->s[1])
+			continue;
+		for (int bj = bucket(l, lo[1], 1); bj <= bucket(l, hi[1], 1); bj++)
+			for (int bi = bucket(l, lo[0], 0); bi <= bucket(l, hi[0],
+			    0); bi++) {
+				if (pass == 0)
+					l->start[bj * l->nb + bi + 1]++;
+				else
+					l->list[l->start[bj * l->nb + bi]++] = t;
+			}
+	}
+}
+
+static int
+locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
 {
 	tr_mesh *m = &w->m;
-	long total = 0;
+	int nb = (int)ceil(sqrt((double)m->nt)), n;
 
-	l->start = calloc(NB * NB + 1, sizeof *l->start);
+	l->nb = nb < 8 ? 8 : nb > 512 ? 512 : nb, n = l->nb * l->nb;
+	for (int k = 0; k < 2; k++) {
+		l->o[k] = uv[k] - 1;
+		l->s[k] = l->nb / (uv[k + 2] - uv[k] + 2);
+	}
+	l->start = calloc((size_t)n + 1, sizeof *l->start);
 	l->plane = malloc((size_t)(m->nt ? m->nt : 1) * 4 * sizeof *l->plane);
 	if (!l->start || !l->plane)
 		return tl_fail(e, "tile: out of memory");
-	for (int pass = 0; pass < 2; pass++) {
-		for (int t = 0; t < m->nt; t++) {
-			const int *k = m->tri + 3 * t;
-			int b0 = QM_MAX, b1 = 0, c0 = QM_MAX, c1 = 0;
-			for (int j = 0; j < 3; j++) {
-				b0 = w->u[k[j]] < b0 ? w->u[k[j]] : b0;
-				b1 = w->u[k[j]] > b1 ? w->u[k[j]] : b1;
-				c0 = w->v[k[j]] < c0 ? w->v[k[j]] : c0;
-				c1 = w->v[k[j]] > c1 ? w->v[k[j]] : c1;
-			}
-			for (int bj = c0 * NB / (QM_MAX + 1); bj <= c1 * NB /
-			    (QM_MAX + 1); bj++)
-				for (int bi = b0 * NB / (QM_MAX + 1); bi <= b1 *
-				    NB / (QM_MAX + 1); bi++) {
-					if (pass == 0)
-						l->start[bj * NB + bi + 1]++;
-					else
-						l->list[l->start[bj * NB + bi]++] = t;
-				}
-		}
-		if (pass == 0) {
-			for (int i = 0; i < NB * NB; i++)
-				l->start[i + 1] += l->start[i];
-			total = l->start[NB * NB];
-			if ((l->list = malloc((size_t)(total ? total : 1) *
-			    sizeof *l->list)) == NULL)
-				return tl_fail(e, "tile: out of memory");
-		} else {
-			for (int i = NB * NB; i > 0; i--)
-				l->start[i] = l->start[i - 1];
-			l->start[0] = 0;
-		}
-	}
+	fill(w, l, 0);
+	for (int i = 0; i < n; i++)
+		l->start[i + 1] += l->start[i];
+	if ((l->list = malloc((size_t)(l->start[n] ? l->start[n] : 1) *
+	    sizeof *l->list)) == NULL)
+		return tl_fail(e, "tile: out of memory");
+	fill(w, l, 1);
+	for (int i = n; i > 0; i--)
+		l->start[i] = l->start[i - 1];
+	l->start[0] = 0;
 	for (int t = 0; t < m->nt; t++) {
 		const int *k = m->tri + 3 * t;
 		const double *a = w->pos + 3 * k[0], *b = w->pos + 3 * k[1],
 		    *c = w->pos + 3 * k[2];
 		double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
 		double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-		double *n = l->plane + 4 * t;
-		n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2];
-		n[2] = u[0] * v[1] - u[1] * v[0];
-		n[3] = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
+		double *p = l->plane + 4 * t;
+		p[0] = u[1] * v[2] - u[2] * v[1], p[1] = u[2] * v[0] - u[0] * v[2];
+		p[2] = u[0] * v[1] - u[1] * v[0];
+		p[3] = p[0] * a[0] + p[1] * a[1] + p[2] * a[2];
 	}
 	return 0;
 }
@@ -227,14 +245,10 @@ locate_init(tr_work *w, locator *l, tl_err *e)
 static int
 locate(const tr_work *w, const locator *l, double su, double sv)
 {
-	int bi = (int)(su * NB / (QM_MAX + 1)), bj = (int)(sv * NB /
-	    (QM_MAX + 1)), best = -1;
+	int b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0), best = -1;
 	double bv = -INFINITY;
 
-	bi = bi < 0 ? 0 : bi >= NB ? NB - 1 : bi;
-	bj = bj < 0 ? 0 : bj >= NB ? NB - 1 : bj;
-	for (int i = l->start[bj * NB + bi]; i < l->start[bj * NB + bi + 1];
-	    i++) {
+	for (int i = l->start[b]; i < l->start[b + 1]; i++) {
 		const int *k = w->m.tri + 3 * l->list[i];
 		double x0 = w->u[k[0]], y0 = w->v[k[0]];
 		double x1 = w->u[k[1]] - x0, y1 = w->v[k[1]] - y0;
@@ -298,7 +312,11 @@ tr_measure(tr_work *w, int z, int x, int y, double *err, tl_err *e)
 	t[1] = fmax(r[1], w->g->r[1]), t[3] = fmin(r[3], w->g->r[3]);
 	if (!(t[0] <= t[2] && t[1] <= t[3]))
 		return 0; /* no sample */
-	if (locate_init(w, &l, e) < 0)
+	double uv[4] = { (t[0] - r[0]) / (r[2] - r[0]) * QM_MAX,
+		(t[1] - r[1]) / (r[3] - r[1]) * QM_MAX,
+		(t[2] - r[0]) / (r[2] - r[0]) * QM_MAX,
+		(t[3] - r[1]) / (r[3] - r[1]) * QM_MAX };
+	if (locate_init(w, &l, uv, e) < 0)
 		goto done;
 	for (int k = 0; k < L0->blocks[0] * L0->blocks[1]; k++) {
 		const double *o = w->g->box[0] + 4 * k;
