@@ -89,7 +89,7 @@ typedef struct {
 	size_t nbuf, cbuf;
 	int kids[4];            /* the tile's children written (x0 y0 x1
 	                         * y1 at the next level), x0 < 0: none */
-	double err;             /* largest error of its tiles this pass */
+	double err, direct;     /* largest d[0], d[1] of its tiles (pass) */
 	long long tiles, tris, bytes;
 } tr_work;
 
@@ -98,6 +98,7 @@ typedef struct {
 typedef struct {
 	int z, p, n;
 	double tau, el;
+	double base;            /* level p's largest base error */
 } tr_choice;
 
 /* Block (bi, bj) of pyramid level l through the thread's cache, with
@@ -127,9 +128,10 @@ int tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e);
  * float heights (tr_measure.c). */
 int tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
     tl_err *e);
-/* The largest distance along the normal between the decoded surface and
- * every level-0 sample in the tile (tr_measure.c). */
-int tr_measure(tr_work *w, int z, int x, int y, double *err, tl_err *e);
+/* Over the level-0 samples in the tile, along the normal: d[0] the
+ * largest distance between the decoded surface and the selection's, d[1]
+ * between it and the samples (tr_measure.c). */
+int tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e);
 
 /* The quantized-mesh bytes of the quantised tile into w->buf
  * (qm_encode.c). */

@@ -1,11 +1,15 @@
 /* tr_measure.c - a tile as the renderer gets it (u, v, height quantised
  * to 0 .. 32767, triangles counter-clockwise, vertices in order of first
- * use for the high-water mark) and its error: for every level-0 sample
- * of the pyramid in the tile, the distance along the ellipsoid's normal
- * at the sample between the sample and the plane, in ECEF, of the drawn
- * triangle over it, between the DECODED vertices. Nothing is assumed:
- * the selection's error, the flat chords' sag, the quantisation, all
- * are in what is measured. */
+ * use for the high-water mark) and its error. At every level-0 sample of
+ * the pyramid in the tile, the height of the drawn surface (the plane,
+ * in ECEF, of the triangle over it between the DECODED vertices, met by
+ * the ellipsoid's normal through the sample) is compared with the
+ * selection's surface there (the same triangle before quantisation,
+ * linear in longitude, latitude, height): d[0], the largest difference,
+ * holds every term but the selection's own error (the flat chords' sag,
+ * the quantisation, the CRS mapping), which the pyramid's saturated
+ * errors bound for the valid samples; and with the sample's height:
+ * d[1], the error itself, filled voids included. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,13 +84,15 @@ renumber(tr_work *w)
 		 * through copies */
 		w->tmp[3 * k] = w->u[i], w->tmp[3 * k + 1] = w->v[i];
 		w->tmp[3 * k + 2] = w->q[i];
-		w->pos[3 * k] = m->h[i];
+		w->pos[3 * k] = m->x[i], w->pos[3 * k + 1] = m->y[i];
+		w->pos[3 * k + 2] = m->h[i];
 	}
 	for (int k = 0; k < n; k++) {
 		w->u[k] = (uint16_t)w->tmp[3 * k];
 		w->v[k] = (uint16_t)w->tmp[3 * k + 1];
 		w->q[k] = (uint16_t)w->tmp[3 * k + 2];
-		m->h[k] = w->pos[3 * k];
+		m->x[k] = w->pos[3 * k], m->y[k] = w->pos[3 * k + 1];
+		m->h[k] = w->pos[3 * k + 2];
 	}
 	m->nv = n;
 }
@@ -262,9 +268,25 @@ locate(const tr_work *w, const locator *l, double su, double sv)
 	return best;
 }
 
+/* The selection's surface at (lon, lat): the plane, in longitude,
+ * latitude and height, of mesh triangle q before quantisation (a piece
+ * of a selected triangle, in its plane). */
+static double
+flat(const tr_work *w, int q, double lon, double lat)
+{
+	const int *k = w->m.tri + 3 * q;
+	const double *x = w->m.x, *y = w->m.y, *h = w->m.h;
+	double x1 = x[k[1]] - x[k[0]], y1 = y[k[1]] - y[k[0]];
+	double x2 = x[k[2]] - x[k[0]], y2 = y[k[2]] - y[k[0]];
+	double d = x1 * y2 - x2 * y1, px = lon - x[k[0]], py = lat - y[k[0]];
+	double b1 = (px * y2 - x2 * py) / d, b2 = (x1 * py - px * y1) / d;
+
+	return h[k[0]] + b1 * (h[k[1]] - h[k[0]]) + b2 * (h[k[2]] - h[k[0]]);
+}
+
 static int
 measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
-    const double r[4], double *err, tl_err *e)
+    const double r[4], double d[2], tl_err *e)
 {
 	const double *lon, *lat;
 	const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
@@ -291,7 +313,8 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 			geo_ellipsoid(lon[k], lat[k], f, up);
 			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
-			*err = fmax(*err, fabs(hs - b->z[k]));
+			d[0] = fmax(d[0], fabs(hs - flat(w, q, lon[k], lat[k])));
+			d[1] = fmax(d[1], fabs(hs - b->z[k]));
 		}
 	}
 	return 0;
@@ -299,14 +322,14 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 
 /* Every level-0 sample in the tile and in the terrain's rectangle. */
 int
-tr_measure(tr_work *w, int z, int x, int y, double *err, tl_err *e)
+tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
 {
 	const pyramid_level *L0 = &w->ix->lev[0];
 	locator l = { 0 };
 	double r[4], t[4];
 	int ret = -1;
 
-	*err = 0;
+	d[0] = d[1] = 0;
 	tr_tile_rect(z, x, y, r);
 	t[0] = fmax(r[0], w->g->r[0]), t[2] = fmin(r[2], w->g->r[2]);
 	t[1] = fmax(r[1], w->g->r[1]), t[3] = fmin(r[3], w->g->r[3]);
@@ -323,7 +346,7 @@ tr_measure(tr_work *w, int z, int x, int y, double *err, tl_err *e)
 		if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3])
 			continue;
 		if (measure_block(w, &l, k % L0->blocks[0], k / L0->blocks[0],
-		    t, r, err, e) < 0)
+		    t, r, d, e) < 0)
 			goto done;
 	}
 	ret = 0;

@@ -3,7 +3,9 @@
  * threads (each tile's bytes depend on its level's choice alone, so any
  * thread count writes the same files), into a tree built under a
  * temporary name and renamed when complete (outfile.h). A level whose
- * largest measured error passes E_L is made again with a tighter choice. */
+ * bound (the selection's max(tau, base) plus the largest measured
+ * distance of the drawn surface from the selection) passes E_L is made
+ * again with a tighter choice. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -52,7 +54,7 @@ one_tile(job *j, tr_work *w, int x, int y, tl_err *e)
 {
 	char path[4096];
 	float lo, hi;
-	double err;
+	double d[2];
 
 	w->kids[0] = -1;
 	if (j->next) {
@@ -65,10 +67,10 @@ one_tile(job *j, tr_work *w, int x, int y, tl_err *e)
 	}
 	if (tr_mesh_tile(w, &j->c, x, y, e) < 0 ||
 	    tr_quantise(w, j->c.z, x, y, &lo, &hi, e) < 0 ||
-	    tr_measure(w, j->c.z, x, y, &err, e) < 0 ||
+	    tr_measure(w, j->c.z, x, y, d, e) < 0 ||
 	    qm_encode(w, lo, hi, j->a->gzip, e) < 0)
 		return -1;
-	w->err = fmax(w->err, err);
+	w->err = fmax(w->err, d[0]), w->direct = fmax(w->direct, d[1]);
 	w->tiles++, w->tris += w->m.nt, w->bytes += (long long)w->nbuf;
 	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", j->tmp, j->c.z, x,
 	    y);
@@ -89,9 +91,11 @@ run_range(void *arg, int k, int i0, int i1)
 /* The pyramid level for tolerance tau: the coarsest undisplaced one
  * whose finest triangles are within tau of the DEM everywhere. */
 static int
-pick_level(const pyramid_index *ix, double tau)
+pick_level(const pyramid_index *ix, double tau, double *base)
 {
 	int p = 0;
+
+	*base = 0;
 
 	for (int l = 1; l < ix->nlevels; l++) {
 		const pyramid_level *L = &ix->lev[l];
@@ -101,7 +105,7 @@ pick_level(const pyramid_index *ix, double tau)
 		for (int k = 0; k < L->blocks[0] * L->blocks[1]; k++)
 			b = fmax(b, L->base[k]);
 		if (b <= tau)
-			p = l;
+			p = l, *base = b;
 	}
 	return p;
 }
@@ -119,11 +123,11 @@ choose(const pyramid_index *ix, int z, int t, tr_choice *c)
 		n *= 2;
 	c->z = z, c->el = el, c->tau = ldexp(el, -(t + 1));
 	c->n = n << (t / 2) > 4096 ? 4096 : n << (t / 2);
-	c->p = pick_level(ix, c->tau);
+	c->p = pick_level(ix, c->tau, &c->base);
 	/* the last try: every vertex of level 0, so that no sample the
 	 * saturated errors leave out (voids the pyramid filled) is missed */
 	if (t == TRIES - 1)
-		c->tau = -1, c->p = 0;
+		c->tau = -1, c->p = 0, c->base = 0;
 }
 
 static int
@@ -150,10 +154,11 @@ do_level(job *j, tl_pool *pool, int nt, int z, const int av[4],
 
 	j->x0 = av[0], j->y0 = av[1], j->nx = av[2] - av[0] + 1;
 	for (int t = 0; t < TRIES; t++) {
-		double err = 0;
+		double err = 0, direct = 0;
 		choose(j->w[0].ix, z, t, &j->c);
 		for (int k = 0; k < nt; k++)
-			j->w[k].err = 0, j->w[k].tiles = j->w[k].tris =
+			j->w[k].err = j->w[k].direct = 0,
+			j->w[k].tiles = j->w[k].tris =
 			    j->w[k].bytes = 0;
 		tl_pool_for(pool, n, run_range, j);
 		for (int k = 0; k < nt; k++)
@@ -164,16 +169,20 @@ do_level(job *j, tl_pool *pool, int nt, int z, const int av[4],
 		rep->tiles[z] = rep->tris[z] = rep->bytes[z] = 0;
 		for (int k = 0; k < nt; k++) {
 			err = fmax(err, j->w[k].err);
+			direct = fmax(direct, j->w[k].direct);
 			rep->tiles[z] += j->w[k].tiles;
 			rep->tris[z] += j->w[k].tris;
 			rep->bytes[z] += j->w[k].bytes;
 		}
-		rep->err[z] = err, rep->plevel[z] = j->c.p;
+		/* the selection within max(tau, base) of the valid samples
+		 * (vgis(5)), the drawn surface within err of the selection */
+		rep->err[z] = fmax(j->c.tau, j->c.base) + err;
+		rep->direct[z] = direct, rep->plevel[z] = j->c.p;
 		rep->tau[z] = j->c.tau, rep->tries[z] = t + 1;
-		if (err <= j->c.el)
+		if (rep->err[z] <= j->c.el)
 			return 0;
 	}
-	return tl_fail(e, "level %d: the error %.3f m passes E_L = %.3f m "
+	return tl_fail(e, "level %d: the bound %.3f m passes E_L = %.3f m "
 	    "after %d refinements: not written", z, rep->err[z], j->c.el,
 	    TRIES);
 }
