@@ -16,8 +16,7 @@ static const char usage[] =
     "  --parent-url URL    layer.json's parentUrl: the terrain past the "
     "DEM\n"
     "  --attribution TEXT  layer.json's attribution\n"
-    "  dir                 the pyramid (dem2vgis(1)), heights ellipsoidal,"
-    " geographic\n"
+    "  dir                 the pyramid (dem2vgis(1)), heights ellipsoidal\n"
     "  outdir              the terrain directory to make (or replace)\n";
 
 static const struct option longopts[] = {
@@ -32,9 +31,9 @@ report(const cli *c, const tr_report *r)
 	for (int z = 0; z <= r->maxzoom; z++)
 		fprintf(stderr, "%s: level %d: %lld tiles, %lld triangles, "
 		    "%.1f KiB; pyramid level %d, tolerance %.3f m (try %d); "
-		    "largest error %.3f m = %.3f E_L\n", c->prog, z,
+		    "measured %.3f m; bound %.3f m = %.3f E_L\n", c->prog, z,
 		    r->tiles[z], r->tris[z], r->bytes[z] / 1024.0, r->plevel[z],
-		    r->tau[z], r->tries[z], r->err[z],
+		    r->tau[z], r->tries[z], r->direct[z], r->err[z],
 		    r->err[z] / (TR_E0 / (1 << z)));
 }
 

@@ -2,11 +2,14 @@
  * global geographic quadtree (vgis2terrain(1), quantized-mesh(5)):
  * OUTDIR/layer.json and OUTDIR/{z}/{x}/{y}.terrain, EPSG:4326, TMS rows
  * from the south, two root tiles at level 0. Every tile written is within
- * E_L = 77067.34 m / 2^L (CesiumJS's error for level L) of every level-0
- * sample of the pyramid that it covers, measured on the surface the
- * renderer draws (flat triangles between the decoded vertices, in
- * ECEF, along the ellipsoid's normal); a level that cannot be held is
- * refined, never written over its error. */
+ * E_L = 77067.34 m / 2^L (CesiumJS's error for level L) of every valid
+ * level-0 sample that it covers, on the surface the renderer draws (flat
+ * triangles between the decoded vertices, in ECEF, along the ellipsoid's
+ * normal): the pyramid's saturated errors bound its selection, and the
+ * distance between the drawn surface and the selection is measured at
+ * every sample; a level that cannot be held is refined, never written
+ * over its error. Geographic and projected DEMs
+ * (PROJ), heights ellipsoidal. */
 #ifndef TL_TERRAIN_H
 #define TL_TERRAIN_H
 
@@ -32,7 +35,11 @@ typedef struct {
 typedef struct {
 	int maxzoom;
 	long long tiles[TR_MAXZ + 1], tris[TR_MAXZ + 1], bytes[TR_MAXZ + 1];
-	double err[TR_MAXZ + 1];   /* largest measured error, metres */
+	double err[TR_MAXZ + 1];   /* the bound, metres: max(tau, base) +
+	                            * the drawn surface's largest distance
+	                            * from the selection at a sample */
+	double direct[TR_MAXZ + 1]; /* the largest distance from a sample,
+	                             * measured (filled voids too) */
 	int plevel[TR_MAXZ + 1];   /* pyramid level used */
 	double tau[TR_MAXZ + 1];   /* its tolerance */
 	int tries[TR_MAXZ + 1];    /* attempts (1: the first choice held) */

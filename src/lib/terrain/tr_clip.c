@@ -1,5 +1,5 @@
-/* tr_clip.c - the part of a selection triangle inside a rectangle of the
- * level-0 grid (Sutherland-Hodgman, x lines first, then y lines), with
+/* tr_clip.c - the part of a selection triangle inside a longitude-
+ * latitude rectangle (Sutherland-Hodgman, x lines first, then y lines), with
  * every new vertex computed from the ORIGINAL triangle (the edge it lies
  * on, its two ends in a fixed order, or its plane at a corner), never
  * from an earlier clip: the same point of the same selection comes out

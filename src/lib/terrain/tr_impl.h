@@ -7,10 +7,12 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "geo/wgs84.h"
 #include "pyramid/pyramid.h"
 #include "terrain/terrain.h"
 
 #define QM_MAX 32767 /* u, v, height quantised to 0 .. QM_MAX */
+#define TR_CACHE 16  /* blocks a thread holds (a power of 2) */
 
 /* --- the encoder's pieces (qm_encode.c), exposed for the unit test --- */
 
@@ -29,24 +31,41 @@ int qm_horizon(const double dir[3], const double *p, int n, double out[3]);
 
 /* --- a tile's mesh ------------------------------------------------- */
 
-/* The mapping of the level-0 grid to longitude and latitude (geographic
- * DEMs): lon = ax + bx I, lat = ay + by J. */
+/* The DEM on the globe: level-0 grid place (I, J) to longitude and
+ * latitude (degrees), affine for a geographic DEM (lon = ax + bx I,
+ * lat = ay + by J), through PROJ for a projected one; the rectangle r
+ * (west, south, east, north) of the terrain made from it: the DEM's
+ * extent when geographic, the largest rectangle inside its footprint,
+ * inset, when projected; and per pyramid level and block the longitude,
+ * latitude box of its vertices (4 each). */
 typedef struct {
+	int projected;
 	double ax, bx, ay, by;
-	int w0, h0;             /* level-0 size: the DEM spans I 0..w0-1 */
+	int w0, h0;             /* level-0 size */
+	double r[4];
+	double cell;            /* metres: the longest level-0 step */
+	double **box;           /* per level: 4 per block */
 } tr_grid;
 
-/* A tile's vertices (level-0 grid place I, J and height) and triangles. */
+/* The grid of the pyramid ix (tr_grid.c); p: a PROJ for a projected
+ * DEM. */
+int tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p,
+    tl_err *e);
+void tr_grid_free(tr_grid *g, int nlevels);
+/* Longitude, latitude of level-0 places, n at once (x, y in place). */
+int tr_lonlat(const tr_grid *g, geo_proj *p, const georef *geo, double *x,
+    double *y, int n, tl_err *e);
+
+/* A tile's vertices (longitude, latitude, height) and triangles. */
 typedef struct {
 	double *x, *y, *h;
 	int nv, cv;
 	int *tri;               /* 3 per triangle */
 	int nt, ct;
 	int *hash, hcap;        /* (x, y) -> vertex + 1 */
-	int *cell, nc, cc;      /* vertices met in the current lattice cell */
 } tr_mesh;
 
-/* A selection triangle: level-0 grid places, heights. */
+/* A selection triangle: longitudes, latitudes, heights. */
 typedef struct {
 	double x[3], y[3], h[3];
 } tr_tri;
@@ -55,9 +74,11 @@ typedef struct {
 typedef struct {
 	const pyramid_index *ix;
 	const char *dir;
-	tr_grid g;
-	pyramid_block cache[32];
-	int ckey[32][3], cused[32];
+	const tr_grid *g;
+	geo_proj proj;          /* projected DEMs */
+	pyramid_block cache[TR_CACHE];
+	double *clon[TR_CACHE], *clat[TR_CACHE]; /* per block vertex */
+	int ckey[TR_CACHE][3], cused[TR_CACHE];
 	tr_tri *sel;            /* the selection over the tile */
 	int nsel, csel;
 	tr_mesh m;
@@ -66,7 +87,9 @@ typedef struct {
 	int *order, *tmp;
 	unsigned char *buf;     /* the encoded tile */
 	size_t nbuf, cbuf;
-	double err;             /* largest error of its tiles this pass */
+	int kids[4];            /* the tile's children written (x0 y0 x1
+	                         * y1 at the next level), x0 < 0: none */
+	double err, direct;     /* largest d[0], d[1] of its tiles (pass) */
 	long long tiles, tris, bytes;
 } tr_work;
 
@@ -75,10 +98,13 @@ typedef struct {
 typedef struct {
 	int z, p, n;
 	double tau, el;
+	double base;            /* level p's largest base error */
 } tr_choice;
 
-/* Block (bi, bj) of pyramid level l through the thread's cache. */
-const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj, tl_err *e);
+/* Block (bi, bj) of pyramid level l through the thread's cache, with
+ * its vertices' longitudes and latitudes (*lon, *lat: 129 x 129). */
+const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj,
+    const double **lon, const double **lat, tl_err *e);
 
 /* The lon/lat rectangle of tile (z, x, y): west, south, east, north;
  * lattice line k of the tile (0 .. n) along x and y, exact for all
@@ -93,7 +119,7 @@ void tr_mesh_free(tr_mesh *m);
 /* Vertex of (x, y, h), shared with an earlier one at the same place. */
 int tr_mesh_vertex(tr_mesh *m, double x, double y, double h, tl_err *e);
 int tr_mesh_tri(tr_mesh *m, int a, int b, int c, tl_err *e);
-/* The part of selection triangle t inside [x0,x1] x [y0,y1], into m
+/* The part of selection triangle t inside r (x0, y0, x1, y1), into m
  * (tr_clip.c). */
 int tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e);
 
@@ -102,9 +128,10 @@ int tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e);
  * float heights (tr_measure.c). */
 int tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
     tl_err *e);
-/* The largest distance along the normal between the decoded surface and
- * every level-0 sample in the tile (tr_measure.c). */
-int tr_measure(tr_work *w, int z, int x, int y, double *err, tl_err *e);
+/* Over the level-0 samples in the tile, along the normal: d[0] the
+ * largest distance between the decoded surface and the selection's, d[1]
+ * between it and the samples (tr_measure.c). */
+int tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e);
 
 /* The quantized-mesh bytes of the quantised tile into w->buf
  * (qm_encode.c). */

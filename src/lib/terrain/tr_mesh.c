@@ -127,7 +127,6 @@ void
 tr_mesh_free(tr_mesh *m)
 {
 	free(m->x), free(m->y), free(m->h), free(m->tri), free(m->hash);
-	free(m->cell);
 	memset(m, 0, sizeof *m);
 }
 
@@ -136,10 +135,11 @@ tr_mesh_free(tr_mesh *m)
 typedef struct {
 	tr_work *w;
 	const pyramid_block *b;
+	const double *lon, *lat; /* the block's vertices' */
 	const tr_choice *c;
 	double lmax2;      /* 2 lmax^2, level-p cells */
-	double r[4];       /* the tile over the DEM, level-0 grid */
-	int s;             /* 2^p */
+	int last[2];       /* the level's last real vertex */
+	double r[4];       /* the tile over the DEM, lon/lat */
 	int failed;
 } sel;
 
@@ -162,6 +162,13 @@ split(void *ctx, int gi, int gj)
 	sel *s = ctx;
 	int c = gi - s->b->bi * BT_CELLS, r = gj - s->b->bj * BT_CELLS;
 
+	int h = (gi | gj) & -(gi | gj); /* the vertex's scale */
+
+	/* a diamond reaching into the padding past the level's last real
+	 * vertex: split (its E speaks for the real samples only, the
+	 * padding's copied heights are not the DEM's), down to the leaves */
+	if (gi + h > s->last[0] || gj + h > s->last[1])
+		return 1;
 	return s->b->e[r * BT_SIZE + c] > s->c->tau || hyp2(c, r) > s->lmax2;
 }
 
@@ -176,7 +183,7 @@ emit(void *ctx, const int t[3][2])
 	for (int k = 0; k < 3; k++) {
 		int c = t[k][0] - s->b->bi * BT_CELLS;
 		int r = t[k][1] - s->b->bj * BT_CELLS;
-		q.x[k] = (double)t[k][0] * s->s, q.y[k] = (double)t[k][1] * s->s;
+		q.x[k] = s->lon[r * BT_SIZE + c], q.y[k] = s->lat[r * BT_SIZE + c];
 		q.h[k] = s->b->z[r * BT_SIZE + c];
 		lo[0] = fmin(lo[0], q.x[k]), hi[0] = fmax(hi[0], q.x[k]);
 		lo[1] = fmin(lo[1], q.y[k]), hi[1] = fmax(hi[1], q.y[k]);
@@ -196,46 +203,36 @@ emit(void *ctx, const int t[3][2])
 	w->sel[w->nsel++] = q;
 }
 
-/* The tile's rectangle in level-0 grid places, ordered. */
-static void
-grid_rect(const tr_grid *g, double lon0, double lat0, double lon1,
-    double lat1, double r[4])
-{
-	double a = (lon0 - g->ax) / g->bx, b = (lon1 - g->ax) / g->bx;
-	double c = (lat0 - g->ay) / g->by, d = (lat1 - g->ay) / g->by;
-
-	r[0] = fmin(a, b), r[2] = fmax(a, b);
-	r[1] = fmin(c, d), r[3] = fmax(c, d);
-}
-
+/* The selection over tile t (west, south, east, north) within the
+ * terrain's rectangle: every block of level p whose box meets it. */
 static int
 select_tile(tr_work *w, const tr_choice *c, const double t[4], tl_err *e)
 {
 	const pyramid_level *L = &w->ix->lev[c->p];
-	sel s = { .w = w, .c = c, .s = 1 << c->p };
-	double cell = fmax(fabs(w->g.bx), fabs(w->g.by)) * 111700.0;
-	double lmax = sqrt(6335439.0 * c->el / 2) / cell / s.s; /* level p */
-	int span = BT_CELLS * s.s;
+	const double *box = w->g->box[c->p];
+	sel s = { .w = w, .c = c };
+	/* the longest hypotenuse: a chord sagging E_L / 8 at most */
+	double lmax = sqrt(6335439.0 * c->el / 2) / w->g->cell / (1 << c->p);
 
 	s.lmax2 = 2 * fmax(lmax, 1) * fmax(lmax, 1);
-	s.r[0] = fmax(t[0], 0), s.r[2] = fmin(t[2], w->g.w0 - 1);
-	s.r[1] = fmax(t[1], 0), s.r[3] = fmin(t[3], w->g.h0 - 1);
+	s.last[0] = L->size[0] - 1, s.last[1] = L->size[1] - 1;
+	s.r[0] = fmax(t[0], w->g->r[0]), s.r[2] = fmin(t[2], w->g->r[2]);
+	s.r[1] = fmax(t[1], w->g->r[1]), s.r[3] = fmin(t[3], w->g->r[3]);
 	w->nsel = 0;
 	if (!(s.r[0] < s.r[2] && s.r[1] < s.r[3]))
 		return 0;
-	int b0 = (int)floor(s.r[0] / span), b1 = (int)floor(s.r[2] / span);
-	int c0 = (int)floor(s.r[1] / span), c1 = (int)floor(s.r[3] / span);
-	b1 = b1 >= L->blocks[0] ? L->blocks[0] - 1 : b1;
-	c1 = c1 >= L->blocks[1] ? L->blocks[1] - 1 : c1;
-	for (int bj = c0 < 0 ? 0 : c0; bj <= c1; bj++)
-		for (int bi = b0 < 0 ? 0 : b0; bi <= b1; bi++) {
-			if ((s.b = tr_block(w, c->p, bi, bj, e)) == NULL)
-				return -1;
-			bt_select(bi * BT_CELLS, bj * BT_CELLS, split, &s, emit,
-			    &s);
-			if (s.failed)
-				return tl_fail(e, "mesh: out of memory");
-		}
+	for (int k = 0; k < L->blocks[0] * L->blocks[1]; k++) {
+		const double *o = box + 4 * k;
+		int bi = k % L->blocks[0], bj = k / L->blocks[0];
+		if (o[2] < s.r[0] || o[0] > s.r[2] || o[3] < s.r[1] ||
+		    o[1] > s.r[3])
+			continue;
+		if ((s.b = tr_block(w, c->p, bi, bj, &s.lon, &s.lat, e)) == NULL)
+			return -1;
+		bt_select(bi * BT_CELLS, bj * BT_CELLS, split, &s, emit, &s);
+		if (s.failed)
+			return tl_fail(e, "mesh: out of memory");
+	}
 	return 0;
 }
 
@@ -302,18 +299,18 @@ frame(tr_mesh *m, const double c[4], const double r[4], tl_err *e)
 	return 0;
 }
 
-/* Cell (i, j) of the tile's lattice: its rectangle c and its part r over
- * the DEM (level-0 grid); 1 when r has an area. */
+/* Cell (i, j) of the tile's lattice: its rectangle c and its part r in
+ * the terrain's rectangle (lon/lat); 1 when r has an area. */
 static int
 cell_rects(const tr_work *w, const tr_choice *ch, int x, int y, int i,
     int j, double c[4], double r[4])
 {
-	grid_rect(&w->g, tr_lattice_lon(ch->z, x, ch->n, i),
-	    tr_lattice_lat(ch->z, y, ch->n, j),
-	    tr_lattice_lon(ch->z, x, ch->n, i + 1),
-	    tr_lattice_lat(ch->z, y, ch->n, j + 1), c);
-	r[0] = fmax(c[0], 0), r[2] = fmin(c[2], w->g.w0 - 1);
-	r[1] = fmax(c[1], 0), r[3] = fmin(c[3], w->g.h0 - 1);
+	c[0] = tr_lattice_lon(ch->z, x, ch->n, i);
+	c[1] = tr_lattice_lat(ch->z, y, ch->n, j);
+	c[2] = tr_lattice_lon(ch->z, x, ch->n, i + 1);
+	c[3] = tr_lattice_lat(ch->z, y, ch->n, j + 1);
+	r[0] = fmax(c[0], w->g->r[0]), r[2] = fmin(c[2], w->g->r[2]);
+	r[1] = fmax(c[1], w->g->r[1]), r[3] = fmin(c[3], w->g->r[3]);
 	return r[0] < r[2] && r[1] < r[3];
 }
 
@@ -328,7 +325,6 @@ tr_mesh_tile(tr_work *w, const tr_choice *ch, int x, int y, tl_err *e)
 	if (m->hash)
 		memset(m->hash, 0, (size_t)m->hcap * sizeof *m->hash);
 	tr_tile_rect(ch->z, x, y, t);
-	grid_rect(&w->g, t[0], t[1], t[2], t[3], t);
 	if (select_tile(w, ch, t, e) < 0)
 		return -1;
 	/* the DEM first, so that a cell corner on its edge takes its height */
