@@ -242,7 +242,10 @@ async function main() {
 		const page = await browser.newPage({ viewport: { width: opt.size[0], height: opt.size[1] } });
 		const errors = [], got = new Map();
 		page.on('console', (m) => {
-			if (m.type() === 'error') errors.push(`console error: ${m.text()}`);
+			// CesiumJS logs a tile provider's errors (a tile that
+			// fails to load or decode) with console.log
+			if (m.type() === 'error' || /An error occurred in/.test(m.text()))
+				errors.push(`console error: ${m.text()}`);
 			else if (m.type() === 'warning') console.log(`# warning: ${m.text()}`);
 		});
 		page.on('pageerror', (e) => errors.push(`page error: ${e}`));
