@@ -17,17 +17,17 @@ if ! command -v node >/dev/null || [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ]; th
 	done_testing; exit
 fi
 JS=$TOP/tests/js
-# 513x513 void-free SRTM samples of southern Vancouver Island and the
-# sea (relief -27 to 463 m ellipsoidal), heights made ellipsoidal by
-# PROJ: the DEM the heights are checked against; levels 0 to 14
-gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 1696 2176 513 513 \
+# 513x513 SRTM samples of southern Vancouver Island (relief -6 to
+# 1061 m, 747 voids, which the pyramid fills), heights made ellipsoidal
+# by PROJ: the DEM the heights are checked against; levels 0 to 14
+gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 2944 2816 513 513 \
     "$DATA/N48W125.hgt" "$T/srtm.tif"
 /usr/bin/python3 "$TOP/tests/tools/ellipsoidal.py" "$T/srtm.tif" "$T/geo.tif"
 dem2vgis "$T/geo.tif" "$T/pyr" 2>/dev/null
 run "vgis2terrain exports the pyramid" vgis2terrain -q -j 2 "$T/pyr" "$T/qm"
 
-# the DEM's rectangle (the checkerboard's) and 24 valid samples on land
-# (lon lat ellipsoidal height, at the samples' centres), fixed seed
+# the DEM's rectangle (the checkerboard's) and 24 samples on land, none
+# a void (lon lat ellipsoidal height, at the samples' centres), fixed seed
 /usr/bin/python3 - "$T/geo.tif" "$T/samples" >"$T/rect" <<'PY'
 import sys
 import numpy as np
@@ -47,11 +47,11 @@ PY
 rect=$(cat "$T/rect")
 
 # views lon,lat,height,heading,pitch[,least levels]: from 30 km above,
-# the whole DEM (the imagery's view); low (800-900 m above the
-# ellipsoid, the land up to 463 m) and oblique with the horizon in the
-# frame, levels 8 to 15 meeting
-top=-124.458,48.3245,30000,0,-90
-low="-124.47,48.27,900,0,-12,3 -124.40,48.28,800,300,-12,3"
+# the whole DEM (the imagery's view); low (700-800 m above the
+# ellipsoid, over land below 200 m) and oblique with the horizon in the
+# frame, levels 7 to 15 meeting
+top=-124.1111,48.1467,30000,0,-90
+low="-124.0756,48.20,700,200,-12,3 -124.15444,48.16222,800,90,-12,3"
 # the browser's profile under $T: nothing of it may outlive a run
 browser() {
 	TMPDIR=$T timeout -k 5 "${limit:-150}" node "$JS/terrain.js" "$@"
@@ -112,7 +112,7 @@ grep cracks "$T/err" | sed 's/^/#   /'
 
 if [ -n "${OUT_SHOT:-}" ]; then	# for the README: lit, low, oblique
 	limit=300 browser --lit --size 800x450 --shot "$OUT_SHOT" "$T/qm" \
-	    "$rect" -124.43,48.24,1400,340,-10 >"$T/out" 2>"$T/err"
+	    "$rect" -124.0756,48.20,1100,200,-10 >"$T/out" 2>"$T/err"
 	ok $? "a picture of the draped terrain in $OUT_SHOT"
 fi
 
