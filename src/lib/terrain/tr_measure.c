@@ -290,7 +290,7 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 {
 	const double *lon, *lat;
 	const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
-	double wd = r[2] - r[0], f = 1 / 298.257223563, e2 = f * (2 - f);
+	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
 
 	if (b == NULL)
