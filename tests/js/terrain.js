@@ -13,16 +13,17 @@
 // half of the rectangle's projection and hardly anything outside it (the
 // imagery on the terrain); the others must show background (the sky:
 // else the crack check could not see one). --lit: lit by a low sun
-// through the tiles' normals, on a dark sky, no checks (a picture). Over all views: every level 0 to layer.json's maxzoom
-// fetched, no request failed, no console error. --samples: lines
-// "lon lat height" (height above the ellipsoid, the DEM's); CesiumJS's
+// through the tiles' normals, on a dark sky, no checks (a picture).
+// Over all views: every level 0 to layer.json's maxzoom fetched, no
+// request failed, no console error. --samples: lines "lon lat height"
+// (height above the ellipsoid, the DEM's); CesiumJS's
 // sampleTerrainMostDetailed at each (a line "sample LON LAT HEIGHT
 // level L CesiumJS H") must be at level maxzoom and agree within its
-// E_L = 77067.34 m / 2^maxzoom. One line per check on stdout;
-// exit 1 when a check fails, 2 on usage or a broken browser. --shot
-// writes the last view's picture; --size: the frame in pixels (default
-// 480x270: SwiftShader's time goes with the pixels). CHROMIUM: the browser (default
-// /usr/bin/chromium).
+// E_L = 77067.34 m / 2^maxzoom. One line per check on stdout; exit 1
+// when a check fails, 2 on usage or a broken browser. --shot writes the
+// last view's picture; --size: the frame in pixels (default 480x270:
+// SwiftShader's time goes with the pixels). CHROMIUM: the browser
+// (default /usr/bin/chromium).
 'use strict';
 const http = require('http');
 const fs = require('fs');
