@@ -1,5 +1,5 @@
 # terrain LOD toolchain: dem2fqm fqmfilter fqmsolve tilepack tileplay
-# tilecheck dem2vgis vgis2tiles
+# tilecheck dem2vgis vgis2tiles vgis2terrain
 # make            build everything (installs missing Debian packages first)
 # make check      build and run every test
 # make example    build a pyramid from the default example DEM
@@ -27,7 +27,7 @@ WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 # (directly; what those use comes with them); pkgs_L: its packages.
 # Link lines, test rules and tests/cmd/t_layers.sh (make print-layers)
 # all derive from it.
-LAYERS := base geo raster dem qem pyramid pack verify play tiles3d jobs
+LAYERS := base geo raster dem qem pyramid pack verify play tiles3d terrain jobs
 uses_base    :=
 uses_geo     := base
 uses_raster  := base geo
@@ -38,6 +38,7 @@ uses_pack    := base geo raster dem qem pyramid
 uses_verify  := base geo raster dem pyramid
 uses_play    := base geo raster pyramid
 uses_tiles3d := base geo pyramid
+uses_terrain := base geo pyramid
 uses_jobs    := base raster qem
 pkgs_geo     := proj geographiclib
 pkgs_raster  := OpenEXR libdeflate
@@ -46,6 +47,7 @@ pkgs_dem     := gdal
 pkgs_pyramid := jansson
 pkgs_tiles3d := jansson
 pkgs_verify  := zlib
+pkgs_terrain := jansson zlib
 pkgs_play    := egl epoxy glfw3 stb
 # the programs: the layers each uses (cli.c, their shared start-up, uses
 # uses_cli)
@@ -58,6 +60,7 @@ uses_tilecheck  := verify
 uses_tileplay   := play verify
 uses_dem2vgis   := jobs
 uses_vgis2tiles := tiles3d
+uses_vgis2terrain := terrain
 # what a layer's tests use beside it: the packer's results are checked by
 # the independent checker
 tests_pack      := verify
@@ -85,7 +88,7 @@ ld       = $(call archives,$(1)) -Wl,--as-needed \
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis2terrain
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so

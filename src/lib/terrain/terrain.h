@@ -1,0 +1,50 @@
+/* terrain.h - a VGIS pyramid as quantized-mesh-1.0 terrain tiles on the
+ * global geographic quadtree (vgis2terrain(1), quantized-mesh(5)):
+ * OUTDIR/layer.json and OUTDIR/{z}/{x}/{y}.terrain, EPSG:4326, TMS rows
+ * from the south, two root tiles at level 0. Every tile written is within
+ * E_L = 77067.34 m / 2^L (CesiumJS's error for level L) of every valid
+ * level-0 sample that it covers, on the surface the renderer draws (flat
+ * triangles between the decoded vertices, in ECEF, along the ellipsoid's
+ * normal): the pyramid's saturated errors bound its selection, and the
+ * distance between the drawn surface and the selection is measured at
+ * every sample; a level that cannot be held is refined, never written
+ * over its error. Geographic and projected DEMs
+ * (PROJ), heights ellipsoidal. */
+#ifndef TL_TERRAIN_H
+#define TL_TERRAIN_H
+
+#include "base/util.h"
+
+#define TR_E0 77067.34 /* metres: CesiumJS's level-0 error, 2 roots, 65 */
+#define TR_MAXJOBS 64
+
+typedef struct {
+	const char *dir;       /* the pyramid */
+	const char *out;       /* the tileset directory to make */
+	const char *parent;    /* --parent-url, or NULL */
+	const char *attrib;    /* --attribution, or NULL */
+	int jobs;              /* threads */
+	int gzip;              /* -z: tiles gzipped */
+	const char *prog;      /* for warnings; NULL: none */
+	int quiet;
+} tr_args;
+
+#define TR_MAXZ 24
+
+/* What was written, per level, for the report. */
+typedef struct {
+	int maxzoom;
+	long long tiles[TR_MAXZ + 1], tris[TR_MAXZ + 1], bytes[TR_MAXZ + 1];
+	double err[TR_MAXZ + 1];   /* the bound, metres: max(tau, base) +
+	                            * the drawn surface's largest distance
+	                            * from the selection at a sample */
+	double direct[TR_MAXZ + 1]; /* the largest distance from a sample,
+	                             * measured (filled voids too) */
+	int plevel[TR_MAXZ + 1];   /* pyramid level used */
+	double tau[TR_MAXZ + 1];   /* its tolerance */
+	int tries[TR_MAXZ + 1];    /* attempts (1: the first choice held) */
+} tr_report;
+
+int tr_run(const tr_args *a, tr_report *rep, tl_err *e);
+
+#endif

@@ -1,0 +1,211 @@
+/* tr_grid.c - the DEM on the globe: its grid's longitudes and latitudes
+ * (affine for a geographic DEM, PROJ for a projected one), the rectangle
+ * of the terrain made from it, each block's longitude-latitude box, and
+ * a thread's cache of blocks with their vertices' longitudes and
+ * latitudes. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "terrain/tr_impl.h"
+
+#define RMIN 6335439.0 /* m: WGS 84's least radius of curvature */
+
+int
+tr_lonlat(const tr_grid *g, geo_proj *p, const georef *geo, double *x,
+    double *y, int n, tl_err *e)
+{
+	double *z;
+	int r;
+
+	if (!g->projected) {
+		for (int i = 0; i < n; i++)
+			x[i] = g->ax + g->bx * x[i], y[i] = g->ay + g->by * y[i];
+		return 0;
+	}
+	if ((z = calloc((size_t)n, sizeof *z)) == NULL)
+		return tl_fail(e, "grid: out of memory");
+	for (int i = 0; i < n; i++)
+		geo_grid_crs(geo, x[i], y[i], &x[i], &y[i]);
+	r = geo_proj_lonlat(p, x, y, z, n, e);
+	free(z);
+	return r;
+}
+
+/* Level-0 places along the DEM's four sides, every step samples. */
+static int
+sides(const tr_grid *g, geo_proj *p, const georef *geo, double lo[4],
+    tl_err *e)
+{
+	int step = (g->w0 > g->h0 ? g->w0 : g->h0) / 1024 + 1, n = 0, r;
+	int cap = 2 * (g->w0 / step + g->h0 / step + 4);
+	double *x = malloc((size_t)cap * sizeof *x), *y = malloc((size_t)cap *
+	    sizeof *y);
+	int *side = malloc((size_t)cap * sizeof *side);
+
+	lo[0] = -INFINITY, lo[2] = INFINITY, lo[1] = -INFINITY, lo[3] = INFINITY;
+	if (!x || !y || !side) {
+		free(x), free(y), free(side);
+		return tl_fail(e, "grid: out of memory");
+	}
+	for (int i = 0; i < g->w0; i += step) /* rows 0 and h0-1 */
+		for (int k = 0; k < 2; k++)
+			x[n] = i, y[n] = k ? g->h0 - 1 : 0, side[n++] = k;
+	for (int j = 0; j < g->h0; j += step) /* columns 0 and w0-1 */
+		for (int k = 0; k < 2; k++)
+			x[n] = k ? g->w0 - 1 : 0, y[n] = j, side[n++] = 2 + k;
+	for (int k = 0; k < 4; k++) /* the corners themselves */
+		x[n] = k & 1 ? g->w0 - 1 : 0, y[n] = k & 2 ? g->h0 - 1 : 0,
+		side[n++] = 4 + k;
+	r = tr_lonlat(g, p, geo, x, y, n, e);
+	/* lo: the innermost longitude of the west side, of the east, the
+	 * innermost latitude of the south and the north (north-up grids:
+	 * row 0 the north) */
+	for (int i = 0; r == 0 && i < n; i++) {
+		int s = side[i], west = s == 2 || s == 4 || s == 6;
+		int east = s == 3 || s == 5 || s == 7;
+		int north = s == 0 || s == 4 || s == 5;
+		int south = s == 1 || s == 6 || s == 7;
+		if (west)
+			lo[0] = fmax(lo[0], x[i]);
+		if (east)
+			lo[2] = fmin(lo[2], x[i]);
+		if (south)
+			lo[1] = fmax(lo[1], y[i]);
+		if (north)
+			lo[3] = fmin(lo[3], y[i]);
+	}
+	free(x), free(y), free(side);
+	return r;
+}
+
+/* Per block of each level: the box of its vertices' longitudes and
+ * latitudes, from its border (a block's image is convex enough: the
+ * border holds the extremes up to the chord of one level step). */
+static int
+boxes(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
+{
+	double x[4 * BT_CELLS], y[4 * BT_CELLS];
+
+	if ((g->box = calloc((size_t)ix->nlevels, sizeof *g->box)) == NULL)
+		return tl_fail(e, "grid: out of memory");
+	for (int l = 0; l < ix->nlevels; l++) {
+		const pyramid_level *L = &ix->lev[l];
+		int nb = L->blocks[0] * L->blocks[1], s = 1 << l;
+		if ((g->box[l] = malloc((size_t)nb * 4 * sizeof **g->box)) == NULL)
+			return tl_fail(e, "grid: out of memory");
+		for (int b = 0; b < nb; b++) {
+			int bi = b % L->blocks[0], bj = b / L->blocks[0], n = 0;
+			double *o = g->box[l] + 4 * b;
+			for (int k = 0; k < BT_CELLS; k++) {
+				double c0 = bi * BT_CELLS, r0 = bj * BT_CELLS;
+				double c1 = c0 + BT_CELLS, r1 = r0 + BT_CELLS;
+				x[n] = c0 + k, y[n++] = r0;
+				x[n] = c1, y[n++] = r0 + k;
+				x[n] = c1 - k, y[n++] = r1;
+				x[n] = c0, y[n++] = r1 - k;
+			}
+			for (int i = 0; i < n; i++)
+				x[i] *= s, y[i] *= s;
+			if (tr_lonlat(g, p, &ix->geo, x, y, n, e) < 0)
+				return -1;
+			o[0] = o[1] = INFINITY, o[2] = o[3] = -INFINITY;
+			for (int i = 0; i < n; i++) {
+				o[0] = fmin(o[0], x[i]), o[2] = fmax(o[2], x[i]);
+				o[1] = fmin(o[1], y[i]), o[3] = fmax(o[3], y[i]);
+			}
+			/* a margin for the sides' bulge between border points */
+			double m = g->projected ? 1e-4 * s : 0;
+			o[0] -= m, o[1] -= m, o[2] += m, o[3] += m;
+		}
+	}
+	return 0;
+}
+
+int
+tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
+{
+	const georef *geo = &ix->geo;
+	double x0, y0, x1, y1, lo[4];
+
+	memset(g, 0, sizeof *g);
+	g->projected = geo->model != GEO_GEOGRAPHIC;
+	g->w0 = ix->size0[0], g->h0 = ix->size0[1];
+	geo_vertex_crs(geo, 0, 0, 0, &x0, &y0);
+	geo_vertex_crs(geo, 0, 1, 1, &x1, &y1);
+	g->ax = x0, g->bx = x1 - x0, g->ay = y0, g->by = y1 - y0;
+	g->cell = g->projected ? fmax(fabs(g->bx), fabs(g->by)) * geo->unit :
+	    fmax(fabs(g->bx), fabs(g->by)) * 111700.0;
+	if (sides(g, p, geo, lo, e) < 0)
+		return -1;
+	if (g->projected) {
+		/* the chord of a straight grid side drawn straight between
+		 * longitude-latitude points bulges up to d^2/8R: inset */
+		double d = fmax(g->w0, g->h0) * g->cell;
+		double in = (2 * g->cell + d * d / (8 * RMIN)) / 111000.0;
+		lo[0] += in / cos(fmin(89, fmax(fabs(lo[1]), fabs(lo[3]))) *
+		    M_PI / 180), lo[2] -= in / cos(fmin(89, fmax(fabs(lo[1]),
+		    fabs(lo[3]))) * M_PI / 180);
+		lo[1] += in, lo[3] -= in;
+	}
+	g->r[0] = fmin(lo[0], lo[2]), g->r[2] = fmax(lo[0], lo[2]);
+	g->r[1] = fmin(lo[1], lo[3]), g->r[3] = fmax(lo[1], lo[3]);
+	if (!(g->r[0] >= -180 && g->r[2] <= 180 && g->r[1] >= -90 &&
+	    g->r[3] <= 90 && (g->projected ? lo[0] < lo[2] && lo[1] < lo[3] :
+	    1)))
+		return tl_fail(e, "the DEM's longitudes %.9g .. %.9g, latitudes "
+		    "%.9g .. %.9g: not a rectangle within -180 .. 180, "
+		    "-90 .. 90", lo[0], lo[2], lo[1], lo[3]);
+	return boxes(g, ix, p, e);
+}
+
+void
+tr_grid_free(tr_grid *g, int nlevels)
+{
+	for (int l = 0; g->box && l < nlevels; l++)
+		free(g->box[l]);
+	free(g->box);
+	g->box = NULL;
+}
+
+const pyramid_block *
+tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
+    const double **lat, tl_err *e)
+{
+	int s = (bi * 7 + bj * 13 + l * 31) & (TR_CACHE - 1);
+	pyramid_block *b = &w->cache[s];
+	double *x, *y;
+
+	*lon = w->clon[s], *lat = w->clat[s];
+	if (w->cused[s] == 1 && w->ckey[s][0] == l && w->ckey[s][1] == bi &&
+	    w->ckey[s][2] == bj)
+		return b;
+	if (w->cused[s] == 0) {
+		if (pyramid_block_alloc(b, 0, e) < 0)
+			return NULL;
+		w->cused[s] = 2; /* allocated, holding nothing */
+		w->clon[s] = malloc(PYRAMID_N * sizeof *w->clon[s]);
+		w->clat[s] = malloc(PYRAMID_N * sizeof *w->clat[s]);
+		if (!w->clon[s] || !w->clat[s])
+			return tl_fail(e, "block cache: out of memory"), NULL;
+	}
+	w->cused[s] = 2;
+	if (w->ix->lev[l].displaced)
+		return tl_fail(e, "%s: level %d is displaced (QEM-3D): not "
+		    "exported", w->dir, l), NULL;
+	b->level = l, b->bi = bi, b->bj = bj, b->displaced = 0;
+	if (pyramid_block_load(w->dir, w->ix, b, e) < 0)
+		return NULL;
+	x = w->clon[s], y = w->clat[s];
+	for (int r = 0; r < BT_SIZE; r++)
+		for (int c = 0; c < BT_SIZE; c++) {
+			x[r * BT_SIZE + c] = (double)(bi * BT_CELLS + c) * (1 << l);
+			y[r * BT_SIZE + c] = (double)(bj * BT_CELLS + r) * (1 << l);
+		}
+	if (tr_lonlat(w->g, &w->proj, &w->ix->geo, x, y, PYRAMID_N, e) < 0)
+		return NULL;
+	w->cused[s] = 1;
+	w->ckey[s][0] = l, w->ckey[s][1] = bi, w->ckey[s][2] = bj;
+	*lon = x, *lat = y;
+	return b;
+}

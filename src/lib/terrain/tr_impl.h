@@ -1,0 +1,144 @@
+/* tr_impl.h - the pieces of the terrain export (terrain.h): the encoder
+ * (qm_encode.c), a tile's mesh (tr_mesh.c, tr_clip.c), its measured
+ * error (tr_measure.c), layer.json (tr_layer.c), the run (tr_run.c). */
+#ifndef TL_TR_IMPL_H
+#define TL_TR_IMPL_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "geo/wgs84.h"
+#include "pyramid/pyramid.h"
+#include "terrain/terrain.h"
+
+#define QM_MAX 32767 /* u, v, height quantised to 0 .. QM_MAX */
+#define TR_CACHE 16  /* blocks a thread holds (a power of 2) */
+
+/* --- the encoder's pieces (qm_encode.c), exposed for the unit test --- */
+
+/* Zig-zag of a delta in -32767 .. 32767: 2d for d >= 0, -2d-1 below. */
+uint16_t qm_zigzag(int d);
+/* High-water-mark code of index i given the highest so far (updated):
+ * highest - i, highest incremented when the code is 0. i <= *highest. */
+uint32_t qm_hwm(uint32_t i, uint32_t *highest);
+/* Oct encoding of a unit vector into two bytes (CesiumJS's
+ * AttributeCompression.octEncode, range 255). */
+void qm_oct(const double n[3], uint8_t out[2]);
+/* CesiumJS's EllipsoidalOccluder.computeHorizonCullingPointFromVertices
+ * on WGS84 (scaled space), direction dir: 0, or -1 when no point exists
+ * (a vertex at or past 90 degrees from dir on the horizon cone). */
+int qm_horizon(const double dir[3], const double *p, int n, double out[3]);
+
+/* --- a tile's mesh ------------------------------------------------- */
+
+/* The DEM on the globe: level-0 grid place (I, J) to longitude and
+ * latitude (degrees), affine for a geographic DEM (lon = ax + bx I,
+ * lat = ay + by J), through PROJ for a projected one; the rectangle r
+ * (west, south, east, north) of the terrain made from it: the DEM's
+ * extent when geographic, the largest rectangle inside its footprint,
+ * inset, when projected; and per pyramid level and block the longitude,
+ * latitude box of its vertices (4 each). */
+typedef struct {
+	int projected;
+	double ax, bx, ay, by;
+	int w0, h0;             /* level-0 size */
+	double r[4];
+	double cell;            /* metres: the longest level-0 step */
+	double **box;           /* per level: 4 per block */
+} tr_grid;
+
+/* The grid of the pyramid ix (tr_grid.c); p: a PROJ for a projected
+ * DEM. */
+int tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p,
+    tl_err *e);
+void tr_grid_free(tr_grid *g, int nlevels);
+/* Longitude, latitude of level-0 places, n at once (x, y in place). */
+int tr_lonlat(const tr_grid *g, geo_proj *p, const georef *geo, double *x,
+    double *y, int n, tl_err *e);
+
+/* A tile's vertices (longitude, latitude, height) and triangles. */
+typedef struct {
+	double *x, *y, *h;
+	int nv, cv;
+	int *tri;               /* 3 per triangle */
+	int nt, ct;
+	int *hash, hcap;        /* (x, y) -> vertex + 1 */
+} tr_mesh;
+
+/* A selection triangle: longitudes, latitudes, heights. */
+typedef struct {
+	double x[3], y[3], h[3];
+} tr_tri;
+
+/* One thread's state. */
+typedef struct {
+	const pyramid_index *ix;
+	const char *dir;
+	const tr_grid *g;
+	geo_proj proj;          /* projected DEMs */
+	pyramid_block cache[TR_CACHE];
+	double *clon[TR_CACHE], *clat[TR_CACHE]; /* per block vertex */
+	int ckey[TR_CACHE][3], cused[TR_CACHE];
+	tr_tri *sel;            /* the selection over the tile */
+	int nsel, csel;
+	tr_mesh m;
+	uint16_t *u, *v, *q;    /* quantised vertices */
+	double *pos;            /* decoded ECEF, 3 each */
+	int *order, *tmp;
+	unsigned char *buf;     /* the encoded tile */
+	size_t nbuf, cbuf;
+	int kids[4];            /* the tile's children written (x0 y0 x1
+	                         * y1 at the next level), x0 < 0: none */
+	double err, direct;     /* largest d[0], d[1] of its tiles (pass) */
+	long long tiles, tris, bytes;
+} tr_work;
+
+/* A level's choice: pyramid level p, tolerance tau, lattice n x n cells
+ * per tile. */
+typedef struct {
+	int z, p, n;
+	double tau, el;
+	double base;            /* level p's largest base error */
+} tr_choice;
+
+/* Block (bi, bj) of pyramid level l through the thread's cache, with
+ * its vertices' longitudes and latitudes (*lon, *lat: 129 x 129). */
+const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj,
+    const double **lon, const double **lat, tl_err *e);
+
+/* The lon/lat rectangle of tile (z, x, y): west, south, east, north;
+ * lattice line k of the tile (0 .. n) along x and y, exact for all
+ * tiles sharing it. */
+void tr_tile_rect(int z, int x, int y, double r[4]);
+double tr_lattice_lon(int z, int x, int n, int k);
+double tr_lattice_lat(int z, int y, int n, int k);
+
+/* The mesh of tile (x, y) under choice c (tr_mesh.c). */
+int tr_mesh_tile(tr_work *w, const tr_choice *c, int x, int y, tl_err *e);
+void tr_mesh_free(tr_mesh *m);
+/* Vertex of (x, y, h), shared with an earlier one at the same place. */
+int tr_mesh_vertex(tr_mesh *m, double x, double y, double h, tl_err *e);
+int tr_mesh_tri(tr_mesh *m, int a, int b, int c, tl_err *e);
+/* The part of selection triangle t inside r (x0, y0, x1, y1), into m
+ * (tr_clip.c). */
+int tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e);
+
+/* Quantise, order, decode w->m for tile (z, x, y): fills u, v, q, pos,
+ * the triangles counter-clockwise in u, v; *minh, *maxh the header's
+ * float heights (tr_measure.c). */
+int tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
+    tl_err *e);
+/* Over the level-0 samples in the tile, along the normal: d[0] the
+ * largest distance between the decoded surface and the selection's, d[1]
+ * between it and the samples (tr_measure.c). */
+int tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e);
+
+/* The quantized-mesh bytes of the quantised tile into w->buf
+ * (qm_encode.c). */
+int qm_encode(tr_work *w, float minh, float maxh, int gzip, tl_err *e);
+
+/* layer.json into dir (tr_layer.c). */
+int tr_layer_write(const char *dir, const tr_args *a, int maxzoom,
+    const int (*avail)[4], const char *datum, tl_err *e);
+
+#endif

@@ -1,0 +1,374 @@
+/* tr_measure.c - a tile as the renderer gets it (u, v, height quantised
+ * to 0 .. 32767, triangles counter-clockwise, vertices in order of first
+ * use for the high-water mark) and its error. At every level-0 sample of
+ * the pyramid in the tile, the height of the drawn surface (the plane,
+ * in ECEF, of the triangle over it between the DECODED vertices, met by
+ * the ellipsoid's normal through the sample) is compared with the
+ * selection's surface there (the same triangle before quantisation,
+ * linear in longitude, latitude, height): d[0], the largest difference,
+ * holds every term but the selection's own error (the flat chords' sag,
+ * the quantisation, the CRS mapping), which the pyramid's saturated
+ * errors bound for the valid samples; and with the sample's height:
+ * d[1], the error itself, filled voids included. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geo/wgs84.h"
+#include "terrain/tr_impl.h"
+
+
+static int
+grow(tr_work *w, tl_err *e)
+{
+	size_t n = (size_t)w->m.cv;
+	uint16_t *u = realloc(w->u, n * sizeof *u), *v, *q;
+
+	if (u)
+		w->u = u;
+	v = u ? realloc(w->v, n * sizeof *v) : NULL;
+	if (v)
+		w->v = v;
+	q = v ? realloc(w->q, n * sizeof *q) : NULL;
+	if (q)
+		w->q = q;
+	double *p = q ? realloc(w->pos, 3 * n * sizeof *p) : NULL;
+	if (p)
+		w->pos = p;
+	int *o = p ? realloc(w->order, n * sizeof *o) : NULL;
+	if (o)
+		w->order = o;
+	int *t = o ? realloc(w->tmp, 3 * n * sizeof *t) : NULL;
+	if (t == NULL)
+		return tl_fail(e, "tile: out of memory");
+	w->tmp = t;
+	return 0;
+}
+
+static long
+qarea(const tr_work *w, const int *k)
+{
+	long ax = w->u[k[1]] - w->u[k[0]], ay = w->v[k[1]] - w->v[k[0]];
+	long bx = w->u[k[2]] - w->u[k[0]], by = w->v[k[2]] - w->v[k[0]];
+
+	return ax * by - ay * bx;
+}
+
+/* Vertices renumbered by first use; unused ones dropped but on the
+ * tile's edges. */
+static void
+renumber(tr_work *w)
+{
+	tr_mesh *m = &w->m;
+	int n = 0;
+
+	for (int i = 0; i < m->nv; i++)
+		w->order[i] = -1;
+	for (int i = 0; i < 3 * m->nt; i++) {
+		int k = m->tri[i];
+		if (w->order[k] < 0)
+			w->order[k] = n++;
+		m->tri[i] = w->order[k];
+	}
+	/* an edge vertex whose triangles all lost their area to the
+	 * quantisation stays, after the others: the neighbour has it */
+	for (int i = 0; i < m->nv; i++)
+		if (w->order[i] < 0 && (w->u[i] == 0 || w->u[i] == QM_MAX ||
+		    w->v[i] == 0 || w->v[i] == QM_MAX))
+			w->order[i] = n++;
+	for (int i = 0; i < m->nv; i++) {
+		int k = w->order[i];
+		if (k < 0)
+			continue;
+		/* k <= i: compacting in place from the front is safe only
+		 * through copies */
+		w->tmp[3 * k] = w->u[i], w->tmp[3 * k + 1] = w->v[i];
+		w->tmp[3 * k + 2] = w->q[i];
+		w->pos[3 * k] = m->x[i], w->pos[3 * k + 1] = m->y[i];
+		w->pos[3 * k + 2] = m->h[i];
+	}
+	for (int k = 0; k < n; k++) {
+		w->u[k] = (uint16_t)w->tmp[3 * k];
+		w->v[k] = (uint16_t)w->tmp[3 * k + 1];
+		w->q[k] = (uint16_t)w->tmp[3 * k + 2];
+		m->x[k] = w->pos[3 * k], m->y[k] = w->pos[3 * k + 1];
+		m->h[k] = w->pos[3 * k + 2];
+	}
+	m->nv = n;
+}
+
+int
+tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
+    tl_err *e)
+{
+	tr_mesh *m = &w->m;
+	double r[4], wd = ldexp(180, -z), lo = INFINITY, hi = -INFINITY;
+	int nt = 0;
+
+	if (grow(w, e) < 0)
+		return -1;
+	tr_tile_rect(z, x, y, r);
+	for (int i = 0; i < m->nv; i++) {
+		double u = rint((m->x[i] - r[0]) / wd * QM_MAX);
+		double v = rint((m->y[i] - r[1]) / wd * QM_MAX);
+		/* on the tile's edge exactly, or off it: a vertex near the
+		 * edge does not join the edge lists, which are the vertices
+		 * the neighbour shares */
+		u = m->x[i] == r[0] ? 0 : m->x[i] == r[2] ? QM_MAX :
+		    fmax(1, fmin(QM_MAX - 1, u));
+		v = m->y[i] == r[1] ? 0 : m->y[i] == r[3] ? QM_MAX :
+		    fmax(1, fmin(QM_MAX - 1, v));
+		w->u[i] = (uint16_t)u, w->v[i] = (uint16_t)v;
+		w->q[i] = 0;
+	}
+	/* counter-clockwise in longitude, latitude; those quantisation
+	 * leaves without area dropped */
+	for (int t = 0; t < m->nt; t++) {
+		int *k = m->tri + 3 * t;
+		double ax = m->x[k[1]] - m->x[k[0]], ay = m->y[k[1]] - m->y[k[0]];
+		double bx = m->x[k[2]] - m->x[k[0]], by = m->y[k[2]] - m->y[k[0]];
+		if (ax * by - ay * bx < 0) {
+			int s = k[1];
+			k[1] = k[2], k[2] = s;
+		}
+		if (qarea(w, k) <= 0)
+			continue;
+		memmove(m->tri + 3 * nt++, k, 3 * sizeof *k);
+	}
+	m->nt = nt;
+	renumber(w);
+	/* the header's heights: the used vertices' extremes, as floats
+	 * holding them; the extremes decode to them exactly */
+	for (int i = 0; i < m->nv; i++)
+		lo = fmin(lo, m->h[i]), hi = fmax(hi, m->h[i]);
+	*minh = (float)lo, *maxh = (float)hi;
+	if (*minh > lo)
+		*minh = nextafterf(*minh, -INFINITY);
+	if (*maxh < hi)
+		*maxh = nextafterf(*maxh, INFINITY);
+	for (int i = 0; i < m->nv; i++) {
+		double q = *maxh > *minh ? rint((m->h[i] - *minh) /
+		    ((double)*maxh - *minh) * QM_MAX) : 0;
+		w->q[i] = (uint16_t)fmax(0, fmin(QM_MAX, q));
+		if (m->h[i] == hi)
+			w->q[i] = QM_MAX; /* not 32766 for a float's rounding */
+		if (m->h[i] == lo)
+			w->q[i] = 0;
+	}
+	for (int i = 0; i < m->nv; i++) {
+		double tu = w->u[i] / (double)QM_MAX, tv = w->v[i] / (double)QM_MAX;
+		double tq = w->q[i] / (double)QM_MAX;
+		geo_ecef((1 - tu) * r[0] + tu * r[2], (1 - tv) * r[1] + tv * r[3],
+		    (1 - tq) * *minh + tq * *maxh, w->pos + 3 * i);
+	}
+	return 0;
+}
+
+/* The triangles by bucket of a grid over the part of the u, v square
+ * that holds samples (the tile within the terrain's rectangle), about
+ * one triangle a bucket. */
+typedef struct {
+	int *start, *list, nb;
+	double o[2], s[2];  /* bucket of (u, v): ((u, v) - o) * s */
+	double *plane;      /* per triangle: normal, offset (4) */
+} locator;
+
+static int
+bucket(const locator *l, double c, int k)
+{
+	int b = (int)floor((c - l->o[k]) * l->s[k]);
+
+	return b < 0 ? 0 : b >= l->nb ? l->nb - 1 : b;
+}
+
+/* Each triangle into the buckets its box meets (counts, then lists). */
+static void
+fill(tr_work *w, locator *l, int pass)
+{
+	for (int t = 0; t < w->m.nt; t++) {
+		const int *k = w->m.tri + 3 * t;
+		double lo[2] = { QM_MAX, QM_MAX }, hi[2] = { 0, 0 };
+		for (int j = 0; j < 3; j++) {
+			lo[0] = fmin(lo[0], w->u[k[j]]), hi[0] = fmax(hi[0], w->u[k[j]]);
+			lo[1] = fmin(lo[1], w->v[k[j]]), hi[1] = fmax(hi[1], w->v[k[j]]);
+		}
+		if (hi[0] < l->o[0] || hi[1] < l->o[1] ||
+		    lo[0] > l->o[0] + l->nb / l->s[0] ||
+		    lo[1] > l->o[1] + l->nb / l->s[1])
+			continue;
+		for (int bj = bucket(l, lo[1], 1); bj <= bucket(l, hi[1], 1); bj++)
+			for (int bi = bucket(l, lo[0], 0); bi <= bucket(l, hi[0],
+			    0); bi++) {
+				if (pass == 0)
+					l->start[bj * l->nb + bi + 1]++;
+				else
+					l->list[l->start[bj * l->nb + bi]++] = t;
+			}
+	}
+}
+
+static int
+locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
+{
+	tr_mesh *m = &w->m;
+	int nb = (int)ceil(sqrt((double)m->nt)), n;
+
+	l->nb = nb < 8 ? 8 : nb > 512 ? 512 : nb, n = l->nb * l->nb;
+	for (int k = 0; k < 2; k++) {
+		l->o[k] = uv[k] - 1;
+		l->s[k] = l->nb / (uv[k + 2] - uv[k] + 2);
+	}
+	l->start = calloc((size_t)n + 1, sizeof *l->start);
+	l->plane = malloc((size_t)(m->nt ? m->nt : 1) * 4 * sizeof *l->plane);
+	if (!l->start || !l->plane)
+		return tl_fail(e, "tile: out of memory");
+	fill(w, l, 0);
+	for (int i = 0; i < n; i++)
+		l->start[i + 1] += l->start[i];
+	if ((l->list = malloc((size_t)(l->start[n] ? l->start[n] : 1) *
+	    sizeof *l->list)) == NULL)
+		return tl_fail(e, "tile: out of memory");
+	fill(w, l, 1);
+	for (int i = n; i > 0; i--)
+		l->start[i] = l->start[i - 1];
+	l->start[0] = 0;
+	for (int t = 0; t < m->nt; t++) {
+		const int *k = m->tri + 3 * t;
+		const double *a = w->pos + 3 * k[0], *b = w->pos + 3 * k[1],
+		    *c = w->pos + 3 * k[2];
+		double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+		double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+		double *p = l->plane + 4 * t;
+		p[0] = u[1] * v[2] - u[2] * v[1], p[1] = u[2] * v[0] - u[0] * v[2];
+		p[2] = u[0] * v[1] - u[1] * v[0];
+		p[3] = p[0] * a[0] + p[1] * a[1] + p[2] * a[2];
+	}
+	return 0;
+}
+
+/* The triangle over (su, sv): the one of its bucket with the largest
+ * least barycentric coordinate (inside: >= 0). */
+static int
+locate(const tr_work *w, const locator *l, double su, double sv)
+{
+	int b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0), best = -1;
+	double bv = -INFINITY;
+
+	for (int i = l->start[b]; i < l->start[b + 1]; i++) {
+		const int *k = w->m.tri + 3 * l->list[i];
+		double x0 = w->u[k[0]], y0 = w->v[k[0]];
+		double x1 = w->u[k[1]] - x0, y1 = w->v[k[1]] - y0;
+		double x2 = w->u[k[2]] - x0, y2 = w->v[k[2]] - y0;
+		double d = x1 * y2 - x2 * y1, px = su - x0, py = sv - y0;
+		double b1 = (px * y2 - x2 * py) / d, b2 = (x1 * py - px * y1) / d;
+		double mn = fmin(1 - b1 - b2, fmin(b1, b2));
+		if (mn > bv)
+			bv = mn, best = l->list[i];
+	}
+	return best;
+}
+
+/* The selection's surface at (lon, lat): the plane, in longitude,
+ * latitude and height, of mesh triangle q before quantisation (a piece
+ * of a selected triangle, in its plane). */
+static double
+flat(const tr_work *w, int q, double lon, double lat)
+{
+	const int *k = w->m.tri + 3 * q;
+	const double *x = w->m.x, *y = w->m.y, *h = w->m.h;
+	double x1 = x[k[1]] - x[k[0]], y1 = y[k[1]] - y[k[0]];
+	double x2 = x[k[2]] - x[k[0]], y2 = y[k[2]] - y[k[0]];
+	double d = x1 * y2 - x2 * y1, px = lon - x[k[0]], py = lat - y[k[0]];
+	double b1 = (px * y2 - x2 * py) / d, b2 = (x1 * py - px * y1) / d;
+
+	return h[k[0]] + b1 * (h[k[1]] - h[k[0]]) + b2 * (h[k[2]] - h[k[0]]);
+}
+
+static int
+measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
+    const double r[4], double d[2], tl_err *e)
+{
+	const double *lon, *lat;
+	const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
+	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
+	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
+
+	if (b == NULL)
+		return -1;
+	/* a geographic grid: latitude per row, longitude per column, so the
+	 * normals' sines and cosines per row and column (as geo_ellipsoid
+	 * computes them) */
+	for (int k = 0; !w->g->projected && k < BT_SIZE; k++) {
+		double a = lat[k * BT_SIZE] * (M_PI / 180), o = lon[k] *
+		    (M_PI / 180);
+		sl[k] = sin(a), cl[k] = cos(a), so[k] = sin(o), co[k] = cos(o);
+		nn[k] = 6378137.0 / sqrt(1 - e2 * sl[k] * sl[k]);
+	}
+	for (int J = 0; J < BT_SIZE; J++) {
+		if (bj * BT_CELLS + J >= w->g->h0)
+			break;
+		for (int I = 0; I < BT_SIZE && bi * BT_CELLS + I < w->g->w0;
+		    I++) {
+			int k = J * BT_SIZE + I;
+			double f[3], up[3];
+			if (lon[k] < t[0] || lon[k] > t[2] || lat[k] < t[1] ||
+			    lat[k] > t[3])
+				continue;
+			int q = locate(w, l, (lon[k] - r[0]) / wd * QM_MAX,
+			    (lat[k] - r[1]) / wd * QM_MAX);
+			if (q < 0)
+				return tl_fail(e, "tile: sample (%d, %d) under no "
+				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
+			const double *n = l->plane + 4 * q;
+			if (w->g->projected)
+				geo_ellipsoid(lon[k], lat[k], f, up);
+			else {
+				f[0] = nn[J] * cl[J] * co[I];
+				f[1] = nn[J] * cl[J] * so[I];
+				f[2] = nn[J] * (1 - e2) * sl[J];
+				up[0] = cl[J] * co[I], up[1] = cl[J] * so[I];
+				up[2] = sl[J];
+			}
+			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
+			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+			d[0] = fmax(d[0], fabs(hs - flat(w, q, lon[k], lat[k])));
+			d[1] = fmax(d[1], fabs(hs - b->z[k]));
+		}
+	}
+	return 0;
+}
+
+/* Every level-0 sample in the tile and in the terrain's rectangle. */
+int
+tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
+{
+	const pyramid_level *L0 = &w->ix->lev[0];
+	locator l = { 0 };
+	double r[4], t[4];
+	int ret = -1;
+
+	d[0] = d[1] = 0;
+	tr_tile_rect(z, x, y, r);
+	t[0] = fmax(r[0], w->g->r[0]), t[2] = fmin(r[2], w->g->r[2]);
+	t[1] = fmax(r[1], w->g->r[1]), t[3] = fmin(r[3], w->g->r[3]);
+	if (!(t[0] <= t[2] && t[1] <= t[3]))
+		return 0; /* no sample */
+	double uv[4] = { (t[0] - r[0]) / (r[2] - r[0]) * QM_MAX,
+		(t[1] - r[1]) / (r[3] - r[1]) * QM_MAX,
+		(t[2] - r[0]) / (r[2] - r[0]) * QM_MAX,
+		(t[3] - r[1]) / (r[3] - r[1]) * QM_MAX };
+	if (locate_init(w, &l, uv, e) < 0)
+		goto done;
+	for (int k = 0; k < L0->blocks[0] * L0->blocks[1]; k++) {
+		const double *o = w->g->box[0] + 4 * k;
+		if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3])
+			continue;
+		if (measure_block(w, &l, k % L0->blocks[0], k / L0->blocks[0],
+		    t, r, d, e) < 0)
+			goto done;
+	}
+	ret = 0;
+done:
+	free(l.start), free(l.list), free(l.plane);
+	return ret;
+}

@@ -1,0 +1,161 @@
+# t_vgis2terrain - quantized-mesh terrain from a pyramid of a real DEM
+# (an ellipsoidal crop of SRTM N48W125: southern Vancouver Island and the
+# sea): layer.json's available rectangles are exactly the files, every
+# ancestor of a tile and both roots exist, every level within E_L by the
+# program's own measure and not vacuously, reruns and -j 1 / -j 2
+# byte-identical, -z the same tiles gzipped, the options in layer.json;
+# a UTM variant exported the same way; an orthometric pyramid refused
+# with the way out, an OUTDIR
+# inside the pyramid refused, a killed run leaves nothing.
+. "$(dirname "$0")/../lib.sh"
+
+# 513 x 513 void-free samples at 1", relief 0 - 800 m, ellipsoidal
+gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 1696 2176 513 513 \
+    "$DATA/N48W125.hgt" "$T/srtm.tif"
+/usr/bin/python3 "$TOP/tests/tools/ellipsoidal.py" "$T/srtm.tif" "$T/geo.tif"
+dem2vgis -H ellipsoid "$T/srtm.tif" "$T/pyr" 2>/dev/null
+dem2vgis "$T/srtm.tif" "$T/egm.pyr" 2>/dev/null
+
+# the report: per level "... level Z: ... measured M m; bound B m = F E_L";
+# every F <= 1 (the bound holds) and the error measured at the samples
+# at least 0.4 E_L at 5 levels or more (the bound is not vacuous)
+bounds() {
+	awk '/ level [0-9]+: .*bound/ {
+		z = $3; sub(":", "", z); el = 77067.34 / 2 ^ z
+		for (i = 1; i <= NF; i++) if ($i == "measured") m = $(i + 1)
+		if ($(NF - 1) > 1) bad++
+		if (m >= 0.4 * el) near++; n++
+	} END { exit !(n > 0 && bad == 0 && near >= 5) }' "$1"
+}
+
+run "export, 2 threads" vgis2terrain -j 2 --attribution "SRTM (NASA)" \
+    --parent-url "https://example.org/terrain/" "$T/pyr" "$T/qm"
+cp "$T/err" "$T/report"
+sed 's/^/#   /' "$T/report"
+
+# layer.json against the files
+/usr/bin/python3 - "$T/qm" >"$T/check" 2>&1 <<'PY'
+import glob, json, os, re, sys
+d = sys.argv[1]
+L = json.load(open(os.path.join(d, "layer.json")))
+files = set()
+for p in glob.glob(os.path.join(d, "*", "*", "*.terrain")):
+    z, x, y = map(int, re.match(r".*/(\d+)/(\d+)/(\d+)\.terrain$", p).groups())
+    files.add((z, x, y))
+ann = set()
+for z, rects in enumerate(L["available"]):
+    for r in rects:
+        for x in range(r["startX"], r["endX"] + 1):
+            for y in range(r["startY"], r["endY"] + 1):
+                ann.add((z, x, y))
+print("announced", len(ann), "files", len(files))
+print("exact", ann == files)
+print("roots", (0, 0, 0) in files and (0, 1, 0) in files)
+print("ancestors", all((z - 1, x // 2, y // 2) in files
+                       for z, x, y in files if z > 0))
+print("maxzoom", L["maxzoom"] == len(L["available"]) - 1 ==
+      max(z for z, _, _ in files))
+want = {"tilejson": "2.1.0", "format": "quantized-mesh-1.0",
+        "scheme": "tms", "projection": "EPSG:4326", "minzoom": 0,
+        "tiles": ["{z}/{x}/{y}.terrain?v={version}"],
+        "extensions": ["octvertexnormals", "metadata"],
+        "attribution": "SRTM (NASA)",
+        "parentUrl": "https://example.org/terrain/"}
+print("fields", all(L.get(k) == v for k, v in want.items()) and
+      "version" in L and "ellipsoid" in L["description"] and
+      len(L["bounds"]) == 4)
+# SRTM 1": the deepest level holds 64 samples a tile or fewer
+print("level14", L["maxzoom"] == 14)
+PY
+sed 's/^/#   /' "$T/check"
+grep -q "exact True" "$T/check"; ok $? "layer.json's available: exactly the files written"
+grep -q "roots True" "$T/check"; ok $? "both root tiles exist"
+grep -q "ancestors True" "$T/check"; ok $? "every tile's parent exists"
+grep -q "maxzoom True" "$T/check"; ok $? "maxzoom: the deepest level written"
+grep -q "level14 True" "$T/check"; ok $? "SRTM 1\": maxzoom 14"
+grep -q "fields True" "$T/check"; ok $? "layer.json's fields, attribution and parentUrl"
+
+# the bound: every level within E_L, and at the deep levels close to it
+bounds "$T/report"
+ok $? "every level's bound within E_L; measured, at least 5 levels at 0.4 E_L or more"
+
+run "rerun, 2 threads" vgis2terrain -q -j 2 --attribution "SRTM (NASA)" \
+    --parent-url "https://example.org/terrain/" "$T/pyr" "$T/qm2"
+run "rerun, 1 thread" vgis2terrain -q -j 1 --attribution "SRTM (NASA)" \
+    --parent-url "https://example.org/terrain/" "$T/pyr" "$T/qm1"
+diff -r "$T/qm" "$T/qm2" >/dev/null; ok $? "a rerun is byte-identical"
+diff -r "$T/qm" "$T/qm1" >/dev/null; ok $? "-j 1 and -j 2 are byte-identical"
+run "an existing terrain directory is replaced" \
+    vgis2terrain -q "$T/pyr" "$T/qm1"
+grep -q parentUrl "$T/qm1/layer.json"; [ $? -ne 0 ]
+ok $? "the replacement is the new export (no parentUrl)"
+
+run "-z" vgis2terrain -q -z -j 2 "$T/pyr" "$T/gz"
+n=0
+for f in "$T"/qm1/13/*/*.terrain; do
+	g=$T/gz/${f#"$T"/qm1/}
+	[ "$(head -c 2 "$g" | od -An -tx1 | tr -d ' ')" = 1f8b ] &&
+	    gzip -dc <"$g" | cmp -s - "$f" || n=$((n + 1))
+done
+[ $n -eq 0 ]; ok $? "-z: the same tiles, gzipped"
+
+# refusals, before anything is written
+fails "EGM96 heights: refused, saying how to rebuild" 1 \
+    'EPSG:5773.*dem2vgis -H ellipsoid' vgis2terrain "$T/egm.pyr" "$T/egm.qm"
+[ ! -e "$T/egm.qm" ]; ok $? "nothing written for a refusal"
+# a projected DEM: the crop warped to UTM 10N at 30 m, cut inside its
+# valid footprint (no warped nodata corners)
+gdalwarp -q -t_srs EPSG:32610 -tr 30 30 -r bilinear -te 388000 5347000 \
+    396000 5360000 "$T/geo.tif" "$T/utm.tif"
+dem2vgis "$T/utm.tif" "$T/utm.pyr" 2>/dev/null
+run "a UTM pyramid exported" vgis2terrain -j 2 "$T/utm.pyr" "$T/utm.qm"
+cp "$T/err" "$T/utmreport"
+bounds "$T/utmreport"
+ok $? "UTM: every level's bound within E_L; measured, at least 5 levels at 0.4 E_L or more"
+/usr/bin/python3 - "$T/utm.qm" <<'PY'
+import glob, json, os, re, sys
+d = sys.argv[1]
+L = json.load(open(os.path.join(d, "layer.json")))
+files = {tuple(map(int, re.match(r".*/(\d+)/(\d+)/(\d+)\.terrain$", p).groups()))
+         for p in glob.glob(os.path.join(d, "*", "*", "*.terrain"))}
+ann = {(z, x, y) for z, rs in enumerate(L["available"]) for r in rs
+       for x in range(r["startX"], r["endX"] + 1)
+       for y in range(r["startY"], r["endY"] + 1)}
+sys.exit(not (ann == files and all((z - 1, x // 2, y // 2) in files
+                                   for z, x, y in files if z > 0)))
+PY
+ok $? "UTM: available is exactly the files, every parent exists"
+fails "OUTDIR inside the pyramid: refused" 1 'inside' \
+    vgis2terrain "$T/pyr" "$T/pyr/qm"
+[ ! -e "$T/pyr/qm" ]; ok $? "nothing written inside the pyramid"
+mkdir "$T/other"
+fails "an OUTDIR that is no terrain: not replaced" 1 'not a terrain' \
+    vgis2terrain "$T/pyr" "$T/other"
+fails "no operands: usage, exit 2" 2 usage vgis2terrain
+fails "-j 0: exit 2" 2 '-j' vgis2terrain -j 0 "$T/pyr" "$T/x"
+vgis2terrain --help | grep -q '^usage: vgis2terrain'; ok $? "--help"
+
+# killed: by TERM nothing is left; by KILL the next run clears it
+vgis2terrain -q -j 1 "$T/pyr" "$T/killed" &
+pid=$!
+sleep 0.5
+if kill -TERM $pid 2>/dev/null; then
+	wait $pid
+	[ ! -e "$T/killed" ] && [ -z "$(ls -a "$T" | grep killed)" ]
+	ok $? "TERM: no OUTDIR and no temporary left"
+else
+	wait $pid
+	echo "ok $((_n + 1)) - # SKIP the run ended before the kill"
+	_n=$((_n + 1))
+fi
+rm -rf "$T/killed"
+vgis2terrain -q -j 1 "$T/pyr" "$T/killed" &
+pid=$!
+sleep 0.5
+kill -KILL $pid 2>/dev/null
+wait $pid
+[ ! -e "$T/killed" ]; ok $? "KILL: no OUTDIR"
+vgis2terrain -q -j 2 "$T/pyr" "$T/killed"
+[ -z "$(ls -a "$T" | grep '^\.killed\.')" ] && [ -f "$T/killed/layer.json" ]
+ok $? "KILL: the next run removes the dead run's temporary"
+done_testing
