@@ -47,7 +47,8 @@ pkgs_pyramid := jansson
 pkgs_tiles3d := jansson
 pkgs_play    := egl epoxy glfw3 stb
 # the programs: the layers each uses (cli.c, their shared start-up, uses
-# uses_cli)
+# uses_cli; the other files of src/cmd, the work the programs share, are
+# build/libcmd.a, of which each links what it calls)
 uses_cli        := base raster dem
 uses_dem2fqm    := qem
 uses_fqmfilter  := qem
@@ -57,6 +58,7 @@ uses_tilecheck  := verify
 uses_tileplay   := play verify
 uses_dem2vgis   := jobs
 uses_vgis2tiles := tiles3d
+uses_vgis-job   := jobs pack
 # what a layer's tests use beside it: the packer's results are checked by
 # the independent checker
 tests_pack      := verify
@@ -84,7 +86,8 @@ ld       = $(call archives,$(1)) -Wl,--as-needed \
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis-job
+CMDOBJS := $(patsubst src/cmd/%.c,$(B)/cmd/%.o,$(filter-out $(PROGS:%=src/cmd/%.c),$(wildcard src/cmd/*.c)))
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
@@ -135,10 +138,14 @@ $(B)/cmd/%.o: src/cmd/%.c | $(B)/.deps
 	@mkdir -p $(@D)
 	$(CC) $(ALLCFLAGS) -MMD -MP -c $< -o $@
 
-# Each program with cli.o and the layers it uses.
+$(B)/libcmd.a: $(CMDOBJS)
+	rm -f $@
+	ar rcs $@ $^
+
+# Each program with libcmd.a (cli.o...) and the layers it uses.
 define prog_rule
-$(B)/$(1): $(B)/cmd/$(1).o $(B)/cmd/cli.o $(call archives,$(uses_$(1)) $(uses_cli))
-	$$(CC) $$(CFLAGS) $$(LDFLAGS) -o $$@ $(B)/cmd/$(1).o $(B)/cmd/cli.o \
+$(B)/$(1): $(B)/cmd/$(1).o $(B)/libcmd.a $(call archives,$(uses_$(1)) $(uses_cli))
+	$$(CC) $$(CFLAGS) $$(LDFLAGS) -o $$@ $(B)/cmd/$(1).o $(B)/libcmd.a \
 	    $$(call ld,$(uses_$(1)) $(uses_cli))
 endef
 $(foreach p,$(PROGS),$(eval $(call prog_rule,$(p))))
