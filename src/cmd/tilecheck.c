@@ -15,7 +15,7 @@ static const char usage[] =
     "  --dem dem       the DEM it was made from (a VRT or a list of DEM files\n"
     "                  for a mosaic): check its errors too\n"
     "  --tau t,...     tolerances in metres instead of each level's sweep\n"
-    "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+    CLI_DEM_HELP
     "exit status: 0 pass, 1 violations, 2 usage, 3 cannot check\n";
 
 enum { OPT_DEM = 256, OPT_TAU };
