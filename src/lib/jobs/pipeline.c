@@ -219,7 +219,8 @@ level_count(const pipeline_opts *o, const char *dem, int *levels,
 
 	/* the reader keeps the outputs off the DEM's files (a list's
 	 * entries, a VRT's sources), which it alone can tell */
-	say(&a, "vgis-job"), say(&a, "guard"), say(&a, dem), say(&a, o->out);
+	say(&a, "vgis-job"), say(&a, "guard"), say(&a, "--"), say(&a, dem);
+	say(&a, o->out);
 	if (o->plan != NULL)
 		say(&a, o->plan);
 	if (alone(o, &a, -1, 1, NULL, 0, status, e) < 0)
