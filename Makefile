@@ -1,5 +1,5 @@
 # terrain LOD toolchain: dem2fqm fqmfilter fqmsolve tilepack tileplay
-# tilecheck dem2vgis vgis2tiles vgis2terrain
+# tilecheck dem2vgis vgis2tiles vgis2terrain (and vgis-job, the steps plans run)
 # make            build everything (installs missing Debian packages first)
 # make check      build and run every test
 # make example    build a pyramid from the default example DEM
@@ -50,7 +50,8 @@ pkgs_verify  := zlib
 pkgs_terrain := jansson zlib
 pkgs_play    := egl epoxy glfw3 stb
 # the programs: the layers each uses (cli.c, their shared start-up, uses
-# uses_cli)
+# uses_cli; the other files of src/cmd, the work the programs share, are
+# build/libcmd.a, of which each links what it calls)
 uses_cli        := base raster dem
 uses_dem2fqm    := qem
 uses_fqmfilter  := qem
@@ -61,6 +62,7 @@ uses_tileplay   := play verify
 uses_dem2vgis   := jobs
 uses_vgis2tiles := tiles3d
 uses_vgis2terrain := terrain
+uses_vgis-job   := jobs pack
 # what a layer's tests use beside it: the packer's results are checked by
 # the independent checker
 tests_pack      := verify
@@ -88,7 +90,7 @@ ld       = $(call archives,$(1)) -Wl,--as-needed \
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis2terrain
+# tilecheck dem2vgis vgis2tiles vgis2terrain (and vgis-job, the steps plans run)
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so
@@ -140,10 +142,14 @@ $(B)/cmd/%.o: src/cmd/%.c | $(B)/.deps
 	@mkdir -p $(@D)
 	$(CC) $(ALLCFLAGS) -MMD -MP -c $< -o $@
 
-# Each program with cli.o and the layers it uses.
+$(B)/libcmd.a: $(CMDOBJS)
+	rm -f $@
+	ar rcs $@ $^
+
+# Each program with libcmd.a (cli.o...) and the layers it uses.
 define prog_rule
-$(B)/$(1): $(B)/cmd/$(1).o $(B)/cmd/cli.o $(call archives,$(uses_$(1)) $(uses_cli))
-	$$(CC) $$(CFLAGS) $$(LDFLAGS) -o $$@ $(B)/cmd/$(1).o $(B)/cmd/cli.o \
+$(B)/$(1): $(B)/cmd/$(1).o $(B)/libcmd.a $(call archives,$(uses_$(1)) $(uses_cli))
+	$$(CC) $$(CFLAGS) $$(LDFLAGS) -o $$@ $(B)/cmd/$(1).o $(B)/libcmd.a \
 	    $$(call ld,$(uses_$(1)) $(uses_cli))
 endef
 $(foreach p,$(PROGS),$(eval $(call prog_rule,$(p))))

@@ -16,8 +16,30 @@
 static const struct option shared_long[] = {
 	{ "help", no_argument, NULL, 'h' },
 	{ "version", no_argument, NULL, 'V' },
-	{ "resample", no_argument, NULL, DEM_RESAMPLE }, /* CLI_DEM only */
 };
+
+/* The DEM options (dem.h's dem_option applies them): the one table that
+ * the parser (build), the usage (cli_usage) and the argv words passed on
+ * to a stage (cli_dem_argv) read. */
+static const struct {
+	int ch;            /* the letter, or DEM_RESAMPLE for a long one */
+	const char *flag;  /* as a stage is given it */
+	const char *arg;   /* its argument's name, NULL: none */
+	const char *help;  /* '\n' continues the help on the next line */
+} dem_flags[] = {
+	{ 'D', "-D", "datum", "the DEM's vertical datum (EPSG:5773) when it "
+	    "declares none" },
+	{ 'e', "-e", "encoding", "auto (default), grey, terrainrgb, terrarium" },
+	{ 'H', "-H", "datum", "convert heights to datum: ellipsoid (WGS 84) or "
+	    "EPSG:n" },
+	{ 'N', "-N", "nodata", "void value, overriding the file's" },
+	{ 'n', "-n", "name", "the file name of a DEM on stdin (N42E001.hgt)" },
+	{ 's', "-s", "dx[,dy]", "cell size in metres (overrides the CRS's "
+	    "metric)" },
+	{ DEM_RESAMPLE, "--resample", NULL, "let GDAL resample a VRT's scaled "
+	    "sources, not refuse them" },
+};
+#define NDEMFLAGS (sizeof dem_flags / sizeof dem_flags[0])
 
 /* The program's name for the check of stdout at exit, and whether a
  * failure was already reported (its status is 1 already). */
@@ -77,19 +99,50 @@ build(cli *c, const char *optstring, const struct option *longopts)
 {
 	size_t n = 0;
 
-	snprintf(c->optstring, sizeof c->optstring, "%shV%s%s",
+	size_t len;
+
+	snprintf(c->optstring, sizeof c->optstring, "%shV%s",
 	    optstring != NULL ? optstring : "",
-	    c->sets & CLI_COMPRESSION ? "z:" : "",
-	    c->sets & CLI_DEM ? DEM_OPTS : "");
+	    c->sets & CLI_COMPRESSION ? "z:" : "");
 	for (; longopts != NULL && longopts[n].name != NULL; n++) {
-		assert(n + 4 < CLI_MAXLONG);
+		assert(n + 2 + NDEMFLAGS < CLI_MAXLONG);
 		c->longopts[n] = longopts[n];
 	}
 	c->longopts[n++] = shared_long[0];
 	c->longopts[n++] = shared_long[1];
-	if (c->sets & CLI_DEM)
-		c->longopts[n++] = shared_long[2];
+	for (size_t k = 0; c->sets & CLI_DEM && k < NDEMFLAGS; k++) {
+		len = strlen(c->optstring);
+		assert(len + 3 < sizeof c->optstring);
+		if (dem_flags[k].flag[1] != '-')
+			snprintf(c->optstring + len, sizeof c->optstring - len,
+			    "%c%s", dem_flags[k].ch,
+			    dem_flags[k].arg != NULL ? ":" : "");
+		else
+			c->longopts[n++] = (struct option){ dem_flags[k].flag +
+			    2, dem_flags[k].arg != NULL ? required_argument :
+			    no_argument, NULL, dem_flags[k].ch };
+	}
 	memset(&c->longopts[n], 0, sizeof c->longopts[n]);
+}
+
+/* A DEM option given, kept as argv words for the stages (-n aside). */
+static void
+remember_dem(cli *c, int ch, const char *arg)
+{
+	size_t k = 0;
+
+	while (k < NDEMFLAGS && dem_flags[k].ch != ch)
+		k++;
+	assert(k < NDEMFLAGS);
+	if (ch == 'n')
+		return;
+	if (c->ndemargv + 2 > CLI_MAXDEMARGV) {
+		c->status = cli_bad(c, "too many DEM options");
+		return;
+	}
+	c->demargv[c->ndemargv++] = dem_flags[k].flag;
+	if (dem_flags[k].arg != NULL)
+		c->demargv[c->ndemargv++] = arg;
 }
 
 /* A shared option: 1 handled (c->status set when the program must
@@ -119,6 +172,7 @@ shared(cli *c, int ch, const char *arg)
 		return 0;
 	switch (dem_option(&c->dem, ch, arg, &e)) {
 	case 1:
+		remember_dem(c, ch, arg);
 		return 1;
 	case -1:
 		c->status = cli_bad(c, "%s", e.msg);
@@ -151,10 +205,39 @@ cli_next(cli *c, int argc, char **argv, const char *optstring,
 	return -1;
 }
 
+/* The DEM options' lines of a usage, from the table. */
+static void
+dem_help(FILE *f)
+{
+	char name[32];
+
+	for (size_t k = 0; k < NDEMFLAGS; k++) {
+		snprintf(name, sizeof name, "%s%s%s", dem_flags[k].flag,
+		    dem_flags[k].arg != NULL ? " " : "",
+		    dem_flags[k].arg != NULL ? dem_flags[k].arg : "");
+		fprintf(f, "  %-16s", name);
+		for (const char *p = dem_flags[k].help; *p != '\0'; p++)
+			if (*p == '\n')
+				fprintf(f, "\n%18s", "");
+			else
+				fputc(*p, f);
+		fputc('\n', f);
+	}
+}
+
 void
 cli_usage(const cli *c, FILE *f)
 {
-	fprintf(f, "usage: %s %s", c->prog, c->usage);
+	const char *mark = strstr(c->usage, CLI_DEM_HELP);
+
+	fprintf(f, "usage: %s ", c->prog);
+	if (mark == NULL) {
+		fputs(c->usage, f);
+		return;
+	}
+	fwrite(c->usage, 1, (size_t)(mark - c->usage), f);
+	dem_help(f);
+	fputs(mark + 1, f);
 }
 
 int
@@ -258,13 +341,10 @@ cli_number(cli *c, const char *opt, const char *s, long long lo,
 {
 	long long v;
 
-	if (tl_parse_ll(s, &v) < 0)
-		c->status = cli_bad(c, "%s: not an integer: \"%s\"", opt, s);
-	else if (v < lo || v > hi)
-		c->status = cli_bad(c, "%s: %lld is out of range (%lld .. %lld)",
-		    opt, v, lo, hi);
-	else
+	if (tl_parse_ll(s, &v) == 0 && v >= lo && v <= hi)
 		return v;
+	c->status = cli_bad(c, "%s %s: not an integer in %lld .. %lld", opt,
+	    s, lo, hi);
 	return lo;
 }
 
@@ -273,14 +353,29 @@ cli_real(cli *c, const char *opt, const char *s, double lo, double hi)
 {
 	double v;
 
-	if (tl_parse_double(s, &v) < 0 || !isfinite(v))
-		c->status = cli_bad(c, "%s: not a number: \"%s\"", opt, s);
-	else if (v < lo || v > hi)
-		c->status = cli_bad(c, "%s: %g is out of range (%g .. %g)", opt,
-		    v, lo, hi);
-	else
+	if (tl_parse_double(s, &v) == 0 && isfinite(v) && v >= lo && v <= hi)
 		return v;
+	c->status = cli_bad(c, "%s %s: not a number in %g .. %g", opt, s, lo,
+	    hi);
 	return lo;
+}
+
+const char *
+cli_bindir(char *buf, size_t n)
+{
+	const char *env = getenv("TL_BIN");
+	ssize_t r;
+	char *slash;
+
+	if (env != NULL && env[0] != '\0')
+		return env;
+	if ((r = readlink("/proc/self/exe", buf, n - 1)) <= 0)
+		return NULL;
+	buf[r] = '\0';
+	if ((slash = strrchr(buf, '/')) == NULL)
+		return NULL;
+	*slash = '\0';
+	return buf;
 }
 
 int

@@ -21,6 +21,11 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 #define CLI_DEM 2         /* DEM_OPTS: -e -N -n -s -H -D */
 
 #define CLI_MAXLONG 40
+#define CLI_MAXDEMARGV 32
+
+/* In a usage text, where the DEM options' lines go (cli_usage writes
+ * them from the table of cli.c, the one place they are described). */
+#define CLI_DEM_HELP "\001"
 
 typedef struct {
 	const char *prog;          /* argv[0]'s last component */
@@ -28,6 +33,8 @@ typedef struct {
 	int sets;                  /* CLI_COMPRESSION | CLI_DEM */
 	enum rs_compression comp;  /* -z; RS_ZIP unless given */
 	dem_opts dem;              /* the DEM options */
+	const char *demargv[CLI_MAXDEMARGV]; /* and as given, -n aside */
+	int ndemargv;
 	int status;                /* -1, or the status to exit with now */
 	char optstring[128];
 	struct option longopts[CLI_MAXLONG];
@@ -51,7 +58,8 @@ void cli_init(cli *c, char **argv, const char *usage, int sets);
 int cli_next(cli *c, int argc, char **argv, const char *optstring,
     const struct option *longopts);
 
-/* The usage, on stdout for --help, on stderr for a usage error. */
+/* The usage, on stdout for --help, on stderr for a usage error; where
+ * it holds CLI_DEM_HELP, the DEM options, a line each. */
 void cli_usage(const cli *c, FILE *f);
 
 /* A usage error: the usage on stderr; returns CLI_USAGE. */
@@ -79,7 +87,8 @@ int cli_filter_args(const cli *c, int argc, char **argv, const char **in,
 
 /* A numeric option's value, as OpenBSD's strtonum: an integer (cli_number)
  * or a finite real (cli_real) in lo .. hi. Out of range or not a number:
- * "prog: opt: why (lo .. hi)" on stderr, c->status set to CLI_USAGE (so
+ * "prog: opt s: not an integer in lo .. hi" ("not a number" for a real)
+ * on stderr, c->status set to CLI_USAGE (so
  * that the next cli_next returns -1) and lo returned. opt names the
  * option as the user wrote it ("-j", "--band-width"). */
 long long cli_number(cli *c, const char *opt, const char *s, long long lo,
@@ -90,6 +99,18 @@ double cli_real(cli *c, const char *opt, const char *s, double lo,
 /* The default of -j: the CPUs online, at least 1, at most CLI_JOBS_MAX. */
 #define CLI_JOBS_MAX 1024
 int cli_jobs(void);
+
+/* The DEM options given (-n aside, which a supervisor passes on only
+ * for a named DEM), as argv words for a stage that reads the DEM too:
+ * the options' names from the table that parsed them, their values as
+ * given, in order. */
+#define cli_dem_argv(c) ((c)->demargv)
+#define cli_dem_argc(c) ((c)->ndemargv)
+
+/* The directory of this program, where the stages are installed beside
+ * it (or the build tree it runs from); TL_BIN, when set, first. NULL
+ * when unknown (then PATH). */
+const char *cli_bindir(char *buf, size_t n);
 
 /* Columns "a,b" (-w, -C: a .. b-1, 0 <= a < b): 0, or -1. */
 int cli_columns(const char *s, int r[2]);

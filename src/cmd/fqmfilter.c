@@ -1,95 +1,17 @@
 /* fqmfilter - one level of QEM-filtering: the quadric map of level l in,
  * that of level l+1 out (quadrics low-pass filtered in each coarse vertex's
- * frame, sub-sampled by 2). */
-#include <stdlib.h>
-
+ * frame, sub-sampled by 2). The work is stage_fqmfilter (stage.h). */
 #include "cli.h"
-#include "qem/filter.h"
-#include "qem/fqm_input.h"
-#include "base/paths.h"
-#include "raster/rowpipe.h"
+#include "stage.h"
 
 static const char usage[] =
-    "[-C a,b] [-k kernel] [-z compression] [in [out]]\n"
-    "  -C a,b          only the output level's columns a .. b-1 (a band "
-    "job's)\n"
+    "[-k kernel] [-z compression] [in [out]]\n"
     "  -k kernel       binomial (default, [1 2 1]/4), none (plain "
     "sub-sampling),\n"
     "                  box ([1 1 1]/3), binomial5 ([1 4 6 4 1]/16)\n"
     "  -z compression  of an EXR output: zip (default), zips, rle, piz, none\n"
     "  in, out         FQM of level l and l+1; EXR file or - "
     "(stream, default)\n";
-
-typedef struct {
-	const filter_kernel *kernel;
-	int cut[2], has_cut; /* -C */
-	const char *in, *out;
-} options;
-
-/* The work: the fine rows read so far, the filter. */
-typedef struct {
-	fqm_input in;
-	filter_state f;
-} job;
-
-static int
-coarse_row(void *ctx, int y, float *row, tl_err *e)
-{
-	job *j = ctx;
-
-	while (!filter_ready(&j->f)) {
-		if (fqm_input_read(&j->in, e) < 0)
-			return -1;
-		filter_push_row(&j->f, &j->in.L, j->in.row);
-	}
-	filter_pull_row(&j->f, &j->in.L, row);
-	return 0;
-}
-
-static int
-filter(const cli *c, const options *o, tl_err *e)
-{
-	job j = { 0 };
-	rs_header oh;
-	const rs_header *h;
-	int r = -1;
-
-	rs_header_init(&oh, 0, 0);
-	if (tl_path_check_raster(o->out, o->in, "FQM", e) < 0 ||
-	    fqm_input_open(&j.in, o->in, e) < 0)
-		goto done;
-	h = j.in.h;
-	if (h->width <= 2 && h->height <= 2) {
-		tl_fail(e, "%s: level %d is %dx%d: nothing left to reduce",
-		    j.in.what, j.in.fi.level, h->width, h->height);
-		goto done;
-	}
-	/* a window sub-samples on the level's grid: coarse vertex k at fine
-	 * 2k counts from the level's column 0 */
-	if (j.in.fi.x0 % 2 != 0) {
-		tl_fail(e, "%s: a window from column %d: odd, so not on the "
-		    "coarse grid", j.in.what, j.in.fi.x0);
-		goto done;
-	}
-	if (filter_init(&j.f, o->kernel, j.in.fi.level, h->width, h->height,
-	    j.in.fi.size0[0], j.in.fi.size0[1], &j.in.m, e) < 0 ||
-	    rs_header_copy(&oh, h, e) < 0)
-		goto done;
-	j.f.x0 = j.in.fi.x0;
-	oh.width = j.f.cw, oh.height = j.f.ch;
-	rs_unset(&oh, RS_ATTR_X0);
-	if (rs_set_int(&oh, FQM_ATTR_LEVEL, j.in.fi.level + 1, e) < 0 ||
-	    rs_set_string(&oh, FQM_ATTR_KERNEL, o->kernel->name, e) < 0 ||
-	    (j.f.x0 != 0 && rs_set_int(&oh, RS_ATTR_X0, j.f.x0 / 2, e) < 0))
-		goto done;
-	r = rowpipe_run_cut(c->prog, o->out, &oh, o->has_cut ? o->cut : NULL,
-	    c->comp, coarse_row, &j, e);
-done:
-	fqm_input_close(&j.in);
-	rs_header_free(&oh);
-	filter_free(&j.f);
-	return r;
-}
 
 int
 main(int argc, char **argv)
@@ -98,24 +20,19 @@ main(int argc, char **argv)
 		{ "kernel", required_argument, NULL, 'k' },
 		{ NULL, 0, NULL, 0 },
 	};
-	options o = { filter_find("binomial"), { 0, 0 }, 0, "-", "-" };
+	stage_filter o = { .kernel = filter_find("binomial") };
 	cli c;
 	tl_err e;
 	int ch;
 
 	cli_init(&c, argv, usage, CLI_COMPRESSION);
-	while ((ch = cli_next(&c, argc, argv, "C:k:", longopts)) != -1) {
-		if (ch == 'C') {
-			if (cli_columns(optarg, o.cut) < 0)
-				return cli_bad(&c, "-C %s: not columns a,b "
-				    "(0 <= a < b)", optarg);
-			o.has_cut = 1;
-		} else if (ch != 'k')
+	while ((ch = cli_next(&c, argc, argv, "k:", longopts)) != -1) {
+		if (ch != 'k')
 			return cli_usage_error(&c);
-		else if ((o.kernel = filter_find(optarg)) == NULL)
+		if ((o.kernel = filter_find(optarg)) == NULL)
 			return cli_bad(&c, "-k %s: unknown kernel", optarg);
 	}
 	if ((ch = cli_filter_args(&c, argc, argv, &o.in, &o.out)) >= 0)
 		return ch;
-	return cli_exit(&c, filter(&c, &o, &e), &e);
+	return cli_exit(&c, stage_fqmfilter(&c, &o, &e), &e);
 }

@@ -17,7 +17,7 @@ static const char usage[] =
     "  --dem dem       the DEM it was made from (a VRT or a list of DEM files\n"
     "                  for a mosaic): check its errors too\n"
     "  --tau t,...     tolerances in metres instead of each level's sweep\n"
-    "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+    CLI_DEM_HELP
     "  --terrain       outdir is quantized-mesh terrain (layer.json, tiles)\n"
     "  --dump          per tile: vertices, triangles, checksum\n"
     "exit status: 0 pass, 1 violations, 2 usage, 3 cannot check\n";

@@ -2,13 +2,14 @@
  * the original DEM in, a directory of 129x129 blocks per level out, each
  * vertex with its height and its saturated error (vgis(5)). The work is
  * pack_run (pyramid/pack.h). */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "cli.h"
 #include "base/paths.h"
 #include "pack/pack.h"
+#include "stage.h"
 
 static const char usage[] =
     "[-flq] [-b samples] [-D datum] [-e encoding] [-g work | -p piece]\n"
@@ -26,7 +27,7 @@ static const char usage[] =
     "                  b0..b1-1), or one part, level:b0:b1:y0:y1 (its DEM\n"
     "                  rows y0..y1-1), in dir taken as a work directory\n"
     "  -q              no report on stderr\n"
-    "  -D, -e, -H, -N, -n, -s  how to read the DEM, as for dem2fqm(1)\n"
+    CLI_DEM_HELP
     "  dem             the original DEM (errors are measured against it);\n"
     "                  a VRT or a list of DEM files for a mosaic\n"
     "  dir             the pyramid directory to make\n"
@@ -54,29 +55,11 @@ operands(const cli *c, pack_args *a, int argc, char **argv)
 /* What to make: the whole pyramid, one piece, or the pyramid from the
  * pieces in a work directory. */
 typedef struct {
-	int piece, level, b0, b1, y0, y1, list;
+	int piece, list;
+	int p[5];     /* -p: level, b0, b1, y0, y1 */
 	const char *gather;
 	int quiet;
 } mode;
-
-/* dir kept off every input before any work (paths.h): the DEM's files,
- * the vertex maps (a band list's bands too), the gather's work. */
-static int
-guard(const pack_args *a, const mode *md, tl_err *e)
-{
-	tl_paths s = { 0 };
-	int r = dem_paths(&s, a->dem_path, e);
-
-	for (int l = 0; r == 0 && l < a->nlevels; l++)
-		r = tl_paths_add_raster(&s, a->levels[l], "vertex map", e);
-	if (r == 0 && md->gather != NULL)
-		r = tl_paths_add(&s, md->gather, TL_PATH_TREE, e,
-		    "the input work directory %s", md->gather);
-	if (r == 0)
-		r = tl_paths_check(&s, a->dir, e);
-	tl_paths_free(&s);
-	return r;
-}
 
 static int
 pack(const cli *c, const pack_args *a, const mode *md, tl_err *e)
@@ -84,11 +67,11 @@ pack(const cli *c, const pack_args *a, const mode *md, tl_err *e)
 	pack_level *lev;
 	int r = -1;
 
-	if (!md->list && guard(a, md, e) < 0)
+	if (!md->list && stage_pack_guard(a, md->gather, e) < 0)
 		return -1;
 	if (md->piece)
-		return pack_piece(a, md->level, md->b0, md->b1, md->y0, md->y1,
-		    e);
+		return pack_piece(a, md->p[0], md->p[1], md->p[2], md->p[3],
+		    md->p[4], e);
 	if (md->list)
 		return pack_list(a, stdout, e);
 	if ((lev = tl_alloc(a->nlevels, sizeof *lev, e)) == NULL)
@@ -101,27 +84,9 @@ pack(const cli *c, const pack_args *a, const mode *md, tl_err *e)
 	return r;
 }
 
-static int
-parse_piece(const char *s, mode *md)
-{
-	char end;
-	int n = sscanf(s, "%d:%d:%d:%d:%d%c", &md->level, &md->b0, &md->b1,
-	    &md->y0, &md->y1, &end);
-
-	if (n == 3)
-		md->y0 = md->y1 = 0;
-	else if (n != 5 || md->y0 < 0 || md->y1 <= md->y0)
-		return -1;
-	if (md->level < 0 || md->b0 < 0 || md->b1 <= md->b0)
-		return -1;
-	md->piece = 1;
-	return 0;
-}
-
 int
 main(int argc, char **argv)
 {
-	long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
 	pack_args a = { 0 };
 	mode md = { 0 };
 	int ch;
@@ -129,15 +94,13 @@ main(int argc, char **argv)
 	tl_err e;
 
 	cli_init(&c, argv, usage, CLI_DEM);
-	a.jobs = ncpu < 1 ? 1 : ncpu > PACK_MAXJOBS ? PACK_MAXJOBS : (int)ncpu;
+	a.jobs = cli_jobs();
 	a.part_samples = 1LL << 30;
 	while ((ch = cli_next(&c, argc, argv, "b:fg:j:lp:q", NULL)) != -1) {
 		switch (ch) {
 		case 'b':
-			if (tl_parse_ll(optarg, &a.part_samples) < 0 ||
-			    a.part_samples < 0)
-				return cli_bad(&c, "-b %s: expected a number "
-				    ">= 0", optarg);
+			a.part_samples = cli_number(&c, "-b", optarg, 0,
+			    LLONG_MAX);
 			break;
 		case 'f':
 			a.force = 1;
@@ -146,17 +109,15 @@ main(int argc, char **argv)
 			md.gather = optarg;
 			break;
 		case 'p':
-			if (parse_piece(optarg, &md) < 0)
+			if (stage_piece_parse(optarg, md.p) < 0)
 				return cli_bad(&c, "-p %s: expected level:b0:b1 "
 				    "or level:b0:b1:y0:y1, 0 <= b0 < b1, 0 <= "
 				    "y0 < y1", optarg);
+			md.piece = 1;
 			break;
 		case 'j':
-			if (tl_parse_int(optarg, &a.jobs) < 0 || a.jobs < 1)
-				return cli_bad(&c, "-j %s: expected a number "
-				    ">= 1", optarg);
-			if (a.jobs > PACK_MAXJOBS)
-				a.jobs = PACK_MAXJOBS;
+			a.jobs = (int)cli_number(&c, "-j", optarg, 1,
+			    CLI_JOBS_MAX);
 			break;
 		case 'l':
 			md.list = 1;
@@ -170,6 +131,8 @@ main(int argc, char **argv)
 	}
 	if (c.status >= 0)
 		return c.status;
+	/* more threads than pieces at once: as many as pack takes */
+	a.jobs = a.jobs > PACK_MAXJOBS ? PACK_MAXJOBS : a.jobs;
 	if (md.piece + md.list + (md.gather != NULL) > 1)
 		return cli_bad(&c, "-g, -l and -p: one at most");
 	if ((ch = operands(&c, &a, argc - optind, argv + optind)) != 0)

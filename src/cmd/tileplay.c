@@ -3,6 +3,7 @@
  * display needed), and --verify, an alias of tilecheck(1). Options into
  * one struct, each checked against the mode it belongs to, then the
  * mode's work function (play/window.h, shot.h, fly.h; verify.h). */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -183,7 +184,7 @@ verify_option(const cli *c, options *o, int ch, const char *arg)
 
 /* The modes' own options. */
 static int
-mode_option(const cli *c, options *o, int ch, const char *arg)
+mode_option(cli *c, options *o, int ch, const char *arg)
 {
 	double v[2];
 
@@ -194,15 +195,11 @@ mode_option(const cli *c, options *o, int ch, const char *arg)
 	case OPT_STATS: o->shot.stats = o->win.stats = 1; return 0;
 	case OPT_READOUT: o->shot.readout = 1; return 0;
 	case OPT_FLY:
-		if (tl_parse_int(arg, &o->fly.frames) < 0 || o->fly.frames < 1)
-			return cli_bad(c, "--fly %s: expected a number of frames "
-			    ">= 1", arg);
-		return 0;
+		o->fly.frames = (int)cli_number(c, "--fly", arg, 1, INT_MAX);
+		return c->status >= 0 ? c->status : 0;
 	case OPT_FRAMES:
-		if (tl_parse_int(arg, &o->win.frames) < 0 || o->win.frames < 1)
-			return cli_bad(c, "--frames %s: expected a number of "
-			    "frames >= 1", arg);
-		return 0;
+		o->win.frames = (int)cli_number(c, "--frames", arg, 1, INT_MAX);
+		return c->status >= 0 ? c->status : 0;
 	case OPT_PROBE:
 		if (parse_nums(arg, ',', v, 2) < 0 || !is_int(v[0], -1e9, 1e9) ||
 		    !is_int(v[1], -1e9, 1e9))
@@ -237,7 +234,7 @@ camera_option(const cli *c, scene_opts *s, int ch, const char *arg)
 
 /* How the frame is drawn and the cache. */
 static int
-draw_option(const cli *c, options *o, int ch, const char *arg)
+draw_option(cli *c, options *o, int ch, const char *arg)
 {
 	scene_opts *s = &o->view;
 	double v[3];
@@ -253,11 +250,9 @@ draw_option(const cli *c, options *o, int ch, const char *arg)
 			    "pixels", arg);
 		s->width = (int)v[0], s->height = (int)v[1], o->size_set = 1;
 		return 0;
-	case OPT_PIXELS:
-		if (tl_parse_double(arg, &s->pixels) < 0 || !(s->pixels >= 0))
-			return cli_bad(c, "--pixels %s: expected a tolerance >= 0",
-			    arg);
-		return 0;
+	case OPT_PIXELS: /* a tolerance of more than a screen: the root */
+		s->pixels = cli_real(c, "--pixels", arg, 0, 1e6);
+		return c->status >= 0 ? c->status : 0;
 	case OPT_COLOR:
 		if (gl_style_colour_parse(arg, &s->style.colour) < 0)
 			return cli_bad(c, "--color %s: expected height, level or "
@@ -272,11 +267,8 @@ draw_option(const cli *c, options *o, int ch, const char *arg)
 			s->style.background[k] = (float)(v[k] / 255);
 		return 0;
 	case OPT_CACHE:
-		if (tl_parse_double(arg, &s->cache_mb) < 0 ||
-		    !(s->cache_mb >= 1 && s->cache_mb <= 1048576))
-			return cli_bad(c, "--cache %s: expected megabytes, >= 1",
-			    arg);
-		return 0;
+		s->cache_mb = cli_real(c, "--cache", arg, 1, 1048576);
+		return c->status >= 0 ? c->status : 0;
 	}
 	return camera_option(c, s, ch, arg);
 }
@@ -284,7 +276,7 @@ draw_option(const cli *c, options *o, int ch, const char *arg)
 /* Records the option (its first place) and reads its value: 0, or the
  * usage status. */
 static int
-option(const cli *c, options *o, int ch, const char *arg)
+option(cli *c, options *o, int ch, const char *arg)
 {
 	int k = 0, r;
 

@@ -1,8 +1,6 @@
 /* vgis2tiles - a VGIS pyramid as an OGC 3D Tiles 1.1 tileset for
  * CesiumJS and the other 3D Tiles readers: tileset.json and one glb per
  * block. The work is t3_run (tiles3d/tiles3d.h). */
-#include <stdlib.h>
-#include <unistd.h>
 
 #include "cli.h"
 #include "tiles3d/tiles3d.h"
@@ -29,7 +27,6 @@ report(const cli *c, const t3_report *r)
 int
 main(int argc, char **argv)
 {
-	long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
 	t3_args a = { .tau0 = T3_TAU0 };
 	t3_report rep;
 	tl_err e;
@@ -37,22 +34,18 @@ main(int argc, char **argv)
 	int ch, r;
 
 	cli_init(&c, argv, usage, 0);
-	a.jobs = ncpu < 1 ? 1 : ncpu > T3_MAXJOBS ? T3_MAXJOBS : (int)ncpu;
+	a.jobs = cli_jobs();
 	while ((ch = cli_next(&c, argc, argv, "j:qt:", NULL)) != -1) {
 		switch (ch) {
 		case 'j':
-			if (tl_parse_int(optarg, &a.jobs) < 0 || a.jobs < 1)
-				return cli_bad(&c, "-j %s: expected a number "
-				    ">= 1", optarg);
+			a.jobs = (int)cli_number(&c, "-j", optarg, 1,
+			    CLI_JOBS_MAX);
 			break;
 		case 'q':
 			a.quiet = 1;
 			break;
 		case 't':
-			if (tl_parse_double(optarg, &a.tau0) < 0 ||
-			    !(a.tau0 >= 0) || a.tau0 > 1e6)
-				return cli_bad(&c, "-t %s: expected metres, "
-				    "0 to 1e6", optarg);
+			a.tau0 = cli_real(&c, "-t", optarg, 0, 1e6);
 			break;
 		default:
 			return cli_usage_error(&c);
@@ -60,6 +53,8 @@ main(int argc, char **argv)
 	}
 	if (c.status >= 0)
 		return c.status;
+	/* more threads than t3_run takes: as many as it takes */
+	a.jobs = a.jobs > T3_MAXJOBS ? T3_MAXJOBS : a.jobs;
 	if (argc - optind != 2)
 		return cli_usage_error(&c);
 	a.dir = argv[optind], a.out = argv[optind + 1], a.prog = c.prog;

@@ -127,7 +127,7 @@ fails "too many operands" 2 "usage: dem2fqm" dem2fqm a b c
 fails "bad compression" 2 "^dem2fqm: -z lzw: unknown compression" dem2fqm -z lzw a b
 fails "bad DEM option value" 2 "^dem2fqm: -s 0: " dem2fqm -s 0 a b
 fails "missing option argument" 2 "^fqmsolve: option requires an argument" fqmsolve -m
-for p in dem2fqm fqmfilter fqmsolve; do
+for p in dem2fqm fqmfilter fqmsolve vgis-job; do
 	$p --help >"$T/help" && grep -q "^usage: $p" "$T/help"
 	ok $? "$p --help prints usage on stdout, exit 0"
 	$p -h >"$T/h" && cmp -s "$T/h" "$T/help"

@@ -294,6 +294,96 @@ test_filter_args(void)
 	    "cli_filter_args: three operands, status 2 and the usage");
 }
 
+/* cli_number, cli_real: a value in its range, or "opt s: why" and
+ * status 2 (the next cli_next then returns -1); cli_jobs in range. */
+static void
+test_numbers(void)
+{
+	char a0[] = "tilepack", *argv[] = { a0, NULL };
+	const char *err;
+	long long v;
+	double d;
+	cli c;
+
+	cli_init(&c, argv, "x\n", 0);
+	ok(cli_number(&c, "-j", "12", 1, 1024) == 12 && c.status == -1 &&
+	    cli_real(&c, "-t", "2.5e-1", 0, 1e6) == 0.25 && c.status == -1,
+	    "cli_number, cli_real: values in range, no status");
+	ok(cli_number(&c, "-b", "0", 0, 9) == 0 && cli_number(&c, "-b", "9",
+	    0, 9) == 9 && c.status == -1, "cli_number: both ends included");
+	capture_begin(STDERR_FILENO);
+	v = cli_number(&c, "-j", "0", 1, 1024);
+	err = capture_end();
+	ok(v == 1 && c.status == CLI_USAGE && strcmp(err, "tilepack: -j 0: "
+	    "not an integer in 1 .. 1024\n") == 0, "cli_number: out of "
+	    "range, status 2, lo returned (%.*s)", (int)strcspn(err, "\n"),
+	    err);
+	for (const char *const *bad = (const char *const[]){ "x", "3x", "",
+	    "1.5", "99999999999999999999", NULL }; *bad != NULL; bad++) {
+		cli_init(&c, argv, "x\n", 0);
+		capture_begin(STDERR_FILENO);
+		(void)cli_number(&c, "--band-rows", *bad, 1, INT_MAX);
+		err = capture_end();
+		ok(c.status == CLI_USAGE && strstr(err, "--band-rows ") != NULL &&
+		    strstr(err, "not an integer") != NULL, "cli_number: \"%s\" "
+		    "refused", *bad);
+	}
+	for (const char *const *bad = (const char *const[]){ "nan", "inf",
+	    "-1", "2", "x", NULL }; *bad != NULL; bad++) {
+		cli_init(&c, argv, "x\n", 0);
+		capture_begin(STDERR_FILENO);
+		d = cli_real(&c, "-r", *bad, 0, 1);
+		err = capture_end();
+		ok(d == 0 && c.status == CLI_USAGE && strstr(err, "tilepack: -r ")
+		    == err && strstr(err, "not a number in 0 .. 1") != NULL,
+		    "cli_real: \"%s\" refused", *bad);
+	}
+	ok(cli_jobs() >= 1 && cli_jobs() <= CLI_JOBS_MAX, "cli_jobs: 1 .. "
+	    "CLI_JOBS_MAX (%d)", cli_jobs());
+}
+
+/* The DEM options: one table parses them, writes their usage lines and
+ * gives them back as argv words for a stage, in order, -n aside. */
+static void
+test_dem_table(void)
+{
+	char a0[] = "dem2vgis", *argv[16];
+	const char *arg, *out;
+	char got[8];
+	cli c;
+	int n = 0;
+
+	argv[n++] = a0;
+	for (const char *const *s = (const char *const[]){ "-N", "-32768",
+	    "-n", "x.hgt", "--resample", "-s", "30", "-H", "EPSG:5773",
+	    "dem", NULL }; *s != NULL; s++)
+		argv[n++] = (char *)*s;
+	argv[n] = NULL;
+	cli_init(&c, argv, "[-x] dem\n" CLI_DEM_HELP "  dem   the DEM\n",
+	    CLI_DEM);
+	ok(parse(&c, n, argv, "", NULL, got, &arg) == -1 && got[0] == '\0' &&
+	    c.dem.resample && strcmp(c.dem.hgt_name, "x.hgt") == 0,
+	    "the DEM options, --resample too, parsed by the shared table");
+	ok(cli_dem_argc(&c) == 7 && strcmp(cli_dem_argv(&c)[0], "-N") == 0 &&
+	    strcmp(cli_dem_argv(&c)[1], "-32768") == 0 &&
+	    strcmp(cli_dem_argv(&c)[2], "--resample") == 0 &&
+	    strcmp(cli_dem_argv(&c)[3], "-s") == 0 &&
+	    strcmp(cli_dem_argv(&c)[4], "30") == 0 &&
+	    strcmp(cli_dem_argv(&c)[5], "-H") == 0 &&
+	    strcmp(cli_dem_argv(&c)[6], "EPSG:5773") == 0,
+	    "cli_dem_argv: the words as given, in order, -n aside (%d)",
+	    cli_dem_argc(&c));
+	capture_begin(STDOUT_FILENO);
+	cli_usage(&c, stdout);
+	out = capture_end();
+	ok(strncmp(out, "usage: dem2vgis [-x] dem\n  -D datum        the "
+	    "DEM's", 50) == 0 && strstr(out, "\n  --resample      let GDAL") !=
+	    NULL && strstr(out, "\n  -s dx[,dy]      cell size") != NULL &&
+	    strstr(out, "them\n  dem   the DEM\n") != NULL &&
+	    strchr(out, '\001') == NULL, "cli_usage: the table's lines where "
+	    "the usage marks them");
+}
+
 int
 main(void)
 {
@@ -310,6 +400,8 @@ main(void)
 	test_usage();
 	test_operands_exit();
 	test_filter_args();
+	test_numbers();
+	test_dem_table();
 	rmdir(dir);
 	return tap_done();
 }

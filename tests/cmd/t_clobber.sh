@@ -146,21 +146,21 @@ refused "dem2fqm: out a VRT's source" \
 refused "dem2fqm: out a list's entry, through a symbolic link" \
     "$W/L/dem.tif: is $W/D/dem.tif, an entry of the input DEM list" \
     dem2fqm "$W/list.txt" "$W/L/dem.tif"
-refused "dem2fqm -W: the filled DEM onto the DEM" \
+refused "vgis-job fill: the filled DEM onto the DEM" \
     "$W/D/dem.tif: is the input DEM $W/D/dem.tif" \
-    dem2fqm -W "$W/D/dem.tif" "$W/D/dem.tif"
-refused "dem2fqm -W: the filled DEM onto a VRT's source" \
+    vgis-job fill "$W/D/dem.tif" "$W/D/dem.tif"
+refused "vgis-job fill: the filled DEM onto a VRT's source" \
     "$W/hard.tif: is .*D/dem.tif, a file of the input DEM $W/m.vrt" \
-    dem2fqm -W "$W/hard.tif" "$W/m.vrt"
-refused "dem2fqm -F: out the filled DEM it reads" \
+    vgis-job fill "$W/m.vrt" "$W/hard.tif"
+refused "vgis-job level0 -F: out the filled DEM it reads" \
     "$W/f0.fqm: is the input filled DEM $W/f0.fqm" \
-    dem2fqm -F "$W/f0.fqm" "$W/dem.tif" "$W/f0.fqm"
-refused "dem2fqm --fill-pass 1: its FILLED.raw onto the DEM" \
+    vgis-job level0 -F "$W/f0.fqm" "$W/dem.tif" "$W/f0.fqm"
+refused "vgis-job fill --pass 1: its FILLED.raw onto the DEM" \
     "$W/F.raw: is the input DEM $W/F.raw" \
-    dem2fqm -W "$W/F" --fill-pass 1 --rows 0,128 "$W/F.raw"
-refused "dem2fqm -I --guard: a path holding the DEM" \
+    vgis-job fill --pass 1 --rows 0,128 "$W/F.raw" "$W/F"
+refused "vgis-job guard: a path holding the DEM" \
     "$W/D: contains the input DEM $W/D/dem.tif" \
-    dem2fqm -I --guard "$W/D" "$W/D/dem.tif"
+    vgis-job guard "$W/D/dem.tif" "$W/D"
 
 # --- fqmfilter, fqmsolve ---------------------------------------------------
 refused "fqmfilter: out a hard link of in, named both" \
@@ -233,6 +233,6 @@ run "dem2vgis: OUT beside the DEM's directory" \
 run "vgis2tiles: OUTDIR beside the pyramid" \
     vgis2tiles -q "$W/pyr" "$T/tileset"
 run "fqmfilter: out beside in" fqmfilter "$W/f0.fqm" "$T/f1.fqm"
-run "dem2fqm -I --guard: a path apart" \
-    dem2fqm -I --guard "$T/x" "$W/list.txt"
+run "vgis-job guard: a path apart" \
+    vgis-job guard "$W/list.txt" "$T/x"
 done_testing

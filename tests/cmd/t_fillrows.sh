@@ -1,7 +1,7 @@
-# t_fillrows - dem2fqm -W in row bands (--fill-pass 1, join, 2, commit;
-# filled(5) PARTS): three bands, their pass 1 and pass 2 run at once, give
-# the file dem2fqm -W gives, byte for byte, on a crop of N48W125 with
-# voids and on a south-up, east-left float32 copy of it with NaN voids;
+# t_fillrows - a plan's fill in row bands (vgis-job fill --pass 1, join,
+# 2, commit; filled(5) PARTS): three bands, their pass 1 and pass 2 run at
+# once, give the file the whole fill (vgis-job fill) gives, byte for
+# byte, on a crop of N48W125 with voids and on a south-up, east-left float32 copy of it with NaN voids;
 # nothing is left beside the file; bad usage exits 2, a missing part 1.
 . "$(dirname "$0")/../lib.sh"
 
@@ -13,18 +13,18 @@ export GDAL_PAM_ENABLED
 parts() {
 	p_rc=0 p_pids=
 	for y in 0 134 268; do
-		dem2fqm -W "$2" --fill-pass 1 --rows $y,$((y + 134 < 400 ? y + 134 : 400)) "$1" &
+		vgis-job fill --pass 1 --rows $y,$((y + 134 < 400 ? y + 134 : 400)) "$1" "$2" &
 		p_pids="$p_pids $!"
 	done
 	for p in $p_pids; do wait "$p" || p_rc=1; done
-	dem2fqm -W "$2" --fill-pass join --band-rows 134 "$1" || p_rc=1
+	vgis-job fill --pass join --band-rows 134 "$1" "$2" || p_rc=1
 	p_pids=
 	for y in 268 134 0; do
-		dem2fqm -W "$2" --fill-pass 2 --rows $y,$((y + 134 < 400 ? y + 134 : 400)) "$1" &
+		vgis-job fill --pass 2 --rows $y,$((y + 134 < 400 ? y + 134 : 400)) "$1" "$2" &
 		p_pids="$p_pids $!"
 	done
 	for p in $p_pids; do wait "$p" || p_rc=1; done
-	dem2fqm -W "$2" --fill-pass commit --band-rows 134 "$1" || p_rc=1
+	vgis-job fill --pass commit --band-rows 134 "$1" "$2" || p_rc=1
 	return $p_rc
 }
 
@@ -34,11 +34,11 @@ ok $? "a 2200 x 400 crop of N48W125 (sea and land)"
 $MK flipped crop.tif flip.tif
 ok $? "its south-up, east-left float32 copy with NaN voids (mkgdal.py)"
 for d in crop flip; do
-	run "$d: dem2fqm -W" dem2fqm -W $d.whole $d.tif
+	run "$d: vgis-job fill" vgis-job fill $d.tif $d.whole
 	parts $d.tif $d.banded
 	ok $? "$d: 3 bands, pass 1 and pass 2 in parallel"
 	cmp -s $d.whole $d.banded
-	ok $? "$d: the same bytes as dem2fqm -W"
+	ok $? "$d: the same bytes as the whole fill"
 	[ "$(ls -A | grep -c "^\.\?$d\.banded.")" -eq 0 ]
 	ok $? "$d: no part nor temporary left"
 done
@@ -47,33 +47,31 @@ ok $? "the crop has voids"
 
 # a band's pass 2 missing: commit names it and commits nothing
 for y in 0 134 268; do
-	dem2fqm -W m.fd --fill-pass 1 --rows $y,$((y + 134 < 400 ? y + 134 : 400)) crop.tif
+	vgis-job fill --pass 1 --rows $y,$((y + 134 < 400 ? y + 134 : 400)) crop.tif m.fd
 done
-dem2fqm -W m.fd --fill-pass join --band-rows 134 crop.tif
-dem2fqm -W m.fd --fill-pass 2 --rows 0,134 crop.tif
+vgis-job fill --pass join --band-rows 134 crop.tif m.fd
+vgis-job fill --pass 2 --rows 0,134 crop.tif m.fd
 fails "commit with a band's pass 2 missing" 1 \
-    '^dem2fqm: m\.fd\.d\.134: missing' \
-    dem2fqm -W m.fd --fill-pass commit --band-rows 134 crop.tif
+    '^vgis-job fill: m\.fd\.d\.134: missing' \
+    vgis-job fill --pass commit --band-rows 134 crop.tif m.fd
 [ ! -e m.fd ]; ok $? "nothing committed"
-fails "pass 2 before pass 1 of its band" 1 '^dem2fqm: n\.fd\.e\.0: missing' \
-    dem2fqm -W n.fd --fill-pass 2 --rows 0,134 crop.tif
-fails "a band past the DEM's rows" 1 '^dem2fqm: .*rows' \
-    dem2fqm -W n.fd --fill-pass 1 --rows 300,500 crop.tif
+fails "pass 2 before pass 1 of its band" 1 '^vgis-job fill: n\.fd\.e\.0: missing' \
+    vgis-job fill --pass 2 --rows 0,134 crop.tif n.fd
+fails "a band past the DEM's rows" 1 '^vgis-job fill: .*rows' \
+    vgis-job fill --pass 1 --rows 300,500 crop.tif n.fd
 
-fails "--fill-pass without -W" 2 'only with -W' \
-    dem2fqm --fill-pass 1 --rows 0,1 crop.tif
-fails "--fill-pass 3" 2 'not 1, join, 2 or commit' \
-    dem2fqm -W x --fill-pass 3 --rows 0,1 crop.tif
+fails "--pass 3" 2 'not 1, join, 2 or commit' \
+    vgis-job fill --pass 3 --rows 0,1 crop.tif x
 fails "pass 1 without --rows" 2 'with --rows' \
-    dem2fqm -W x --fill-pass 1 crop.tif
+    vgis-job fill --pass 1 crop.tif x
 fails "join with --rows" 2 'with --band-rows' \
-    dem2fqm -W x --fill-pass join --rows 0,1 crop.tif
+    vgis-job fill --pass join --rows 0,1 crop.tif x
 fails "--rows 5,5" 2 'not rows' \
-    dem2fqm -W x --fill-pass 1 --rows 5,5 crop.tif
-fails "--band-rows 0" 2 'not a number of rows' \
-    dem2fqm -W x --fill-pass commit --band-rows 0 crop.tif
-fails "--rows without --fill-pass" 2 'only with --fill-pass' \
-    dem2fqm -W x --rows 0,1 crop.tif
+    vgis-job fill --pass 1 --rows 5,5 crop.tif x
+fails "--band-rows 0" 2 '^vgis-job fill: --band-rows 0: not an integer in 1 \.\.' \
+    vgis-job fill --pass commit --band-rows 0 crop.tif x
+fails "--rows without --pass" 2 'only with --pass' \
+    vgis-job fill --rows 0,1 crop.tif x
 fails "a part on stdin" 2 'named file' \
-    dem2fqm -W x --fill-pass join --band-rows 3 - <crop.tif
+    vgis-job fill --pass join --band-rows 3 - x <crop.tif
 done_testing

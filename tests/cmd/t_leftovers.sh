@@ -142,7 +142,7 @@ big() {
 D=$T/f
 big 400 "dem2fqm to EXR" dem2fqm "$s" "$D/l0.exr"
 big 20 "dem2fqm (its scratch)" dem2fqm "$s" "$D/l0.exr"
-big 100 "dem2fqm -W" dem2fqm -W "$D/fill.exr" "$m"
+big 100 "vgis-job fill" vgis-job fill "$m" "$D/fill.exr"
 big 100 "fqmfilter" fqmfilter "$T/l0.exr" "$D/l1.exr"
 big 20 "fqmsolve" fqmsolve "$T/l0.exr" "$D/v0.exr"
 big 20 "fqmsolve -m qem3d" fqmsolve -m qem3d -j 2 "$T/l0.exr" "$D/v0.exr"

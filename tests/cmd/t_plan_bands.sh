@@ -102,11 +102,11 @@ ok $? "the Slurm script parses (sh -n) and has the band array"
 # whole level's; 2^3 wider, with binomial5, it is not.
 # band DEM A B: level 3's FQM of level-0 columns A..B-1's window
 band() {
-	dem2fqm -w "$2,$3" "$1" - | fqmfilter -k binomial5 |
-	    fqmfilter -k binomial5 | fqmfilter -k binomial5 -C 64,128 -
+	vgis-job level0 -w "$2,$3" "$1" - | fqmfilter -k binomial5 |
+	    fqmfilter -k binomial5 | vgis-job filter -k binomial5 -C 64,128 -
 }
 dem2fqm "$T/flip.tif" - | fqmfilter -k binomial5 | fqmfilter -k binomial5 |
-    fqmfilter -k binomial5 -C 64,128 - >"$T/whole.fqm"
+    vgis-job filter -k binomial5 -C 64,128 - >"$T/whole.fqm"
 band "$T/flip.tif" 488 1048 >"$T/h24.fqm" && cmp -s "$T/whole.fqm" "$T/h24.fqm"
 ok $? "halo 3 x 2^3: level 3's band is the whole level's"
 band "$T/flip.tif" 504 1032 >"$T/h8.fqm" && ! cmp -s "$T/whole.fqm" "$T/h8.fqm"
@@ -114,23 +114,24 @@ ok $? "halo 2^3 with binomial5: it is not (the halo is needed)"
 
 # the filled DEM: its windows give the FQM's windows; refused for
 # another DEM's options
-dem2fqm -W "$T/f.dem" "$T/flip.tif" && dem2fqm -w 700,1300 "$T/flip.tif" - |
-    fqmfilter -C 400,600 - >"$T/w1.fqm" &&
-    dem2fqm -F "$T/f.dem" -w 700,1300 "$T/flip.tif" - |
-    fqmfilter -C 400,600 - >"$T/w2.fqm" && cmp -s "$T/w1.fqm" "$T/w2.fqm"
-ok $? "dem2fqm -W, then -F -w: the window as from the DEM itself"
-fails "dem2fqm -F with other DEM options: refused" 1 "f.dem: made from another DEM or other options" \
-    dem2fqm -F "$T/f.dem" -N 0 -w 0,100 "$T/flip.tif" /dev/null
-fails "dem2fqm -W with an output operand: usage" 2 "usage" \
-    dem2fqm -W "$T/g.dem" "$T/flip.tif" "$T/out.fqm"
-fails "--band without -M: refused" 2 "with -M" \
-    dem2vgis --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
+vgis-job fill "$T/flip.tif" "$T/f.dem" &&
+    vgis-job level0 -w 700,1300 "$T/flip.tif" - |
+    vgis-job filter -C 400,600 - >"$T/w1.fqm" &&
+    vgis-job level0 -F "$T/f.dem" -w 700,1300 "$T/flip.tif" - |
+    vgis-job filter -C 400,600 - >"$T/w2.fqm" && cmp -s "$T/w1.fqm" "$T/w2.fqm"
+ok $? "vgis-job fill, then level0 -F -w: the window as from the DEM itself"
+fails "vgis-job level0 -F with other DEM options: refused" 1 "f.dem: made from another DEM or other options" \
+    vgis-job level0 -F "$T/f.dem" -N 0 -w 0,100 "$T/flip.tif" /dev/null
+fails "vgis-job fill with a third operand: usage" 2 "usage" \
+    vgis-job fill "$T/flip.tif" "$T/g.dem" "$T/out.fqm"
+fails "--band-levels: vgis-job chain's, not dem2vgis's" 2 "usage" \
+    dem2vgis --band-levels 2 --band 0,100 "$T/flip.tif" "$T/x"
 fails "--band past the DEM's columns: refused" 2 "has 2200 columns and 6 levels" \
-    dem2vgis -M --band 2000,2300 --band-levels 2 "$T/flip.tif" "$T/x"
+    vgis-job chain --band 2000,2300 --band-levels 2 "$T/flip.tif" "$T/x"
 fails "--band-levels as many as the DEM's levels: refused" 2 "has 2200 columns and 6 levels" \
-    dem2vgis -M --band 0,1000 --band-levels 6 "$T/flip.tif" "$T/x"
+    vgis-job chain --band 0,1000 --band-levels 6 "$T/flip.tif" "$T/x"
 fails "--from and --band together: refused" 2 "alone" \
-    dem2vgis -M --from x.bands --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
+    vgis-job chain --from x.bands --band 0,100 --band-levels 2 "$T/flip.tif" "$T/x"
 fails "fqmfilter on a window from an odd column: refused" 1 "odd" \
-    sh -c "dem2fqm -w 3,40 '$T/flip.tif' - | fqmfilter >/dev/null"
+    sh -c "vgis-job level0 -w 3,40 '$T/flip.tif' - | fqmfilter >/dev/null"
 done_testing

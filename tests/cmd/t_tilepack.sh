@@ -109,7 +109,7 @@ fails "too few operands" 2 "usage: tilepack" tilepack "$T/hills.tif" "$T/o/p"
 fails "the DEM read with -s 2: georeferencing (cell) differs" 1 \
     "^tilepack: .*hv0.exr: georeferencing \(cell\) differs from the DEM's" \
     tilepack -s 2 "$T/hills.tif" "$T/o/p" "$T/hv0.exr"
-fails "-j not a number: exit 2" 2 "^tilepack: -j x: expected a number >= 1" \
+fails "-j not a number: exit 2" 2 "^tilepack: -j x: not an integer in 1 \.\." \
     tilepack -j x "$T/hills.tif" "$T/o/p" "$T/hv0.exr"
 fails "stdin for two inputs: exit 2" 2 "^tilepack: stdin can feed only one input" \
     tilepack "$T/hills.tif" "$T/o/p" - -
@@ -426,7 +426,7 @@ for p in 0:0:14:5 "$1:$2:$3:$4:$4" "$1:$2:$3:$4:"; do
 	    tilepack -b $b -p "$p" "$d" "$w" $vl
 done
 # shellcheck disable=SC2086
-fails "-b -3: a usage error" 2 "^tilepack: -b -3: expected a number >= 0" \
+fails "-b -3: a usage error" 2 "^tilepack: -b -3: not an integer in 0 \.\." \
     tilepack -b -3 -l "$d" - $vl
 [ ! -e "$w" ]; ok $? "refused parts leave no work directory"
 done_testing

@@ -1,5 +1,7 @@
 /* dem_opts.c - the DEM options every program reading a DEM takes (dem.h:
- * -e -N -n -s -H -D --resample). Apart from the DEM reader on purpose: cli.c calls
+ * -e -N -n -s -H -D --resample): their values. Their names, usage lines
+ * and the argv words a stage is given are cli.c's table, which calls
+ * dem_option. Apart from the DEM reader on purpose: cli.c calls
  * dem_option for every program, so this file must not reference GDAL,
  * PROJ or the reader, or every program would link them. */
 #include <stdio.h>

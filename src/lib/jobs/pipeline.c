@@ -41,7 +41,8 @@ on_progress(void *ctx, const char *label, long long done, long long total)
 	meter *m = ctx;
 	double f = total > 0 ? (double)done / (double)total : 0;
 
-	if (strcmp(label, "dem2fqm") == 0)
+	if (strcmp(label, "dem2fqm") == 0 ||
+	    strcmp(label, "vgis-job level0") == 0)
 		m->quad = f;
 	else if (strcmp(label, "tilepack") == 0)
 		m->pack = f;
@@ -216,16 +217,20 @@ level_count(const pipeline_opts *o, const char *dem, int *levels,
 	words a = { 0 };
 	int in = -1, r;
 
+	/* the reader keeps the outputs off the DEM's files (a list's
+	 * entries, a VRT's sources), which it alone can tell */
+	say(&a, "vgis-job"), say(&a, "guard"), say(&a, "--"), say(&a, dem);
+	say(&a, o->out);
+	if (o->plan != NULL)
+		say(&a, o->plan);
+	if (alone(o, &a, -1, 1, NULL, 0, status, e) < 0)
+		return -1;
+	a.n = 0;
 	say(&a, "dem2fqm");
 	say_demopts(&a, o);
 	if (o->name != NULL && strcmp(o->dem, "-") != 0)
 		say(&a, "-n"), say(&a, o->name);
 	say(&a, "-I");
-	/* the reader keeps the outputs off the DEM's files (a list's
-	 * entries, a VRT's sources), which it alone can tell */
-	say(&a, "--guard"), say(&a, o->out);
-	if (o->plan != NULL)
-		say(&a, "--guard"), say(&a, o->plan);
 	if (strcmp(o->dem, "-") == 0 && o->name == NULL) {
 		/* its messages say stdin, as the user gave it */
 		say(&a, "-");
@@ -260,7 +265,8 @@ band_cols(const pipeline_opts *o, int w, int l, char *buf, size_t n)
 }
 
 /* The chain's first stage: dem2fqm writing level 0 into a pipe, whose
- * end to read is *up; a band reads its window (-w) of the filled DEM. */
+ * end to read is *up; a band reads its window (-w) of the filled DEM
+ * (-F), a plan's step (vgis-job level0). */
 static int
 level0(const pipeline_opts *o, graph *g, const char *dem, int w, char *win,
     size_t nwin, int *up, tl_err *e)
@@ -270,7 +276,10 @@ level0(const pipeline_opts *o, graph *g, const char *dem, int w, char *win,
 
 	if (graph_pipe(g, p, e) < 0)
 		return -1;
-	say(&a, "dem2fqm");
+	if (o->fill != NULL || o->band[1] > 0)
+		say(&a, "vgis-job"), say(&a, "level0");
+	else
+		say(&a, "dem2fqm");
 	say_demopts(&a, o);
 	if (o->name != NULL && strcmp(o->dem, "-") != 0)
 		say(&a, "-n"), say(&a, o->name);
@@ -315,7 +324,12 @@ quadrics(const pipeline_opts *o, const char *dem, int first, int levels,
 		    0600, e)) < 0)
 			goto done;
 		a.n = 0;
-		say(&a, "fqmsolve"), say(&a, "-m"), say(&a, o->mode);
+		/* a band's columns (-C): a plan's step */
+		if (band)
+			say(&a, "vgis-job"), say(&a, "solve");
+		else
+			say(&a, "fqmsolve");
+		say(&a, "-m"), say(&a, o->mode);
 		if (o->cut != NULL)
 			say(&a, "-r"), say(&a, o->cut);
 		if (band)
@@ -333,7 +347,11 @@ quadrics(const pipeline_opts *o, const char *dem, int first, int levels,
 		    graph_tee(g, up, q[1], f[1], e) < 0))
 			goto done;
 		a.n = 0;
-		say(&a, "fqmfilter"), say(&a, "-k"), say(&a, o->kernel);
+		if (top)
+			say(&a, "vgis-job"), say(&a, "filter");
+		else
+			say(&a, "fqmfilter");
+		say(&a, "-k"), say(&a, o->kernel);
 		if (top)
 			band_cols(o, w, l + 1, cut[l + 1], sizeof cut[l + 1]),
 			    say(&a, "-C"), say(&a, cut[l + 1]);
@@ -511,7 +529,7 @@ plan_bands(const pipeline_opts *o, int levels, int w, plan_opts *p)
 		p->nbands--;
 }
 
-/* What identifies the DEM's files, recorded by dem2fqm --stamp into
+/* What identifies the DEM's files, recorded by vgis-job stamp into
  * path in the scratch (stamp.h); a mosaic's list (in the scratch too)
  * on its stdin, so that its entries are recorded, not it. */
 static int
@@ -524,7 +542,7 @@ plan_stamp(const pipeline_opts *o, const char *dem, const scratch *s,
 	if ((size_t)snprintf(path, n, "%s/dem.stamp", s->path) >= n)
 		return tl_fail(e, "%s: %s/dem.stamp: name too long", o->prog,
 		    s->path);
-	say(&a, "dem2fqm"), say(&a, "--stamp"), say(&a, path);
+	say(&a, "vgis-job"), say(&a, "stamp"), say(&a, path);
 	if (o->ndem > 1) {
 		say(&a, "-");
 		if ((in = open(dem, O_RDONLY | O_CLOEXEC)) < 0)

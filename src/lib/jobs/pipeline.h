@@ -9,7 +9,10 @@
  * a stream file in a scratch directory (scratch.h); tilepack builds OUT
  * atomically. Levels go up to the first that fits one block, as
  * "dem2fqm -I" reports. Several DEMs are one mosaic: the stages get a
- * list of them (dem2fqm(1)) written in the scratch directory. */
+ * list of them (dem2fqm(1)) written in the scratch directory. The steps
+ * of a plan that are no filter of a person's (the guard of the outputs,
+ * the DEM's stamp, a band's window and columns) are vgis-job's
+ * (vgis-job(1)), installed beside them. */
 #ifndef TL_PIPELINE_H
 #define TL_PIPELINE_H
 
@@ -38,13 +41,14 @@ typedef struct {
 	                        * (a plan's chain job), no pyramid */
 	const char *plan;      /* --plan: the job graph into this directory
 	                        * instead of a run (plan.h) */
-	/* -M as a part of a plan split into column bands (plan.h): */
+	/* -M as a part of a plan split into column bands (plan.h; vgis-job
+	 * chain's options): */
 	int band[2];           /* --band a,b: level-0 columns a .. b-1 only,
 	                        * read with pipeline_halo(band_levels) more
 	                        * on either side; b 0: no band */
 	int band_levels;       /* --band-levels T: the vertex maps of levels
 	                        * 0 .. T-1, and level T's FQM as f.fqm */
-	const char *fill;      /* --fill: the filled DEM (dem2fqm -F) */
+	const char *fill;      /* --fill: the filled DEM (vgis-job fill) */
 	const char *from;      /* --from: the chain from this FQM (a band
 	                        * list of the bands' f.fqm) instead of the
 	                        * DEM: vertex maps of its level and above */

@@ -61,20 +61,20 @@ vmaps(FILE *f, const plan_opts *o)
 			fprintf(f, " vmaps/v%d.fqm", l);
 }
 
-/* A part of the fill: dem2fqm -W's pass PASS (filled(5)), its scratch
+/* A part of the fill: vgis-job fill's pass PASS (filled(5)), its scratch
  * here beside fill.dem, not in one machine's TMPDIR. */
 static void
 fill_part(FILE *f, const plan_opts *o, const char *pass, int k)
 {
-	fprintf(f, "\t$(JOB) $@ env TMPDIR=. $(B)/dem2fqm -W fill.dem "
-	    "--fill-pass %s ", pass);
+	fprintf(f, "\t$(JOB) $@ env TMPDIR=. $(B)/vgis-job fill --pass %s ",
+	    pass);
 	if (k >= 0) {
 		int y1 = (k + 1) * o->fillrows;
 		fprintf(f, "--rows %d,%d", k * o->fillrows,
 		    y1 < o->height ? y1 : o->height);
 	} else
 		fprintf(f, "--band-rows %d", o->fillrows);
-	fputs(" $(DEMOPTS) $(DEM)\n\n", f);
+	fputs(" $(DEMOPTS) $(DEM) fill.dem\n\n", f);
 }
 
 /* The DEM converted and its voids filled once (the fill reaches across
@@ -86,8 +86,8 @@ fill(FILE *f, const plan_opts *o)
 {
 	if (o->nfill == 0) {
 		fputs("done/fill:\n"
-		    "\t$(JOB) $@ env TMPDIR=. $(B)/dem2fqm -W fill.dem "
-		    "$(DEMOPTS) $(DEM)\n\n", f);
+		    "\t$(JOB) $@ env TMPDIR=. $(B)/vgis-job fill $(DEMOPTS) "
+		    "$(DEM) fill.dem\n\n", f);
 		return;
 	}
 	for (int pass = 1; pass <= 2; pass++) {
@@ -117,7 +117,7 @@ chain(FILE *f, const plan_opts *o)
 {
 	if (o->nbands == 0) {
 		fputs("done/chain:\n"
-		    "\t$(JOB) $@ $(B)/dem2vgis -M $(CHAINOPTS) $(DEM) vmaps\n\n",
+		    "\t$(JOB) $@ $(B)/vgis-job chain $(CHAINOPTS) $(DEM) vmaps\n\n",
 		    f);
 		return;
 	}
@@ -130,12 +130,12 @@ chain(FILE *f, const plan_opts *o)
 		int a = k * o->bandw;
 		int b = k == o->nbands - 1 ? o->width : a + o->bandw;
 		fprintf(f, "done/b-%d: done/fill\n"
-		    "\t$(JOB) $@ $(B)/dem2vgis -M --band %d,%d --band-levels %d "
+		    "\t$(JOB) $@ $(B)/vgis-job chain --band %d,%d --band-levels %d "
 		    "--fill fill.dem $(CHAINOPTS) $(DEM) bands/%d\n\n", k, a, b,
 		    o->band_levels, k);
 	}
 	fprintf(f, "done/chain: $(BANDS)\n"
-	    "\t$(JOB) $@ $(B)/dem2vgis -M --from bands/f.bands $(CHAINOPTS) "
+	    "\t$(JOB) $@ $(B)/vgis-job chain --from bands/f.bands $(CHAINOPTS) "
 	    "$(DEM) vmaps\n\n");
 }
 
@@ -144,13 +144,13 @@ makefile(FILE *f, const plan_opts *o)
 {
 	fprintf(f, "# Made by %s --plan: builds the pyramid %s\n# from %s.\n"
 	    "# Run: make -C THIS-DIRECTORY -j N, and again after a failure "
-	    "or a kill:\n# it goes on where it stopped. The jobs: "
-	    "done/chain (the quadric chain,\n# every level's vertex map into "
-	    "vmaps/), done/p-L-B0-B1 (tilepack -p: one\n# piece into work/; "
-	    "a piece whose window of the DEM holds more samples than\n"
-	    "# tilepack -b allows after its parts done/q-L-B0-B1-Y0-Y1, each "
-	    "scanning DEM\n# rows Y0..Y1-1), done/gather (tilepack -g: work/ "
-	    "becomes the pyramid).\n", o->prog, o->out, o->dem);
+	    "or a kill:\n# it goes on where it stopped. Each job is a step "
+	    "of vgis-job(1): done/chain\n# (the quadric chain, every level's "
+	    "vertex map into vmaps/), done/p-L-B0-B1\n# (one piece into "
+	    "work/; a piece whose window of the DEM holds more samples\n"
+	    "# than -b allows after its parts done/q-L-B0-B1-Y0-Y1, each "
+	    "scanning DEM rows\n# Y0..Y1-1), done/gather (work/ becomes the "
+	    "pyramid).\n", o->prog, o->out, o->dem);
 	if (o->nbands > 0)
 		fprintf(f, "# The chain is split into %d column bands: done/fill "
 		    "(the DEM, its voids\n# filled), done/b-K (levels 0..%d "
@@ -184,8 +184,8 @@ makefile(FILE *f, const plan_opts *o)
 	chain(f, o);
 	fprintf(f, "# the pieces, known once the vertex maps are: a rule each\n"
 	    "done/pieces.mk: done/chain\n"
-	    "\t$(JOB) $@ sh mkpieces $(B)/tilepack -l $(PARTOPTS) $(DEMOPTS) "
-	    "$(DEM) - $(V)\n\n"
+	    "\t$(JOB) $@ sh mkpieces $(B)/vgis-job pieces $(PARTOPTS) "
+	    "$(DEMOPTS) $(DEM) $(V)\n\n"
 	    "# made (and read again) for any goal but the chain's band stages\n"
 	    "# alone, which GNU parallel and Slurm run before it\n"
 	    "ifneq ($(filter-out done/fill done/fill-join done/f1-%% "
@@ -193,7 +193,7 @@ makefile(FILE *f, const plan_opts *o)
 	    "-include done/pieces.mk\n"
 	    "endif\n\n"
 	    "done/gather: done/pieces.mk $(PIECES)\n"
-	    "\t$(JOB) $@ $(B)/tilepack -q%s -g work $(DEMOPTS) $(DEM) $(OUT) "
+	    "\t$(JOB) $@ $(B)/vgis-job gather%s $(DEMOPTS) work $(DEM) $(OUT) "
 	    "$(V)\n", o->force ? " -f" : "");
 }
 
@@ -201,7 +201,7 @@ static void
 mkpieces(FILE *f)
 {
 	fputs("#!/bin/sh\n"
-	    "# mkpieces CMD...: CMD, tilepack -l, lists the pieces into\n"
+	    "# mkpieces CMD...: CMD, vgis-job pieces, lists the pieces into\n"
 	    "# done/pieces.tmp (level:b0:b1 a piece, level:b0:b1:y0:y1 a part of\n"
 	    "# one, before it); then the Makefile's rules for their jobs into\n"
 	    "# done/pieces.mk, the parts' targets into done/parts, the pieces'\n"
@@ -216,16 +216,16 @@ mkpieces(FILE *f)
 	    "\tq = \"done/q-\" $0\n"
 	    "\tprint q >\"done/parts\"\n"
 	    "\tdeps[$1 \"-\" $2 \"-\" $3] = deps[$1 \"-\" $2 \"-\" $3] \" \" q\n"
-	    "\tprintf \"%s: done/chain\\n\\t$(JOB) $@ $(B)/tilepack -j 1 \" \\\n"
-	    "\t    \"$(PARTOPTS) -p %s:%s:%s:%s:%s $(DEMOPTS) $(DEM) work \" \\\n"
+	    "\tprintf \"%s: done/chain\\n\\t$(JOB) $@ $(B)/vgis-job part \" \\\n"
+	    "\t    \"$(PARTOPTS) $(DEMOPTS) %s:%s:%s:%s:%s $(DEM) work \" \\\n"
 	    "\t    \"$(V)\\n\", q, $1, $2, $3, $4, $5\n"
 	    "}\n"
 	    "NF == 3 {\n"
 	    "\tp = \"done/p-\" $0\n"
 	    "\tprint p >\"done/targets\"\n"
 	    "\tlist = list \" \" p\n"
-	    "\tprintf \"%s: done/chain%s\\n\\t$(JOB) $@ $(B)/tilepack -j 1 \" \\\n"
-	    "\t    \"$(PARTOPTS) -p %s:%s:%s $(DEMOPTS) $(DEM) work $(V)\\n\", \\\n"
+	    "\tprintf \"%s: done/chain%s\\n\\t$(JOB) $@ $(B)/vgis-job piece \" \\\n"
+	    "\t    \"$(PARTOPTS) $(DEMOPTS) %s:%s:%s $(DEM) work $(V)\\n\", \\\n"
 	    "\t    p, deps[$0], $1, $2, $3\n"
 	    "}\n"
 	    "END { print \"PIECES =\" list }\n"
@@ -292,7 +292,7 @@ job(FILE *f)
 	    "fi\n"
 	    "lock \"${t#done/}\"\n"
 	    "[ ! -e \"$t\" ] || exit 0\n"
-	    "\"$b/dem2vgis\" --check-stamp dem.stamp\n"
+	    "\"$b/vgis-job\" check-stamp dem.stamp\n"
 	    "\"$@\" 9>&-\n"
 	    "touch \"$t\"\n", f);
 }

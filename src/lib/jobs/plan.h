@@ -1,7 +1,9 @@
 /* plan.h - a DEM-to-pyramid build written as a job graph instead of run
  * (dem2vgis --plan): the quadric chain as one job writing every level's
- * vertex map (or as jobs over column bands, below), then tilepack's pieces (tilepack -l, -p), one job each, then
- * the gather (tilepack -g) that makes the pyramid appear. The same graph
+ * vertex map (or as jobs over column bands, below), then tilepack's
+ * pieces, one job each, then the gather that makes the pyramid appear.
+ * Every job's command is a step of vgis-job (vgis-job(1)), the one
+ * program of the plans' inner steps. The same graph
  * three ways: a Makefile (make -C PLANDIR -j N: incremental, so a killed
  * or failed run goes on where it stopped), a script for GNU parallel
  * (stage by stage; PARALLEL may name --sshloginfile for machines that
@@ -27,25 +29,25 @@ typedef struct {
 	                                * as the plan's list dems.txt, dem
 	                                * unused */
 	int ndem;
-	const char *const *chainopt;   /* dem2vgis options of the chain job */
+	const char *const *chainopt;   /* vgis-job chain's options */
 	int nchainopt;
-	const char *const *demopt;     /* how to read the DEM (tilepack) */
+	const char *const *demopt;     /* how to read the DEM (the pieces) */
 	int ndemopt;
 	int levels;
-	int force;                     /* tilepack -f at the gather */
+	int force;                     /* -f at the gather */
 	/* the chain in column bands (0 bands: one job): a job filling the
-	 * DEM's voids once (dem2fqm -W), then one per band of bandw level-0
+	 * DEM's voids once (vgis-job fill), then one per band of bandw level-0
 	 * columns (the last to width) for levels 0 .. band_levels-1, then
 	 * the chain from level band_levels on, from the bands' FQMs */
 	int nbands, bandw, band_levels, width;
 	/* the fill itself in nfill row bands of fillrows rows (0: one job):
-	 * dem2fqm -W's parts (filled(5)): pass 1 per band, the join, pass 2
+	 * vgis-job fill's parts (filled(5)): pass 1 per band, the join, pass 2
 	 * per band, the commit */
 	int nfill, fillrows, height;
-	/* tilepack -b: pieces in parts of at most this many DEM samples (-1:
+	/* -b: pieces in parts of at most this many DEM samples (-1:
 	 * tilepack's own bound) */
 	long long part_samples;
-	/* what identifies the DEM's files (dem2fqm --stamp, stamp.h): copied
+	/* what identifies the DEM's files (vgis-job stamp, stamp.h): copied
 	 * into the plan as dem.stamp, which every job checks first */
 	const char *stamp;
 } plan_opts;
