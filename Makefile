@@ -39,12 +39,11 @@ uses_verify  := base geo raster dem pyramid
 uses_play    := base geo raster pyramid
 uses_tiles3d := base geo pyramid
 uses_jobs    := base raster qem
+pkgs_base    := jansson
 pkgs_geo     := proj geographiclib
 pkgs_raster  := OpenEXR libdeflate
 libs_raster  := -lOpenEXRCore-3_1
 pkgs_dem     := gdal
-pkgs_pyramid := jansson
-pkgs_tiles3d := jansson
 pkgs_play    := egl epoxy glfw3 stb
 # the programs: the layers each uses (cli.c, their shared start-up, uses
 # uses_cli)
