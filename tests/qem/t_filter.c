@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "qem/filter.h"
+#include "qem/fqm0.h"
 #include "qem/solve.h"
 #include "tap.h"
 #include "urand.h"

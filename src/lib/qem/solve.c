@@ -1,5 +1,16 @@
 /* solve.c - per-level vertex placement, and the streaming fold fix of the
- * 3D mode (see solve.h). */
+ * 3D mode (see solve.h).
+ *
+ * A vertex goes where its filtered quadric is least: the optimal
+ * placement of M. Garland and P. S. Heckbert ("Surface Simplification
+ * Using Quadric Error Metrics", SIGGRAPH 1997; quadric.h), applied, as
+ * QEM-filtering does, to each vertex of a sub-sampled regular level
+ * instead of to an edge collapse (F. Löffler and H. Schumann,
+ * "QEM-Filtering: A New Technique For Feature-Sensitive Terrain Mesh
+ * Simplification", section 3.4, "computation of the vertex position";
+ * ../shared/papers/qem-filtering-loeffler-schumann.txt): along z only
+ * (1D displacement, the grid kept) or in x, y, z (3D). The comparison
+ * modes are the paper's baseline: heights filtered, or sub-sampled. */
 #include "qem/solve.h"
 #include "base/pool.h"
 
