@@ -1,4 +1,4 @@
-/* t_ground.c - the metric embedding (georef.h) on real data: N44W072.hgt
+/* t_ground.c - the ground embedding (georef.h) on real data: N44W072.hgt
  * of ../shared/data (or $DATA) warped by gdalwarp to Web Mercator, UTM 19N
  * and Arctic polar stereographic, and the geographic original. Distances
  * the metric gives between samples a quarter block apart (along a row, a

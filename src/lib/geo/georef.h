@@ -1,5 +1,5 @@
 /* georef.h - georeferencing carried from the DEM to every output, and the
- * metric embedding of the grid (cell sizes in metres, never degrees). */
+ * ground embedding of the grid (cell sizes in metres, never degrees). */
 #ifndef TL_GEOREF_H
 #define TL_GEOREF_H
 
@@ -48,7 +48,7 @@ void geo_vertex_crs(const georef *g, int level, double i, double j,
 /* Degrees: a latitude this close past a pole is the pole (rounding). */
 #define GEO_POLE_EPS 1e-9
 
-/* --- the metric embedding of the level-0 grid --------------------------
+/* --- the ground embedding of the level-0 grid --------------------------
  *
  * Ground metres for grid steps, never degrees or CRS units. Column I and
  * row J are level-0 grid positions (fractional allowed; past the grid the

@@ -1,6 +1,6 @@
-/* ground.c - the metric embedding of the level-0 grid (georef.h): per-row
- * geodesic or constant scales, and the lattice of a projected grid's
- * scales measured once with PROJ and GeographicLib. */
+/* ground.c - ground metres per cell: the ground embedding of the level-0
+ * grid (georef.h), per-row geodesic or constant scales, and the lattice
+ * of a projected grid's scales measured once with PROJ and GeographicLib. */
 #include "geo/georef.h"
 
 #include <assert.h>

@@ -19,7 +19,7 @@
  * holding (w-1) x 4 x 6 doubles. Each cell contributes both of its
  * triangulations at half weight (the FQM does not depend on a choice of
  * diagonal); a triangle with a void corner contributes nothing. The cell
- * is the symmetric trapezoid of the metric embedding (georef.h) at rows
+ * is the symmetric trapezoid of the ground embedding (georef.h) at rows
  * J, J+1, its widths and height taken at its middle column.
  *
  * fqm_row0: level-0 FQM row J from the bands above and below it (NULL past
