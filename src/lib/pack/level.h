@@ -57,7 +57,7 @@ typedef struct {
 	int level;
 	int size[2];     /* the level's vertices */
 	int displaced;
-	const geo_metric *m;
+	const geo_ground *m;
 	tiles_row_fn row;
 	void *row_ctx;
 	tiles_block_fn block;

@@ -87,7 +87,7 @@ channel(const fqm_layout *L, int k)
 
 int
 filter_init(filter_state *f, const filter_kernel *k, int level, int fw, int fh,
-    int w0, int h0, const geo_metric *m, tl_err *e)
+    int w0, int h0, const geo_ground *m, tl_err *e)
 {
 	size_t st;
 

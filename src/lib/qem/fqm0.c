@@ -16,13 +16,13 @@
 #include "qem/fqm0.h"
 
 int
-fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e)
+fqm0_init(fqm0_state *s, dem *d, const geo_ground *m, tl_err *e)
 {
 	return fqm0_init_cols(s, d, m, 0, dem_georef(d)->width, e);
 }
 
 int
-fqm0_init_cols(fqm0_state *s, dem *d, const geo_metric *m, int x0, int n,
+fqm0_init_cols(fqm0_state *s, dem *d, const geo_ground *m, int x0, int n,
     tl_err *e)
 {
 	const georef *g = dem_georef(d);

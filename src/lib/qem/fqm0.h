@@ -33,20 +33,20 @@
  * fqm_step0_encode: that row as fqm_encode would encode it, layout L. */
 #define FQM_BAND0_DOUBLES 24
 void fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, int w, int J, const geo_metric *m,
+    const unsigned char *v1, int w, int J, const geo_ground *m,
     double *band);
 void fqm_row0(const double *above, const double *below, const float *z,
     const unsigned char *valid, int w, fqm_vertex *out);
 void fqm_step0(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, int w, int J, const geo_metric *m,
+    const unsigned char *v1, int w, int J, const geo_ground *m,
     double *part, fqm_vertex *out);
 void fqm_step0_encode(const float *z0, const unsigned char *v0,
     const float *z1, const unsigned char *v1, int w, int J,
-    const geo_metric *m, double *part, const fqm_layout *L, float *row);
+    const geo_ground *m, double *part, const fqm_layout *L, float *row);
 
 typedef struct {
 	dem *d;
-	const geo_metric *m;
+	const geo_ground *m;
 	int x0, w, h, next;          /* DEM columns x0 .. x0+w-1, its
 	                              * height; the row expected next */
 	float *z[2];                 /* DEM rows j, j+1 (by parity) */
@@ -55,11 +55,11 @@ typedef struct {
 } fqm0_state;
 
 /* d of at least 3x3 samples, its metric m: both outlive the state. */
-int fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e);
+int fqm0_init(fqm0_state *s, dem *d, const geo_ground *m, tl_err *e);
 /* Only the DEM's columns x0 .. x0+n-1 (n >= 3), as a band job's window:
- * m answers in the window's columns (geo_metric x0). The window's edge
+ * m answers in the window's columns (geo_ground x0). The window's edge
  * vertices lack the cells beyond it: a band job drops them. */
-int fqm0_init_cols(fqm0_state *s, dem *d, const geo_metric *m, int x0,
+int fqm0_init_cols(fqm0_state *s, dem *d, const geo_ground *m, int x0,
     int n, tl_err *e);
 /* FQM row j of level 0 (w vertices); rows strictly in order from 0. */
 int fqm0_row(fqm0_state *s, int j, fqm_vertex *out, tl_err *e);

@@ -36,7 +36,7 @@ static const int without[4] = { 3, 1, 2, 0 }; /* corner k: all but this */
 
 void
 fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, int w, int J, const geo_metric *m,
+    const unsigned char *v1, int w, int J, const geo_ground *m,
     double *band)
 {
 	/* the metric along rows J and J + 1, taken at each cell's middle
@@ -115,13 +115,13 @@ fqm_row0(const double *above, const double *below, const float *z,
 
 /* The metric along rows J and J + 1 (see fqm_band0). */
 typedef struct {
-	const geo_metric *m;
+	const geo_ground *m;
 	double sx0[GEO_MAX_NODES], sx1[GEO_MAX_NODES];
 	double y0[GEO_MAX_NODES], y1[GEO_MAX_NODES];
-} band_metric;
+} band_ground;
 
 static void
-band_metric_of(const geo_metric *m, int J, band_metric *b)
+band_ground_of(const geo_ground *m, int J, band_ground *b)
 {
 	b->m = m;
 	geo_row_sx(m, J, b->sx0), geo_row_sx(m, J + 1, b->sx1);
@@ -138,9 +138,9 @@ typedef struct {
 /* Cell i's trapezoid, as fqm_band0 makes it: x, y of the edges
  * e1 = p1 - p0, e2 = p2 - p0 of each triangle k, xy[k] = x1 y1 x2 y2. */
 static void
-cell_xy(const band_metric *b, size_t i, double xy[4][4])
+cell_xy(const band_ground *b, size_t i, double xy[4][4])
 {
-	const geo_metric *m = b->m;
+	const geo_ground *m = b->m;
 	double I = i + 0.5;
 	double a = geo_on_row(m, b->sx0, I), c = geo_on_row(m, b->sx1, I);
 	double dy = geo_on_row(m, b->y1, I) - geo_on_row(m, b->y0, I);
@@ -159,7 +159,7 @@ cell_xy(const band_metric *b, size_t i, double xy[4][4])
 
 /* The shape of cells i and j (lanes 0 and 1). */
 static void
-pair_shape_of(const band_metric *b, size_t i, size_t j, pair_shape *s)
+pair_shape_of(const band_ground *b, size_t i, size_t j, pair_shape *s)
 {
 	double u[4][4], v[4][4];
 
@@ -367,14 +367,14 @@ last0(const double *part, size_t w, fqm_vertex *out, float *const qa[6])
  * cells of band J in pairs (pair_step). */
 static void
 step0(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, size_t w, int J, const geo_metric *m,
+    const unsigned char *v1, size_t w, int J, const geo_ground *m,
     double *part, fqm_vertex *out, float *const qa[6])
 {
 	size_t n = w - 1, i; /* cells */
 	int full;
 	row_pass r = { w, z0, z1, v0, v1, part, { { 0 } }, { { 0 } }, out,
 	    qa };
-	band_metric b;
+	band_ground b;
 	pair_shape s;
 
 	if (z1 == NULL) {
@@ -382,7 +382,7 @@ step0(const float *z0, const unsigned char *v0, const float *z1,
 		return;
 	}
 	full = memchr(v0, 0, w) == NULL && memchr(v1, 0, w) == NULL;
-	band_metric_of(m, J, &b);
+	band_ground_of(m, J, &b);
 	/* a per-row metric's cells are alike: one shape for the band */
 	pair_shape_of(&b, 0, 1, &s);
 	pair_step(&r, &s, 0, 1, 1, PAIR_SOME); /* w >= 3: two cells at least */
@@ -417,7 +417,7 @@ step0(const float *z0, const unsigned char *v0, const float *z1,
 
 void
 fqm_step0(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, int w, int J, const geo_metric *m,
+    const unsigned char *v1, int w, int J, const geo_ground *m,
     double *part, fqm_vertex *out)
 {
 	for (int i = 0; i < w; i++) {
@@ -431,7 +431,7 @@ fqm_step0(const float *z0, const unsigned char *v0, const float *z1,
 
 void
 fqm_step0_encode(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, int w, int J, const geo_metric *m,
+    const unsigned char *v1, int w, int J, const geo_ground *m,
     double *part, const fqm_layout *L, float *row)
 {
 	size_t W = (size_t)w;

@@ -47,7 +47,7 @@ solve_mode_name(enum solve_mode m)
 
 int
 solve_init(solve_state *s, enum solve_mode mode, int level, int w, int h,
-    const geo_metric *m, tl_err *e)
+    const geo_ground *m, tl_err *e)
 {
 	memset(s, 0, sizeof *s);
 	s->mode = mode;
@@ -127,7 +127,7 @@ row0(const solve_state *s, int j)
  * fix asks for it a hundred times per vertex. Rows come in order, so
  * four of the five are the previous row's, moved up. */
 static void
-cache_metric(solve_state *s, int j)
+cache_ground(solve_state *s, int j)
 {
 	int r0 = 0;
 
@@ -356,7 +356,7 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 
 	assert(j < s->h); /* rows 0 .. h-1, in order */
 	if (s->mode == SOLVE_QEM3D)
-		cache_metric(s, j);
+		cache_ground(s, j);
 	for (int i = 0; i < s->w; i++) {
 		out[i].v = in[i].v;
 		out[i].x = out[i].y = 0;
