@@ -40,14 +40,13 @@ uses_play    := base geo raster pyramid
 uses_tiles3d := base geo pyramid
 uses_terrain := base geo pyramid
 uses_jobs    := base raster qem
+pkgs_base    := jansson
 pkgs_geo     := proj geographiclib
 pkgs_raster  := OpenEXR libdeflate
 libs_raster  := -lOpenEXRCore-3_1
 pkgs_dem     := gdal
-pkgs_pyramid := jansson
-pkgs_tiles3d := jansson
 pkgs_verify  := zlib
-pkgs_terrain := jansson zlib
+pkgs_terrain := zlib
 pkgs_play    := egl epoxy glfw3 stb
 # the programs: the layers each uses (cli.c, their shared start-up, uses
 # uses_cli; the other files of src/cmd, the work the programs share, are

@@ -33,7 +33,7 @@ typedef struct {
 	float *z;          /* filled, as dem.c gives it */
 	unsigned char *v;  /* valid */
 	georef geo;
-	geo_metric m;
+	geo_ground m;
 	char dem[PATH_MAX];
 	dem_opts dopt;
 	int nlev;
@@ -90,14 +90,14 @@ make_world(world *w, const char *tmp, const char *name, int W, int H)
 	    geo_level_size(H, w->nlev) > BT_SIZE)
 		w->nlev++;
 	w->nlev++;
-	return geo_metric_init(&w->m, &w->geo, &e);
+	return geo_ground_init(&w->m, &w->geo, &e);
 }
 
 static void
 free_world(world *w)
 {
 	free(w->z), free(w->v);
-	geo_metric_free(&w->m);
+	geo_ground_free(&w->m);
 }
 
 /* One level on the whole grid of its blocks (gw x gh vertices). */

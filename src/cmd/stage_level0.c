@@ -13,7 +13,7 @@ convert(const cli *c, const stage_level0 *o, dem *d, tl_err *e)
 	fqm_info fi = { .geo = *dem_georef(d) };
 	int win[2] = { o->win[0], o->win[1] };
 	rs_header h;
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	fqm0_source j = { 0 };
 	char note[512];
 	int r = -1;
@@ -28,10 +28,10 @@ convert(const cli *c, const stage_level0 *o, dem *d, tl_err *e)
 		return tl_fail(e, "-w %d,%d: not 3 or more of the DEM's %d "
 		    "columns", win[0], win[1], fi.geo.width);
 	fi.x0 = win[0];
-	if (dem_metric_note(d, &c->dem, tl_name(o->in, 0), note, sizeof note))
+	if (dem_ground_note(d, &c->dem, tl_name(o->in, 0), note, sizeof note))
 		cli_warn(c, "%s", note);
 	rs_header_init(&h, 0, 0);
-	if (geo_metric_init(&m, &fi.geo, e) == 0 &&
+	if (geo_ground_init(&m, &fi.geo, e) == 0 &&
 	    fqm_header(&h, &fi, "none", e) == 0 &&
 	    fqm_layout_of(&h, &j.L, c->prog, e) == 0) {
 		/* the window's columns, its metric answering in them */
@@ -43,7 +43,7 @@ convert(const cli *c, const stage_level0 *o, dem *d, tl_err *e)
 	}
 	fqm0_free(&j.s);
 	rs_header_free(&h);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	return r;
 }
 

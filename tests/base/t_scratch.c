@@ -124,7 +124,7 @@ test_rmtree(void)
 	snprintf(p + n, sizeof p - n, "/link");
 	symlink(dir, p);	/* to the parent: must not be followed */
 	snprintf(p, sizeof p, "%s/deep", dir);
-	ok(scratch_rmtree(p) == 0 && !exists(p), "a tree 40 deep is removed");
+	ok(tl_rmtree(p) == 0 && !exists(p), "a tree 40 deep is removed");
 	ok(exists(outside), "a symlink in it is removed, not followed");
 }
 
@@ -138,6 +138,6 @@ main(void)
 	setenv("TMPDIR", dir, 1);
 	test_sweep();
 	test_rmtree();
-	scratch_rmtree(dir);
+	tl_rmtree(dir);
 	return tap_done();
 }

@@ -317,15 +317,15 @@ check_pairs(void)
 /* --- metric embedding (GeodSolve -i -p 9 literals) ------------------- */
 
 static void
-check_metric_file(const char *file, const int *rows, const double *dx,
+check_ground_file(const char *file, const int *rows, const double *dx,
     int drow, double dy, double ytotal)
 {
 	tl_err e = { "" };
 	dem *d = dem_open(dpath(file), NULL, &e);
-	geo_metric m;
+	geo_ground m;
 	int n;
 
-	if (!ok(d != NULL && geo_metric_init(&m, dem_georef(d), &e) == 0,
+	if (!ok(d != NULL && geo_ground_init(&m, dem_georef(d), &e) == 0,
 	    "%s: metric", file)) {
 		printf("#   %s\n", e.msg);
 		dem_close(d);
@@ -340,28 +340,28 @@ check_metric_file(const char *file, const int *rows, const double *dx,
 	    m.y[drow + 1] - m.y[drow], dy);
 	ok(m.y[0] == 0 && near(m.y[n], ytotal, 1e-5), "%s: y[%d] = %.9f m, "
 	    "the meridian arc (GeodSolve %.9f)", file, n, m.y[n], ytotal);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	dem_close(d);
 }
 
 static void
-check_metric(void)
+check_ground(void)
 {
 	static const int r1[] = { 0, 600, 1200 }, r3[] = { 0, 1800, 3600 };
 	static const double dx1[] = { 67.950806464, 68.499176504, 69.042301321 };
 	static const double dx3[] = { 20.325498153, 20.528169672, 20.729264878 };
 	tl_err e = { "" };
 	dem *d;
-	geo_metric m;
+	geo_ground m;
 
-	check_metric_file("N42E001.hgt", r1, dx1, 600, 92.569161377,
+	check_ground_file("N42E001.hgt", r1, dx1, 600, 92.569161377,
 	    111083.004469900);
-	check_metric_file("N42E001.tif", r1, dx1, 1199, 92.561076401,
+	check_ground_file("N42E001.tif", r1, dx1, 1199, 92.561076401,
 	    111083.004469900);
-	check_metric_file("N48W125.hgt", r3, dx3, 1800, 30.888899250,
+	check_ground_file("N48W125.hgt", r3, dx3, 1800, 30.888899250,
 	    111200.036762378);
 	d = dem_open(dpath("bigtujunga.tif"), NULL, &e);
-	if (ok(d != NULL && geo_metric_init(&m, dem_georef(d), &e) == 0,
+	if (ok(d != NULL && geo_ground_init(&m, dem_georef(d), &e) == 0,
 	    "bigtujunga.tif: metric")) {
 		/* ground metres: the 30 m grid step over UTM's scale factor
 		 * (t_ground checks them against geodesics) */
@@ -369,7 +369,7 @@ check_metric(void)
 		ok(sx != 30 && fabs(sx / 30 - 1) < 1e-3 &&
 		    fabs(y / (642 * 30.0) - 1) < 1e-3, "bigtujunga.tif: "
 		    "projected: a 30 m step is %.6f m, y[642] = %.3f m", sx, y);
-		geo_metric_free(&m);
+		geo_ground_free(&m);
 	}
 	dem_close(d);
 }
@@ -1003,7 +1003,7 @@ main(void)
 {
 	find_top();
 	check_pairs();  /* first: the RSS check must precede the plugin */
-	check_metric();
+	check_ground();
 	check_vertex_crs();
 	check_header_roundtrip();
 	check_fuji();

@@ -1,7 +1,7 @@
 /* fz_pyrindex - index.json as the viewer and the exporters read it: the
  * shared strict reader (pyramid_index_parse), the text in memory, not
  * NUL-terminated. What it accepts must be what they can use: the grid
- * in metres (geo_metric_init, their next step; not of projected CRSs,
+ * in metres (geo_ground_init, their next step; not of projected CRSs,
  * which PROJ may look up for seconds), and the index written
  * back by the producer's writer reads again the same. */
 #include <errno.h>
@@ -59,7 +59,7 @@ int
 LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	pyramid_index ix;
-	geo_metric m;
+	geo_ground m;
 	tl_err e;
 
 	if (pyramid_index_parse((const char *)data, size, "index.json", &ix,
@@ -69,8 +69,8 @@ LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	 * by name in its database, seconds under ASan ("EPSG;32611" timed
 	 * out), which tests PROJ, not the reader */
 	if (ix.geo.model != GEO_PROJECTED &&
-	    geo_metric_init(&m, &ix.geo, &e) == 0)
-		geo_metric_free(&m);
+	    geo_ground_init(&m, &ix.geo, &e) == 0)
+		geo_ground_free(&m);
 	round_trip(&ix);
 	pyramid_index_free(&ix);
 	return 0;

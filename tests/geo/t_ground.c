@@ -1,4 +1,4 @@
-/* t_ground.c - the metric embedding (georef.h) on real data: N44W072.hgt
+/* t_ground.c - the ground embedding (georef.h) on real data: N44W072.hgt
  * of ../shared/data (or $DATA) warped by gdalwarp to Web Mercator, UTM 19N
  * and Arctic polar stereographic, and the geographic original. Distances
  * the metric gives between samples a quarter block apart (along a row, a
@@ -111,7 +111,7 @@ typedef struct {
 /* Metres the metric puts between the pair's samples: along the row, along
  * the column, else through the local frame of the first one. */
 static double
-metric_distance(const geo_metric *m, const pair *p)
+ground_distance(const geo_ground *m, const pair *p)
 {
 	double q[2];
 
@@ -204,7 +204,7 @@ static void
 check_grid(const char *name, const georef *g, double naive_expect)
 {
 	pair p[MAXP];
-	geo_metric m;
+	geo_ground m;
 	tl_err e = { "" };
 	int n = make_pairs(g, p);
 	double worst[4] = { 0 }, naive = 0;
@@ -213,16 +213,16 @@ check_grid(const char *name, const georef *g, double naive_expect)
 	static const char *kinds[4] = { "row", "column", "diagonal",
 		"whole column" };
 
-	if (!ok(geo_metric_init(&m, g, &e) == 0, "%s: metric %s", name,
+	if (!ok(geo_ground_init(&m, g, &e) == 0, "%s: metric %s", name,
 	    e.msg))
 		return;
 	if (!ok(geodesics(g, p, n) == 0, "%s: gdaltransform and GeodSolve",
 	    name)) {
-		geo_metric_free(&m);
+		geo_ground_free(&m);
 		return;
 	}
 	for (int k = 0; k < n; k++) {
-		double r = metric_distance(&m, &p[k]) / p[k].geodesic - 1;
+		double r = ground_distance(&m, &p[k]) / p[k].geodesic - 1;
 		int t = 0;
 		while (t < 3 && strcmp(kinds[t], p[k].kind) != 0)
 			t++;
@@ -244,7 +244,7 @@ check_grid(const char *name, const georef *g, double naive_expect)
 		ok(fabs(naive / naive_expect - 1) < 0.02, "%s: the CRS's units "
 		    "alone would give %.4f x the ground distance, the metric "
 		    "1 +- %.1e", name, naive, fmax(worst[0], worst[2]));
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 /* fqm_y as it was: rows past the last continue its spacing. */
@@ -262,7 +262,7 @@ old_y(const double *y, int H, long J)
 static void
 check_geographic_exact(const georef *g)
 {
-	geo_metric m;
+	geo_ground m;
 	tl_err e = { "" };
 	int H = g->height, bad = 0;
 	double *dx = calloc(H, sizeof *dx), *y = calloc(H, sizeof *y);
@@ -275,7 +275,7 @@ check_geographic_exact(const georef *g)
 		if (j + 1 < H && geodesy_inverse(lat, 0, next, 0, &d) == 0)
 			y[j + 1] = y[j] + d;
 	}
-	if (!ok(geo_metric_init(&m, g, &e) == 0, "geographic: metric %s",
+	if (!ok(geo_ground_init(&m, g, &e) == 0, "geographic: metric %s",
 	    e.msg))
 		goto done;
 	for (long j = 0; j < H + 300; j += j < H ? 1 : 7)
@@ -297,7 +297,7 @@ check_geographic_exact(const georef *g)
 	ok(bad == 0, "geographic: geo_sx, geo_y, geo_scale, geo_x are the "
 	    "per-row geodesics dx[J], y[J] exactly, at any column, past the "
 	    "last row and between rows (%d differ)", bad);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 done:
 	free(dx), free(y);
 }
@@ -307,18 +307,18 @@ static void
 check_cell(const georef *g0)
 {
 	georef g = *g0;
-	geo_metric m;
+	geo_ground m;
 	int bad = 0;
 
 	g.cell[0] = 25, g.cell[1] = 20;
-	if (!ok(geo_metric_init(&m, &g, NULL) == 0, "cell size: metric"))
+	if (!ok(geo_ground_init(&m, &g, NULL) == 0, "cell size: metric"))
 		return;
 	for (int j = 0; j < g.height + 50; j += 13)
 		bad += geo_sx(&m, j, j) != 25 ||
 		    geo_y(&m, 3 * j, j) != j * 20.0;
 	ok(bad == 0 && m.per_row, "geo:cell 25 x 20 on EPSG:3857: constant "
 	    "metric, the CRS ignored");
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 /* The same CRS as an EPSG code, WKT2 and a PROJ string: one metric. */
@@ -327,17 +327,17 @@ check_crs_forms(const georef *g0, const char *wkt)
 {
 	const char *forms[] = { wkt, "+proj=utm +zone=19 +datum=WGS84 "
 		"+units=m +no_defs" };
-	geo_metric a, b;
+	geo_ground a, b;
 	georef g = *g0;
 	tl_err e = { "" };
 
-	if (!ok(geo_metric_init(&a, g0, &e) == 0, "UTM 19N as EPSG:32619: "
+	if (!ok(geo_ground_init(&a, g0, &e) == 0, "UTM 19N as EPSG:32619: "
 	    "metric %s", e.msg))
 		return;
 	for (int k = 0; k < 2; k++) {
 		double worst = 0;
 		snprintf(g.crs, sizeof g.crs, "%s", forms[k]);
-		if (!ok(geo_metric_init(&b, &g, &e) == 0, "UTM 19N as %s: "
+		if (!ok(geo_ground_init(&b, &g, &e) == 0, "UTM 19N as %s: "
 		    "metric %s", k ? "a PROJ string" : "WKT2", e.msg))
 			continue;
 		for (int j = 0; j < g.height; j += 111)
@@ -347,9 +347,9 @@ check_crs_forms(const georef *g0, const char *wkt)
 				    geo_sx(&b, i, j)));
 		ok(worst < 1e-9, "UTM 19N as %s: the EPSG:32619 metric (max "
 		    "dev %.2g m)", k ? "a PROJ string" : "WKT2", worst);
-		geo_metric_free(&b);
+		geo_ground_free(&b);
 	}
-	geo_metric_free(&a);
+	geo_ground_free(&a);
 }
 
 /* A CRS PROJ does not know: a message, nothing printed. */
@@ -357,7 +357,7 @@ static void
 check_bad_crs(const georef *g0)
 {
 	georef g = *g0;
-	geo_metric m;
+	geo_ground m;
 	tl_err e = { "" };
 	off_t printed;
 	int fd = dup(2), out = open(tpath("stderr"), O_CREAT | O_TRUNC |
@@ -366,7 +366,7 @@ check_bad_crs(const georef *g0)
 	snprintf(g.crs, sizeof g.crs, "EPSG:999999");
 	fflush(stderr);
 	dup2(out, 2);
-	r = geo_metric_init(&m, &g, &e);
+	r = geo_ground_init(&m, &g, &e);
 	fflush(stderr);
 	dup2(fd, 2);
 	printed = lseek(out, 0, SEEK_END);
@@ -376,7 +376,7 @@ check_bad_crs(const georef *g0)
 	ok(printed == 0, "unknown CRS: PROJ prints nothing (%lld bytes)",
 	    (long long)printed);
 	g.crs[0] = '\0', g.epsg = 0;
-	r = geo_metric_init(&m, &g, &e);
+	r = geo_ground_init(&m, &g, &e);
 	ok(r < 0 && strncmp(e.msg, "CRS unknown: cannot", 19) == 0,
 	    "projected grid without a CRS: \"%s\"", e.msg);
 }
@@ -386,17 +386,17 @@ static void
 check_big(const georef *g0)
 {
 	georef g = *g0;
-	geo_metric m;
+	geo_ground m;
 	double t = now();
 
 	g.width = g.height = 8193;
 	g.step[0] = 10, g.step[1] = -10;
-	if (!ok(geo_metric_init(&m, &g, NULL) == 0, "8193 x 8193 UTM metric"))
+	if (!ok(geo_ground_init(&m, &g, NULL) == 0, "8193 x 8193 UTM metric"))
 		return;
 	t = now() - t;
 	ok(m.nx <= 257 && m.ny <= 257 && t < 5, "8193 x 8193 UTM grid: %d x "
 	    "%d lattice every %d samples, init %.3f s", m.nx, m.ny, m.cs, t);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 static void

@@ -100,6 +100,6 @@ main(void)
 	    "an unreadable DEM: status 1, dem2fqm's message (\"%s\")", e.msg);
 	ok(stat(idx, &st) == 0, "the earlier pyramid untouched");
 	ok(scratch_left() == 0, "no scratch left after the failures");
-	scratch_rmtree(tmp);
+	tl_rmtree(tmp);
 	return tap_done();
 }

@@ -233,7 +233,7 @@ run_level_in(run *u, const char *path, int level, int w, int h,
 {
 	static const dem_opts none;
 	level_args L = { 0 };
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	size_t nb, ng;
 	dem *d;
 
@@ -255,7 +255,7 @@ run_level_in(run *u, const char *path, int level, int w, int h,
 	u->s.zmin = calloc(nb, sizeof *u->s.zmin);
 	u->s.zmax = calloc(nb, sizeof *u->s.zmax);
 	if ((d = dem_open(path, &none, &u->e)) == NULL ||
-	    geo_metric_init(&m, dem_georef(d), &u->e) < 0)
+	    geo_ground_init(&m, dem_georef(d), &u->e) < 0)
 		goto done;
 	L.level = level, L.size[0] = w, L.size[1] = h;
 	L.displaced = displaced, L.m = &m, L.threads = threads;
@@ -282,7 +282,7 @@ run_level_in(run *u, const char *path, int level, int w, int h,
 done:
 	if (d != NULL)
 		dem_close(d);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 static void
@@ -667,7 +667,7 @@ test_part_errors(void)
 	int W = 300, H = 1500;
 	float *z = malloc((size_t)W * H * sizeof *z);
 	char path[PATH_MAX];
-	geo_metric gm = { 0 };
+	geo_ground gm = { 0 };
 	tl_err e;
 	dem *d = NULL;
 
@@ -681,7 +681,7 @@ test_part_errors(void)
 			    abs(j - H / 2) + rough(i, j, 21) / 1000;
 	if (dem_file(path, sizeof path, "parts", W, H, z) < 0 ||
 	    (d = dem_open(path, &none, &e)) == NULL ||
-	    geo_metric_init(&gm, dem_georef(d), &e) < 0) {
+	    geo_ground_init(&gm, dem_georef(d), &e) < 0) {
 		ok(0, "part errors: the DEM");
 		goto done;
 	}
@@ -727,7 +727,7 @@ test_part_errors(void)
 done:
 	if (d != NULL)
 		dem_close(d);
-	geo_metric_free(&gm);
+	geo_ground_free(&gm);
 	free(z);
 }
 

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "qem/filter.h"
+#include "qem/fqm0.h"
 #include "qem/solve.h"
 #include "tap.h"
 #include "urand.h"
@@ -63,11 +64,11 @@ test_stream(const char *name, int fw, int fh)
 {
 	const filter_kernel *k = filter_find(name);
 	fqm_vertex *fine = calloc(fw, sizeof *fine), *coarse;
-	geo_metric m;
+	geo_ground m;
 	filter_state f;
 	int pushes = 0, pulls = 0, late = 0, early = 0, r;
 
-	geo_metric_const(&m, 4 * fh, 30, 20, NULL);
+	geo_ground_const(&m, 4 * fh, 30, 20, NULL);
 	r = filter_init(&f, k, 0, fw, fh, fw, fh, &m, NULL);
 	ok(r == 0 && f.cw == geo_level_size(fw, 1) &&
 	    f.ch == geo_level_size(fh, 1) && f.nring == (k->radius > 0 ? 2 * k->radius + 1 : 2),
@@ -94,7 +95,7 @@ test_stream(const char *name, int fw, int fh)
 	    "rows are in (%d pushes, %d pulls)", name, fw, fh, pushes, pulls);
 	filter_free(&f);
 	free(fine), free(coarse);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 /* Kernel none: heights and quadric-free vertices subsample exactly; a
@@ -104,7 +105,7 @@ test_padding(void)
 {
 	enum { W = 6, H = 4 };
 	fqm_vertex fine[H][W], coarse[3][4];
-	geo_metric m;
+	geo_ground m;
 	filter_state f;
 	int bad = 0, pad = 0;
 
@@ -113,7 +114,7 @@ test_padding(void)
 		for (int i = 0; i < W; i++)
 			fine[j][i].z = 10 * j + i, fine[j][i].s = 100 + i + j,
 			fine[j][i].v = 1;
-	geo_metric_const(&m, 16, 30, 20, NULL);
+	geo_ground_const(&m, 16, 30, 20, NULL);
 	filter_init(&f, filter_find("none"), 0, W, H, W, H, &m, NULL);
 	for (int j = 0, y = 0; y < f.ch; y++) {
 		while (!filter_ready(&f))
@@ -135,7 +136,7 @@ test_padding(void)
 	    "6x4 to 4x3: Z and S sub-sampled (odd reflection past the "
 	    "edge), %d padding vertices with V 0", pad);
 	filter_free(&f);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 /* A tilted plane with dyadic coefficients, so every sample is exact in
@@ -154,7 +155,7 @@ plane(double col, double row)
 static double
 plane_pyramid(const filter_kernel *k, int W, int H, double *worst3d)
 {
-	geo_metric m;
+	geo_ground m;
 	int n = 4 * (W > H ? W : H);
 	fqm_vertex *lev, *next;
 	solve_vertex *out;
@@ -162,7 +163,7 @@ plane_pyramid(const filter_kernel *k, int W, int H, double *worst3d)
 	int w = W, h = H;
 
 	*worst3d = 0;
-	geo_metric_const(&m, n, DX, DY, NULL);
+	geo_ground_const(&m, n, DX, DY, NULL);
 	lev = calloc((size_t)W * H, sizeof *lev);
 	/* level 0 */
 	{
@@ -232,7 +233,7 @@ plane_pyramid(const filter_kernel *k, int W, int H, double *worst3d)
 		lev = next;
 	}
 	free(lev);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	return worst;
 }
 
@@ -380,7 +381,7 @@ ref_pull(ref_state *R, fqm_vertex *coarse)
  * the reference, on random rows: the outputs must be the same bits. */
 static int
 identity_case(const filter_kernel *k, int fw, int fh, int level,
-    const geo_metric *m, unsigned seed)
+    const geo_ground *m, unsigned seed)
 {
 	/* the channels in their sorted order, as a header has them */
 	const fqm_layout L = { { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9 }, 12, 10, 11 };
@@ -430,13 +431,13 @@ test_identity(void)
 {
 	static const int sizes[][2] = { { 2, 5 }, { 3, 3 }, { 5, 2 },
 		{ 4, 6 }, { 8, 9 }, { 9, 8 }, { 37, 23 }, { 64, 7 } };
-	geo_metric m[2];
+	geo_ground m[2];
 	georef g;
 	int bad = 0, n = 0;
 	unsigned seed = 11;
 
 	/* a per-row metric whose rows differ (as a geographic DEM's do) */
-	geo_metric_const(&m[0], 1024, 30, 20, NULL);
+	geo_ground_const(&m[0], 1024, 30, 20, NULL);
 	for (int j = 0; j < 1024; j++) {
 		m[0].dx[j] = 30 - 0.01 * j + 1e-3 * urand(&seed);
 		m[0].y[j] = j > 0 ? m[0].y[j - 1] + 20 + 1e-3 * j : 0;
@@ -448,9 +449,9 @@ test_identity(void)
 	g.origin[0] = 400000, g.origin[1] = 3800000;
 	g.step[0] = 30, g.step[1] = -30, g.unit = 1, g.point = 1;
 	g.width = g.height = 1024;
-	if (geo_metric_init(&m[1], &g, NULL) < 0) {
+	if (geo_ground_init(&m[1], &g, NULL) < 0) {
 		ok(0, "UTM metric for the identity test");
-		geo_metric_free(&m[0]);
+		geo_ground_free(&m[0]);
 		return;
 	}
 	for (int mi = 0; mi < 2; mi++)
@@ -468,7 +469,7 @@ test_identity(void)
 	    "(quadric_translate per tap): %d cases of %d, every kernel, "
 	    "per-row and lattice metrics, levels 0 and 3, random rows with "
 	    "zeros of both signs, tiny and huge values", n - bad, n);
-	geo_metric_free(&m[0]), geo_metric_free(&m[1]);
+	geo_ground_free(&m[0]), geo_ground_free(&m[1]);
 }
 
 int

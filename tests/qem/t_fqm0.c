@@ -40,7 +40,7 @@ write_dem(void)
 
 /* The expected rows: every DEM row read first, then the bands. */
 static void
-compose(dem *d, const geo_metric *m, fqm_vertex *want)
+compose(dem *d, const geo_ground *m, fqm_vertex *want)
 {
 	static float z[H][W];
 	static unsigned char v[H][W];
@@ -60,13 +60,13 @@ test_rows(const dem_opts *o, const char *what)
 {
 	static fqm_vertex got[H * W], want[H * W];
 	dem *d = dem_open(path, o, NULL);
-	geo_metric m;
+	geo_ground m;
 	fqm0_state s;
 	tl_err e = { "" };
 	int r = 0, bc = 0, voidq = 1;
 	double sx, sy;
 
-	if (d == NULL || geo_metric_init(&m, dem_georef(d), &e) < 0) {
+	if (d == NULL || geo_ground_init(&m, dem_georef(d), &e) < 0) {
 		ok(0, "%s: the DEM and its metric (%s)", what, e.msg);
 		return;
 	}
@@ -93,7 +93,7 @@ test_rows(const dem_opts *o, const char *what)
 	ok(got[2 * W + 3].z == got[2 * W + 3].s &&
 	    got[2 * W + 3].z == (3 * 7 + 2 * 13) % 11 * 3 + 100,
 	    "%s: Z and S are the DEM's height", what);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	dem_close(d);
 }
 
@@ -103,7 +103,7 @@ test_rows(const dem_opts *o, const char *what)
  * mixed), flats (zero normals, -0 products), zero-width rows (degenerate
  * triangles), per-row and lattice metrics. */
 static int
-step0_case(const geo_metric *m, int w, int h, unsigned seed, int voidpct,
+step0_case(const geo_ground *m, int w, int h, unsigned seed, int voidpct,
     int levels)
 {
 	float *z = malloc(sizeof *z * (size_t)w * h);
@@ -159,13 +159,13 @@ test_step0(void)
 {
 	static const int widths[] = { 3, 4, 5, 6, 9, 40, 67 };
 	static const int voids[] = { 0, 5, 40, 80, 100 };
-	geo_metric m[3];
+	geo_ground m[3];
 	georef g;
 	tl_err e = { "" };
 	int bad = 0, cases = 0, ok3;
 
-	ok3 = geo_metric_const(&m[0], 9, 30, 20, &e) == 0 &&
-	    geo_metric_const(&m[1], 9, 30, 20, &e) == 0;
+	ok3 = geo_ground_const(&m[0], 9, 30, 20, &e) == 0 &&
+	    geo_ground_const(&m[1], 9, 30, 20, &e) == 0;
 	/* zero-width cells: flat ones are degenerate triangles */
 	if (ok3)
 		m[1].dx[2] = m[1].dx[3] = m[1].dx[7] = 0;
@@ -177,7 +177,7 @@ test_step0(void)
 	g.step[0] = 10, g.step[1] = -10;
 	g.unit = 1;
 	g.width = 67, g.height = 9;
-	ok3 = ok3 && geo_metric_init(&m[2], &g, &e) == 0 && !m[2].per_row;
+	ok3 = ok3 && geo_ground_init(&m[2], &g, &e) == 0 && !m[2].per_row;
 	if (!ok(ok3, "metrics for fqm_step0 (%s)", e.msg))
 		return;
 	for (int k = 0; k < 3; k++)
@@ -196,7 +196,7 @@ test_step0(void)
 	    "to 67, 0 to 100%% voids, flats, zero-width rows, per-row and "
 	    "UTM metrics)", bad, cases);
 	for (int k = 0; k < 3; k++)
-		geo_metric_free(&m[k]);
+		geo_ground_free(&m[k]);
 }
 
 /* fqm0_row asserts that rows come in order. */
@@ -211,10 +211,10 @@ test_order(void)
 	if ((pid = fork()) == 0) {
 		dem *d = dem_open(path, NULL, NULL);
 		fqm_vertex out[W];
-		geo_metric m;
+		geo_ground m;
 		fqm0_state s;
 		freopen("/dev/null", "w", stderr);
-		if (d == NULL || geo_metric_init(&m, dem_georef(d), NULL) < 0 ||
+		if (d == NULL || geo_ground_init(&m, dem_georef(d), NULL) < 0 ||
 		    fqm0_init(&s, d, &m, NULL) < 0)
 			_exit(3);
 		fqm0_row(&s, 0, out, NULL);

@@ -73,14 +73,14 @@ test_header(void)
 static void
 solve_one(enum solve_mode mode, const fqm_vertex *in, solve_vertex *out)
 {
-	geo_metric m;
+	geo_ground m;
 	solve_state s;
 
-	geo_metric_const(&m, 8, DX, DY, NULL);
+	geo_ground_const(&m, 8, DX, DY, NULL);
 	solve_init(&s, mode, 0, 3, 3, &m, NULL);
 	solve_row(&s, in, out);
 	solve_free(&s);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 static void
@@ -138,7 +138,7 @@ test_cell(void)
 static void
 test_folds(int level, int W, int H, double reach)
 {
-	geo_metric m;
+	geo_ground m;
 	int n = (W > H ? W : H) << (level + 1);
 	fqm_vertex *in = calloc(W, sizeof *in);
 	solve_vertex *lev = calloc((size_t)W * H, sizeof *lev);
@@ -147,7 +147,7 @@ test_folds(int level, int W, int H, double reach)
 	long bad = 0, moved = 0, outside = 0;
 	double sx, sy;
 
-	geo_metric_const(&m, n, DX, DY, NULL);
+	geo_ground_const(&m, n, DX, DY, NULL);
 	sx = DX * (1 << level), sy = DY * (1 << level);
 	solve_init(&s, SOLVE_QEM3D, level, W, H, &m, NULL);
 	for (int j = 0; j < H; j++) {
@@ -227,7 +227,7 @@ test_folds(int level, int W, int H, double reach)
 	    bad, outside, moved, W * H, s.reduced, s.zeroed);
 	solve_free(&s);
 	free(in), free(lev);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 }
 
 
@@ -249,7 +249,7 @@ test_direct(void)
 		for (int mi = 0; mi < 3; mi++) {
 			rs_header fqm, oh;
 			fqm_layout L;
-			geo_metric m;
+			geo_ground m;
 			solve_state s, t;
 			int h = 64;
 			float *in = malloc((size_t)w * 13 * sizeof *in);
@@ -265,7 +265,7 @@ test_direct(void)
 			rs_add_channel(&fqm, "V", NULL);
 			fqm_layout_of(&fqm, &L, "t", NULL);
 			solve_header(&oh, &fqm, modes[mi], NULL);
-			geo_metric_const(&m, 64, DX, DY, NULL);
+			geo_ground_const(&m, 64, DX, DY, NULL);
 			solve_init(&s, modes[mi], 2, w, h, &m, NULL);
 			solve_init(&t, modes[mi], 2, w, h, &m, NULL);
 			for (int y = 0; y < h; y++, n++) {
@@ -279,7 +279,7 @@ test_direct(void)
 				    sizeof *a) != 0;
 			}
 			solve_free(&s), solve_free(&t);
-			geo_metric_free(&m);
+			geo_ground_free(&m);
 			rs_header_free(&oh), rs_header_free(&fqm);
 			free(in), free(a), free(b), free(v), free(sv);
 		}
@@ -296,14 +296,14 @@ static void
 solve_on(int n, int level, int W, int H, double reach, solve_vertex *lev,
     long long counts[2])
 {
-	geo_metric m;
+	geo_ground m;
 	fqm_vertex *in = calloc(W, sizeof *in);
 	tl_pool *p = n > 1 ? tl_pool_new(n, NULL) : NULL;
 	solve_state s;
 	unsigned seed = 7;
 	double sx = DX * (1 << level), sy = DY * (1 << level);
 
-	geo_metric_const(&m, (W > H ? W : H) << (level + 1), DX, DY, NULL);
+	geo_ground_const(&m, (W > H ? W : H) << (level + 1), DX, DY, NULL);
 	solve_init(&s, SOLVE_QEM3D, level, W, H, &m, NULL);
 	solve_pool(&s, p, NULL);
 	for (int j = 0; j < H; j++) {
@@ -327,7 +327,7 @@ solve_on(int n, int level, int W, int H, double reach, solve_vertex *lev,
 	counts[0] = s.reduced, counts[1] = s.zeroed;
 	solve_free(&s);
 	tl_pool_free(p);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	free(in);
 }
 

@@ -60,7 +60,7 @@ percentile(const stats *s, double p)
 typedef struct {
 	int w, h, level, cz, cx, cy;
 	rs_reader *r;
-	const geo_metric *m;
+	const geo_ground *m;
 	float *buf;
 	double *z[4], *px[4], *py[4];
 	int tag[4], next;
@@ -195,7 +195,7 @@ main(int argc, char **argv)
 	rows R = { 0 };
 	stats s = { 0 };
 	fqm_info fi;
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	int c, r = 1;
 
 	while ((c = getopt(argc, argv, "e:s:")) != -1) {
@@ -223,7 +223,7 @@ main(int argc, char **argv)
 	const rs_header *h = rs_header_of(R.r);
 	if (fqm_info_of(h, "vertices", &fi, argv[optind + 1], &e) < 0 ||
 	    (R.cz = rs_need_channel(h, "Z", argv[optind + 1], &e)) < 0 ||
-	    geo_metric_init(&m, &fi.geo, &e) < 0)
+	    geo_ground_init(&m, &fi.geo, &e) < 0)
 		goto fail;
 	R.w = h->width, R.h = h->height, R.level = fi.level, R.m = &m;
 	R.cx = rs_channel(h, "X"), R.cy = rs_channel(h, "Y");
@@ -251,7 +251,7 @@ fail:
 done: /* everything freed: make check-asan counts leaks */
 	rs_close(R.r);
 	dem_close(d);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	free(R.buf), free(s.hist);
 	for (int k = 0; k < 4; k++)
 		free(R.z[k]), free(R.px[k]), free(R.py[k]);

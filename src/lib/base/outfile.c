@@ -3,6 +3,7 @@
  * killed runs left (outfile.h). */
 #define _GNU_SOURCE
 #include "base/outfile.h"
+#include "base/sweep.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -39,124 +40,6 @@ static struct {
 } tmps[MAXTMP];
 static pthread_mutex_t tmps_lock = PTHREAD_MUTEX_INITIALIZER;
 
-/* A descriptor kept in reserve for removing a tree when the process has
- * none left: the failure being cleaned up may be that one (EMFILE). The
- * first removal that needs it gives it up; atomic, as the handler takes
- * it too. */
-static int reserve = -1;
-
-/* Directory entries with system calls only (readdir may allocate). */
-struct dent {
-	uint64_t ino;
-	int64_t off;
-	unsigned short reclen;
-	unsigned char type;
-	char name[];
-};
-
-#define DIRFLAGS (O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)
-
-/* The directory name in fd, the reserve given up when no descriptor is
- * left. */
-static int
-open_dir(int fd, const char *name)
-{
-	int d = openat(fd, name, DIRFLAGS), r;
-
-	if (d < 0 && errno == EMFILE &&
-	    (r = __atomic_exchange_n(&reserve, -1, __ATOMIC_ACQ_REL)) >= 0) {
-		close(r);
-		d = openat(fd, name, DIRFLAGS);
-	}
-	return d;
-}
-
-/* Empties the directory fd as far as it can without descending: removes
- * every entry that is not a directory and every empty directory, in
- * passes from the start until one removes nothing (removal while reading
- * may hide entries). Returns 1 with the name of a non-empty
- * subdirectory in sub (256 bytes) as soon as it meets one, 0 when fd is
- * empty, -1 when an entry cannot be removed. *removed counts. */
-static int
-rmtree_clear(int fd, char *sub, int *removed)
-{
-	char buf[4096];
-	long n;
-	int stuck = 0, gone = 1;
-
-	while (gone) {
-		gone = stuck = 0;
-		lseek(fd, 0, SEEK_SET);
-		while ((n = syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0)
-			for (long off = 0; off < n; off += ((struct dent *)
-			    (void *)(buf + off))->reclen) {
-				const char *name = ((struct dent *)(void *)
-				    (buf + off))->name;
-				if (strcmp(name, ".") == 0 ||
-				    strcmp(name, "..") == 0)
-					continue;
-				/* a symbolic link goes like a file: its
-				 * target is never touched */
-				if (unlinkat(fd, name, 0) == 0 ||
-				    (errno == EISDIR &&
-				    unlinkat(fd, name, AT_REMOVEDIR) == 0)) {
-					gone = 1, ++*removed;
-				} else if (errno == ENOTEMPTY || errno == EEXIST) {
-					size_t k = strlen(name);
-					memcpy(sub, name, k + 1 < 256 ? k + 1 : 256);
-					sub[255] = '\0';
-					return 1;
-				} else if (errno != ENOENT) {
-					stuck = 1;
-				}
-			}
-	}
-	return stuck ? -1 : 0;
-}
-
-/* Removes name (relative to parent) and everything under it, at any
- * depth, never following a symbolic link nor entering a mount point, with
- * system calls only (async-signal-safe: the signal handler uses it), no
- * recursion and two descriptors at most. Each walk goes down from the top
- * to the first directory without non-empty subdirectories and empties it;
- * its parent removes it on the next walk. A walk that removes nothing
- * ends it (something there cannot be removed): the rest stays. */
-static void
-rmtree_at(int parent, const char *name)
-{
-	char sub[256];
-	int late = 0;
-
-	/* an empty directory goes without a descriptor */
-	if (unlinkat(parent, name, 0) == 0 || errno != EISDIR ||
-	    unlinkat(parent, name, AT_REMOVEDIR) == 0)
-		return;
-	for (;;) {
-		int fd = open_dir(parent, name), depth = 0, removed = 0;
-		int r = -1;
-
-		if (fd < 0)
-			return;
-		while ((r = rmtree_clear(fd, sub, &removed)) == 1) {
-			int c = open_dir(fd, sub);
-			close(fd);
-			if ((fd = c) < 0)
-				break;
-			depth++;
-		}
-		if (fd >= 0)
-			close(fd);
-		/* filled again meanwhile (a signal's removal while the
-		 * owner's other threads still write): another walk */
-		if (depth == 0 && (r != 0 || unlinkat(parent, name,
-		    AT_REMOVEDIR) == 0 || (errno != ENOTEMPTY &&
-		    errno != EEXIST) || ++late > 1000))
-			return;
-		if (depth > 0 && removed == 0)
-			return;
-	}
-}
-
 static void
 on_signal(int sig)
 {
@@ -168,7 +51,7 @@ on_signal(int sig)
 		if (tmps[i].dir && lk >= 0)
 			close(lk); /* the owner dies: no lock needed */
 		if (tmps[i].dir)
-			rmtree_at(AT_FDCWD, p);
+			tl_rmtree_at(AT_FDCWD, p);
 		else
 			unlink(p);
 	}
@@ -211,9 +94,7 @@ tmp_register(const char *path, int dir, int lock, tl_err *e)
 	tmps_enter(&old);
 	for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++)
 		sigaction(sigs[k], &sa, NULL);
-	if (__atomic_load_n(&reserve, __ATOMIC_ACQUIRE) < 0)
-		__atomic_store_n(&reserve, open("/dev/null", O_RDONLY |
-		    O_CLOEXEC), __ATOMIC_RELEASE);
+	tl_rmtree_reserve();
 	for (i = 0; i < MAXTMP && tmps[i].path != NULL; i++)
 		;
 	if (i < MAXTMP) {
@@ -296,134 +177,61 @@ tmp_name(const char *path, tl_err *e)
  * The owner creates the temporary, then waits for its lock (flock without
  * LOCK_NB): a sweeper may hold it for a moment, and if it has removed the
  * temporary meanwhile (no links left), the owner starts again under a new
- * name. A sweeper removes while holding the lock, so no owner can
- * believe in a temporary that is being removed. */
+ * name. The sweep itself is sweep.h's. */
 
 #define LOCKNAME ".lock"
-#define MARK "user.terrain-lod.tmp"
-#define STALE 60 /* seconds: a directory without a lock file (a killed run
-                  * of an older version, or one killed between mkdtemp and
-                  * its lock) is taken as abandoned after this long */
-
-/* 1 when x ends in ".XXXXXX", mkstemp's six letters and digits. */
-static int
-has_tmp_tail(const char *x, size_t n)
-{
-	if (n < 7 || x[n - 7] != '.')
-		return 0;
-	for (size_t i = n - 6; i < n; i++)
-		if (!((x[i] >= 'a' && x[i] <= 'z') || (x[i] >= 'A' &&
-		    x[i] <= 'Z') || (x[i] >= '0' && x[i] <= '9')))
-			return 0;
-	return 1;
-}
+#define MARK TL_SWEEP_MARK
+#define DIRFLAGS (O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)
 
 /* 1 when name is ".BASE.XXXXXX". */
 static int
 is_tmp_of(const char *name, const char *base, size_t blen)
 {
 	return name[0] == '.' && strncmp(name + 1, base, blen) == 0 &&
-	    strlen(name) == blen + 8 && has_tmp_tail(name, blen + 8);
+	    strlen(name) == blen + 8 && tl_sweep_tail(name, blen + 8);
 }
 
-/* 1 when fd carries our mark. */
+/* What a sweep before an output takes: path's own temporaries of its
+ * kind (dir: directories, else files), and any other marked one. */
+struct out_rule {
+	const char *base;
+	size_t blen;
+	int dir;
+};
+
 static int
-marked(int fd)
+out_rule(const char *name, void *arg)
 {
-	char v[8];
+	const struct out_rule *r = arg;
+	size_t n = strlen(name);
 
-	return fgetxattr(fd, MARK, v, sizeof v) >= 0;
-}
-
-/* A temporary file whose lock can be taken: its owner is dead. Another
- * path's (same 0) only when marked. */
-static void
-sweep_file(int pfd, const char *name, int same)
-{
-	int fd = openat(pfd, name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK |
-	    O_CLOEXEC);
-	struct stat a, b;
-
-	if (fd < 0)
-		return;
-	if ((same || marked(fd)) &&
-	    flock(fd, LOCK_EX | LOCK_NB) == 0 && fstat(fd, &a) == 0 &&
-	    S_ISREG(a.st_mode) && fstatat(pfd, name, &b,
-	    AT_SYMLINK_NOFOLLOW) == 0 && a.st_dev == b.st_dev &&
-	    a.st_ino == b.st_ino)
-		unlinkat(pfd, name, 0);
-	close(fd); /* the lock goes with it */
-}
-
-/* A temporary directory whose lock file's lock can be taken, or, of the
- * same path, that has no lock file and is older than STALE seconds.
- * Another path's (same 0) only when marked. */
-static void
-sweep_dir(int pfd, const char *name, const struct stat *st, int same)
-{
-	int d = openat(pfd, name, DIRFLAGS), lk;
-
-	if (d < 0)
-		return;
-	if (!same && !marked(d)) {
-		close(d);
-		return;
-	}
-	lk = openat(d, LOCKNAME, O_RDONLY | O_NOFOLLOW | O_NONBLOCK |
-	    O_CLOEXEC);
-	if (lk >= 0) {
-		if (flock(lk, LOCK_EX | LOCK_NB) == 0)
-			rmtree_at(pfd, name);
-		close(lk);
-	} else if (same && errno == ENOENT &&
-	    time(NULL) - st->st_mtime > STALE) {
-		rmtree_at(pfd, name);
-	}
-	close(d);
+	/* ".N.XXXXXX" at least */
+	if (name[0] != '.' || n < 9 || !tl_sweep_tail(name, n))
+		return 0;
+	if (!is_tmp_of(name, r->base, r->blen))
+		return TL_SWEEP_MARKED;
+	return TL_SWEEP_MARKED | (r->dir ? TL_SWEEP_DIR : TL_SWEEP_FILE);
 }
 
 /* Sweeps the hidden temporaries ".NAME.XXXXXX" that killed runs left in
- * path's directory: path's own of its kind (dir: directories, else
- * files), and any other marked one. Best effort: what cannot be read or
- * removed stays, silently. */
+ * path's directory (out_rule). */
 static void
 sweep(const char *path, int dir)
 {
-	const char *slash = strrchr(path, '/'), *base;
+	const char *slash = strrchr(path, '/');
+	struct out_rule r;
 	char parent[PATH_MAX];
-	struct dirent *de;
-	struct stat st;
-	size_t blen;
-	DIR *D;
-	int pfd;
 
-	base = slash != NULL ? slash + 1 : path;
+	r.base = slash != NULL ? slash + 1 : path;
+	r.blen = strlen(r.base);
+	r.dir = dir;
 	if (slash == NULL)
 		snprintf(parent, sizeof parent, ".");
 	else if ((size_t)snprintf(parent, sizeof parent, "%.*s",
 	    slash == path ? 1 : (int)(slash - path), path) >= sizeof parent)
 		return;
-	if ((blen = strlen(base)) == 0 || (pfd = open(parent, DIRFLAGS)) < 0)
-		return;
-	if ((D = fdopendir(pfd)) == NULL) {
-		close(pfd);
-		return;
-	}
-	while ((de = readdir(D)) != NULL) {
-		size_t n = strlen(de->d_name);
-		int same;
-		/* ".N.XXXXXX" at least */
-		if (de->d_name[0] != '.' || n < 9 ||
-		    !has_tmp_tail(de->d_name, n) || fstatat(pfd, de->d_name,
-		    &st, AT_SYMLINK_NOFOLLOW) != 0)
-			continue;
-		same = is_tmp_of(de->d_name, base, blen);
-		if (S_ISDIR(st.st_mode))
-			sweep_dir(pfd, de->d_name, &st, same && dir);
-		else if (S_ISREG(st.st_mode))
-			sweep_file(pfd, de->d_name, same && !dir);
-	}
-	closedir(D);
+	if (r.blen > 0)
+		tl_sweep(open(parent, DIRFLAGS), LOCKNAME, out_rule, &r);
 }
 
 /* Waits for the lock on fd, the temporary's (or its lock file's) just
@@ -512,24 +320,18 @@ tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 	return r;
 }
 
+/* tl_out_sweep_dir's: every file ".X.XXXXXX" (all ours there). */
+static int
+dir_rule(const char *name, void *arg)
+{
+	return name[0] == '.' && tl_sweep_tail(name, strlen(name)) ?
+	    TL_SWEEP_FILE : 0;
+}
+
 void
 tl_out_sweep_dir(const char *dir)
 {
-	struct dirent *de;
-	DIR *D;
-	int pfd;
-
-	if ((pfd = open(dir, DIRFLAGS)) < 0)
-		return;
-	if ((D = fdopendir(pfd)) == NULL) {
-		close(pfd);
-		return;
-	}
-	while ((de = readdir(D)) != NULL)
-		if (de->d_name[0] == '.' &&
-		    has_tmp_tail(de->d_name, strlen(de->d_name)))
-			sweep_file(pfd, de->d_name, 1); /* all ours here */
-	closedir(D);
+	tl_sweep(open(dir, DIRFLAGS), LOCKNAME, dir_rule, NULL);
 }
 
 int
@@ -635,7 +437,7 @@ outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 			break;
 		if (!again || tries == 8) {
 			tl_failsys(e, "%s: cannot create", path);
-			rmtree_at(AT_FDCWD, o->tmp);
+			tl_rmtree_at(AT_FDCWD, o->tmp);
 			free(o->path), free(o->tmp);
 			o->path = o->tmp = NULL;
 			return -1;
@@ -644,7 +446,7 @@ outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 	}
 	chmod(o->tmp, 0777 & ~current_umask());
 	if (tmp_register(o->tmp, 1, o->fd, e) < 0) {
-		rmtree_at(AT_FDCWD, o->tmp);
+		tl_rmtree_at(AT_FDCWD, o->tmp);
 		close(o->fd);
 		free(o->path), free(o->tmp);
 		o->path = o->tmp = NULL;
@@ -694,16 +496,10 @@ tl_dir_install(const char *tmp, const char *path, tl_err *e)
 		if (syscall(SYS_renameat2, AT_FDCWD, tmp, AT_FDCWD, path,
 		    2 /* RENAME_EXCHANGE */) != 0)
 			return tl_failsys(e, "%s: replace", path);
-		rmtree_at(AT_FDCWD, tmp); /* now the old tree */
+		tl_rmtree_at(AT_FDCWD, tmp); /* now the old tree */
 		return 0;
 	}
 	return rename(tmp, path) != 0 ? tl_failsys(e, "%s: rename", path) : 0;
-}
-
-void
-tl_rmtree(const char *path)
-{
-	rmtree_at(AT_FDCWD, path);
 }
 
 int
@@ -722,7 +518,7 @@ tl_outdir_commit(tl_outfile *o, tl_err *e)
 	if (r == 0)
 		r = tl_dir_install(o->tmp, o->path, e);
 	if (r != 0)
-		rmtree_at(AT_FDCWD, o->tmp);
+		tl_rmtree_at(AT_FDCWD, o->tmp);
 	outdir_end(o);
 	return r;
 }
@@ -739,6 +535,6 @@ tl_outdir_abort(tl_outfile *o)
 		close(o->fd);
 		o->fd = -1;
 	}
-	rmtree_at(AT_FDCWD, o->tmp);
+	tl_rmtree_at(AT_FDCWD, o->tmp);
 	outdir_end(o);
 }

@@ -6,6 +6,7 @@
 #ifndef TL_OUTFILE_H
 #define TL_OUTFILE_H
 
+#include "base/rmtree.h" /* tl_rmtree, as an abort removes a tree */
 #include "base/util.h"
 
 /* An output file built under a hidden temporary name beside its final path
@@ -54,8 +55,6 @@ void tl_out_sweep_dir(const char *dir);
 /* The finished tree tmp becomes path, replacing an earlier directory
  * there atomically (tl_outdir_commit's last step). */
 int tl_dir_install(const char *tmp, const char *path, tl_err *e);
-/* Removes a tree, as an abort does (symbolic links not followed). */
-void tl_rmtree(const char *path);
 int tl_outdir_commit(tl_outfile *o, tl_err *e);
 void tl_outdir_abort(tl_outfile *o);
 

@@ -11,70 +11,29 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "base/outfile.h"
+#include "base/rmtree.h"
 #include "base/scratch.h"
+#include "base/sweep.h"
 
-static const char *
-tmpdir(void)
-{
-	const char *t = getenv("TMPDIR");
-
-	return t != NULL && t[0] != '\0' ? t : "/tmp";
-}
-
-int
-scratch_rmtree(const char *path)
-{
-	struct stat st;
-
-	/* outfile.h's: no symlink followed, no depth limit, two descriptors
-	 * at most and one in reserve (it runs after failures for want of
-	 * them); nftw needs one a level */
-	tl_rmtree(path);
-	return lstat(path, &st) == 0 ? -1 : 0;
-}
-
-/* Whether the run that made dir is dead: its lock can be taken, or it has
- * no lock file and is older than a minute (killed while being made). */
+/* PREFIX.XXXXXX exactly (mkdtemp's six characters): a run's directory,
+ * taken when its run is dead (sweep.h). */
 static int
-dead(const char *dir)
+scratch_rule(const char *name, void *arg)
 {
-	char lock[4200];
-	struct stat st;
-	int fd, r;
+	const char *prefix = arg;
+	size_t n = strlen(prefix);
 
-	snprintf(lock, sizeof lock, "%s/lock", dir);
-	if ((fd = open(lock, O_RDONLY | O_CLOEXEC | O_NOFOLLOW)) < 0)
-		return errno == ENOENT && lstat(dir, &st) == 0 &&
-		    S_ISDIR(st.st_mode) && time(NULL) - st.st_mtime > 60;
-	r = flock(fd, LOCK_EX | LOCK_NB) == 0;
-	close(fd); /* drops the lock taken, if any */
-	return r;
+	if (strncmp(name, prefix, n) != 0 || name[n] != '.' ||
+	    strlen(name + n + 1) != 6)
+		return 0;
+	return TL_SWEEP_DIR;
 }
 
 int
 scratch_sweep(const char *prefix)
 {
-	const char *t = tmpdir();
-	size_t n = strlen(prefix);
-	struct dirent *d;
-	char path[4096];
-	int swept = 0;
-	DIR *dir;
-
-	if ((dir = opendir(t)) == NULL)
-		return 0;
-	while ((d = readdir(dir)) != NULL) {
-		/* PREFIX.XXXXXX exactly: mkdtemp's six characters */
-		if (strncmp(d->d_name, prefix, n) != 0 ||
-		    d->d_name[n] != '.' || strlen(d->d_name + n + 1) != 6)
-			continue;
-		snprintf(path, sizeof path, "%s/%s", t, d->d_name);
-		if (dead(path) && scratch_rmtree(path) == 0)
-			swept++;
-	}
-	closedir(dir);
-	return swept;
+	return tl_sweep(open(tl_tmpdir(), O_RDONLY | O_DIRECTORY |
+	    O_CLOEXEC), "lock", scratch_rule, (void *)prefix);
 }
 
 int
@@ -84,7 +43,7 @@ scratch_begin(scratch *s, const char *prefix, tl_err *e)
 
 	s->lock = -1;
 	scratch_sweep(prefix);
-	if (snprintf(s->path, sizeof s->path, "%s/%s.XXXXXX", tmpdir(),
+	if (snprintf(s->path, sizeof s->path, "%s/%s.XXXXXX", tl_tmpdir(),
 	    prefix) >= (int)sizeof s->path)
 		return tl_fail(e, "TMPDIR: path too long");
 	if (mkdtemp(s->path) == NULL)
@@ -107,6 +66,6 @@ scratch_end(scratch *s)
 		close(s->lock);
 	s->lock = -1;
 	if (s->path[0] != '\0')
-		scratch_rmtree(s->path);
+		tl_rmtree(s->path);
 	s->path[0] = '\0';
 }

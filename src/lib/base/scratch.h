@@ -5,12 +5,13 @@
  * locked (flock) while alive; the kernel drops the lock however the run
  * dies, SIGKILL included. A later run with the same prefix takes the lock
  * of every such directory it finds; where it can, the owner is dead and
- * the directory goes. */
+ * the directory goes (sweep.h); removed with rmtree.h's tl_rmtree. */
 #ifndef TL_SCRATCH_H
 #define TL_SCRATCH_H
 
 #include <stddef.h>
 
+#include "base/rmtree.h" /* tl_rmtree, to remove one */
 #include "base/util.h"
 
 typedef struct {
@@ -25,9 +26,5 @@ void scratch_end(scratch *s);
 /* Removes the directories of prefix whose run is dead; returns how many
  * (directories without a lock file count when older than a minute). */
 int scratch_sweep(const char *prefix);
-
-/* rm -r, not following symbolic links (tl_rmtree); 0, or -1 when some
- * of it stays. */
-int scratch_rmtree(const char *path);
 
 #endif

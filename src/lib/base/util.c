@@ -187,12 +187,10 @@ tl_fopen_regular(const char *path, tl_err *e)
 int
 tl_scratch(tl_err *e)
 {
-	const char *dir = getenv("TMPDIR");
+	const char *dir = tl_tmpdir();
 	char path[PATH_MAX];
 	int fd;
 
-	if (dir == NULL || *dir == '\0')
-		dir = "/tmp";
 	/* O_TMPFILE leaves no name at all; fall back to mkstemp + unlink. */
 	fd = open(dir, O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
 	if (fd >= 0)
@@ -257,6 +255,34 @@ tl_pwrite(int fd, const void *buf, size_t n, long long off,
 		p += r, n -= (size_t)r, off += r;
 	}
 	return 0;
+}
+
+long long
+tl_copy_fd(int in, const char *rwhat, int out, long long off,
+    const char *wwhat, tl_err *e)
+{
+	char buf[1 << 16];
+	long long start = off;
+	ssize_t n;
+
+	while ((n = read(in, buf, sizeof buf)) != 0) {
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0)
+			return tl_failsys(e, "%s", rwhat);
+		if (tl_pwrite(out, buf, (size_t)n, off, wwhat, e) < 0)
+			return -1;
+		off += n;
+	}
+	return off - start;
+}
+
+const char *
+tl_tmpdir(void)
+{
+	const char *t = getenv("TMPDIR");
+
+	return t != NULL && t[0] != '\0' ? t : "/tmp";
 }
 
 int

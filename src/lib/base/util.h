@@ -48,7 +48,10 @@ void *tl_alloc(size_t n, size_t size, tl_err *e);
 int tl_open_regular(const char *path, tl_err *e);
 FILE *tl_fopen_regular(const char *path, tl_err *e);
 
-/* An anonymous scratch file (unlinked at once) in $TMPDIR or /tmp. */
+/* The directory for temporaries: $TMPDIR, or /tmp when unset or empty
+ * (the one reading of TMPDIR). */
+const char *tl_tmpdir(void);
+/* An anonymous scratch file (unlinked at once) in tl_tmpdir(). */
 int tl_scratch(tl_err *e);
 
 /* 1 when this process cannot open one more descriptor (EMFILE, ENFILE):
@@ -65,6 +68,11 @@ int tl_pread(int fd, void *buf, size_t n, long long off, const char *what,
     tl_err *e);
 int tl_pwrite(int fd, const void *buf, size_t n, long long off,
     const char *what, tl_err *e);
+/* Copies in (read(2) to its end: a pipe, stdin) into out from offset off
+ * on: the bytes copied, or -1 with "rwhat: why" (a read) or tl_pwrite's
+ * "wwhat: write: why". The one loop spooling a stream into a file. */
+long long tl_copy_fd(int in, const char *rwhat, int out, long long off,
+    const char *wwhat, tl_err *e);
 
 /* Parse a whole decimal number; -1 when s is not one. */
 int tl_parse_double(const char *s, double *v);

@@ -41,17 +41,16 @@ typedef struct {
 static int
 spool_stdin(spool *s, const char *name, tl_err *e)
 {
-	char tmpl[4096], buf[65536];
-	const char *t = getenv("TMPDIR"), *b;
-	long long off = 0;
-	ssize_t n;
-	int fd, r = 0;
+	char tmpl[4096];
+	const char *b;
+	long long n;
+	int fd;
 
 	b = name != NULL && strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
 	if (b == NULL || *b == '\0' || strcmp(b, ".") == 0 ||
 	    strcmp(b, "..") == 0)
 		b = "stdin";
-	snprintf(tmpl, sizeof tmpl, "%s/dem-stdin", t && *t ? t : "/tmp");
+	snprintf(tmpl, sizeof tmpl, "%s/dem-stdin", tl_tmpdir());
 	if (tl_outdir_begin(&s->dir, tmpl, e) < 0)
 		return -1;
 	if ((size_t)snprintf(s->path, sizeof s->path, "%s/%s", s->dir.tmp, b) >=
@@ -60,23 +59,11 @@ spool_stdin(spool *s, const char *name, tl_err *e)
 	if ((fd = open(s->path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC,
 	    0600)) < 0)
 		return tl_failsys(e, "%s: cannot create", s->path);
-	while (r == 0) {
-		n = read(STDIN_FILENO, buf, sizeof buf);
-		if (n < 0 && errno == EINTR)
-			continue;
-		if (n < 0)
-			r = tl_failsys(e, "stdin: read");
-		else if (n == 0)
-			break;
-		else if (tl_pwrite(fd, buf, (size_t)n, off, "stdin spool",
-		    e) < 0)
-			r = -1;
-		off += n;
-	}
+	n = tl_copy_fd(STDIN_FILENO, "stdin: read", fd, 0, "stdin spool", e);
 	close(fd);
-	if (r == 0 && off == 0)
-		r = tl_fail(e, "stdin: empty");
-	return r;
+	if (n == 0)
+		return tl_fail(e, "stdin: empty");
+	return n < 0 ? -1 : 0;
 }
 
 /* The adapters, in the order they are tried on the inputs they take. */
@@ -170,14 +157,12 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 static void
 scratch_note(long long w, long long h, int voids, tl_err *e)
 {
-	const char *dir = getenv("TMPDIR");
+	const char *dir = tl_tmpdir();
 	char m[sizeof e->msg];
 	int full;
 
 	if (strncmp(e->msg, "scratch file", 12) != 0)
 		return;
-	if (dir == NULL || *dir == '\0')
-		dir = "/tmp";
 	full = strstr(e->msg, strerror(ENOSPC)) != NULL ||
 	    strstr(e->msg, strerror(EDQUOT)) != NULL ||
 	    strstr(e->msg, strerror(EFBIG)) != NULL;

@@ -148,7 +148,7 @@ int dem_info_print(const dem *d, FILE *f, tl_err *e);
 /* A grid without a CRS has no known unit: fills buf with what was
  * assumed (and how to say otherwise) and returns 1, or returns 0. name
  * names the DEM. */
-int dem_metric_note(const dem *d, const dem_opts *o, const char *name,
+int dem_ground_note(const dem *d, const dem_opts *o, const char *name,
     char *buf, size_t n);
 
 #endif

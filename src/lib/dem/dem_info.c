@@ -12,13 +12,13 @@
 /* Ground metres per cell over the grid, min and max along x and y,
  * sampled on about 256 x 256 positions (the metric varies smoothly). */
 static int
-metric_range(const georef *g, double r[4], tl_err *e)
+ground_range(const georef *g, double r[4], tl_err *e)
 {
 	int si = g->width > 256 ? g->width / 256 : 1;
 	int sj = g->height > 256 ? g->height / 256 : 1;
-	geo_metric m;
+	geo_ground m;
 
-	if (geo_metric_init(&m, g, e) < 0)
+	if (geo_ground_init(&m, g, e) < 0)
 		return -1;
 	r[0] = r[2] = INFINITY, r[1] = r[3] = 0;
 	for (int j = 0; j < g->height; j += sj)
@@ -28,7 +28,7 @@ metric_range(const georef *g, double r[4], tl_err *e)
 			r[0] = fmin(r[0], sx), r[1] = fmax(r[1], sx);
 			r[2] = fmin(r[2], sy), r[3] = fmax(r[3], sy);
 		}
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	return 0;
 }
 
@@ -38,7 +38,7 @@ dem_info_print(const dem *d, FILE *f, tl_err *e)
 	const georef *g = dem_georef(d);
 	double r[4];
 
-	if (metric_range(g, r, e) < 0)
+	if (ground_range(g, r, e) < 0)
 		return -1;
 	fprintf(f, "size %d %d\n", g->width, g->height);
 	if (dem_voids(d) >= 0)
@@ -77,7 +77,7 @@ pam_off(const char *name)
 }
 
 int
-dem_metric_note(const dem *d, const dem_opts *o, const char *name,
+dem_ground_note(const dem *d, const dem_opts *o, const char *name,
     char *buf, size_t n)
 {
 	const georef *g = dem_georef(d);

@@ -1,5 +1,5 @@
 /* georef.h - georeferencing carried from the DEM to every output, and the
- * metric embedding of the grid (cell sizes in metres, never degrees). */
+ * ground embedding of the grid (cell sizes in metres, never degrees). */
 #ifndef TL_GEOREF_H
 #define TL_GEOREF_H
 
@@ -48,7 +48,7 @@ void geo_vertex_crs(const georef *g, int level, double i, double j,
 /* Degrees: a latitude this close past a pole is the pole (rounding). */
 #define GEO_POLE_EPS 1e-9
 
-/* --- the metric embedding of the level-0 grid --------------------------
+/* --- the ground embedding of the level-0 grid --------------------------
  *
  * Ground metres for grid steps, never degrees or CRS units. Column I and
  * row J are level-0 grid positions (fractional allowed; past the grid the
@@ -101,35 +101,35 @@ typedef struct {
 	                   * column 0 is level-0 column x0 of the grid (a
 	                   * band job, fqm(5) fqm:x0); every column argument
 	                   * I below is then the window's. 0 after init */
-} geo_metric;
+} geo_ground;
 
 /* Fails with "CRS ...: cannot ..." when PROJ cannot use a projected CRS. */
-int geo_metric_init(geo_metric *m, const georef *g, tl_err *e);
+int geo_ground_init(geo_ground *m, const georef *g, tl_err *e);
 /* A constant per-row metric (tests, hand-built grids): dx metres per
  * column, dy per row, height rows. */
-int geo_metric_const(geo_metric *m, int height, double dx, double dy,
+int geo_ground_const(geo_ground *m, int height, double dx, double dy,
     tl_err *e);
-void geo_metric_free(geo_metric *m);
+void geo_ground_free(geo_ground *m);
 
 /* Metres per level-0 column step along row J near column I. */
-double geo_sx(const geo_metric *m, double I, double J);
+double geo_sx(const geo_ground *m, double I, double J);
 /* Metres from row 0 to row J along column I (the integral of the row
  * step's length along that column); negative before row 0. */
-double geo_y(const geo_metric *m, double I, double J);
+double geo_y(const geo_ground *m, double I, double J);
 /* Metres along row J from column I0 to column I (signed; the integral of
  * geo_sx along the row; per-row metrics: (I - I0) * geo_sx). */
-double geo_x(const geo_metric *m, double I0, double I, double J);
+double geo_x(const geo_ground *m, double I0, double I, double J);
 /* Vertex (I, J) in the local frame of vertex (I0, J0) (see above). */
-void geo_local(const geo_metric *m, double I0, double J0, double I, double J,
+void geo_local(const geo_ground *m, double I0, double J0, double I, double J,
     double p[2]);
 /* Metres per level-0 column and per row step at vertex (I, J): what a
  * QEM-3D offset (X, Y) metres is divided by. Per-row metrics: dx[J] and
  * the row spacing centred on J (one-sided at row 0). */
-void geo_scale(const geo_metric *m, double I, double J, double *sx,
+void geo_scale(const geo_ground *m, double I, double J, double *sx,
     double *sy);
 /* A vertex at (I, J) displaced by (X, Y) metres (a QEM-3D vertex map)
  * sits di, dj level-0 columns and rows off its grid position. */
-void geo_offset_to_grid(const geo_metric *m, double I, double J, double X,
+void geo_offset_to_grid(const geo_ground *m, double I, double J, double X,
     double Y, double *di, double *dj);
 
 /* For loops over the vertices of a row: geo_sx, geo_y and the y scale of
@@ -139,13 +139,13 @@ void geo_offset_to_grid(const geo_metric *m, double I, double J, double X,
  * interpolation between rows. geo_sx and geo_scale come out bit for bit;
  * geo_y to rounding (it is linear in I between node columns). */
 #define GEO_MAX_NODES 257
-int geo_row_nodes(const geo_metric *m);
-void geo_row_sx(const geo_metric *m, double J, double *v);
-void geo_row_sy(const geo_metric *m, double J, double *v);
-void geo_row_y(const geo_metric *m, double J, double *v);
+int geo_row_nodes(const geo_ground *m);
+void geo_row_sx(const geo_ground *m, double J, double *v);
+void geo_row_sy(const geo_ground *m, double J, double *v);
+void geo_row_y(const geo_ground *m, double J, double *v);
 
 static inline double
-geo_on_row(const geo_metric *m, const double *v, double I)
+geo_on_row(const geo_ground *m, const double *v, double I)
 {
 	double t = (I + m->x0) * m->inv, u;
 	int k;

@@ -1,6 +1,6 @@
-/* ground.c - the metric embedding of the level-0 grid (georef.h): per-row
- * geodesic or constant scales, and the lattice of a projected grid's
- * scales measured once with PROJ and GeographicLib. */
+/* ground.c - ground metres per cell: the ground embedding of the level-0
+ * grid (georef.h), per-row geodesic or constant scales, and the lattice
+ * of a projected grid's scales measured once with PROJ and GeographicLib. */
 #include "geo/georef.h"
 
 #include <assert.h>
@@ -32,7 +32,7 @@ row_lat(const georef *g, int j)
 }
 
 static int
-metric_geographic(geo_metric *m, const georef *g, tl_err *e)
+ground_geographic(geo_ground *m, const georef *g, tl_err *e)
 {
 	double sx = fabs(g->step[0]), lat, next, d;
 
@@ -57,7 +57,7 @@ metric_geographic(geo_metric *m, const georef *g, tl_err *e)
 }
 
 static int
-rows_alloc(geo_metric *m, int height, tl_err *e)
+rows_alloc(geo_ground *m, int height, tl_err *e)
 {
 	memset(m, 0, sizeof *m);
 	m->per_row = 1;
@@ -65,14 +65,14 @@ rows_alloc(geo_metric *m, int height, tl_err *e)
 	m->dx = tl_alloc((size_t)height, sizeof *m->dx, e);
 	m->y = tl_alloc((size_t)height, sizeof *m->y, e);
 	if (m->dx == NULL || m->y == NULL) {
-		geo_metric_free(m);
+		geo_ground_free(m);
 		return -1;
 	}
 	return 0;
 }
 
 int
-geo_metric_const(geo_metric *m, int height, double dx, double dy, tl_err *e)
+geo_ground_const(geo_ground *m, int height, double dx, double dy, tl_err *e)
 {
 	if (height < 1 || !(dx > 0 && dy > 0 && isfinite(dx) && isfinite(dy)))
 		return tl_fail(e, "metric: invalid cell size %g x %g or height "
@@ -222,7 +222,7 @@ lonlat_ok(const PJ_COORD *c)
 
 /* Step lengths at the nodes of lattice row ky. */
 static int
-lattice_row(geo_metric *m, const georef *g, proj_state *p, int ky,
+lattice_row(geo_ground *m, const georef *g, proj_state *p, int ky,
     PJ_COORD *c, tl_err *e)
 {
 	double J = (double)ky * m->cs;
@@ -264,7 +264,7 @@ lattice_spacing(int w, int h)
 /* Integrals of the bilinear scales along node rows (cx) and node columns
  * (cy): the trapezoid rule is exact on linear pieces. */
 static void
-lattice_sums(geo_metric *m)
+lattice_sums(geo_ground *m)
 {
 	int nx = m->nx;
 
@@ -279,7 +279,7 @@ lattice_sums(geo_metric *m)
 }
 
 static int
-metric_projected(geo_metric *m, const georef *g, tl_err *e)
+ground_projected(geo_ground *m, const georef *g, tl_err *e)
 {
 	proj_state p;
 	PJ_COORD *c;
@@ -314,7 +314,7 @@ metric_projected(geo_metric *m, const georef *g, tl_err *e)
 /* --- init ---------------------------------------------------------------- */
 
 int
-geo_metric_init(geo_metric *m, const georef *g, tl_err *e)
+geo_ground_init(geo_ground *m, const georef *g, tl_err *e)
 {
 	double u = g->model == GEO_GEOGRAPHIC ? 0 : g->unit;
 	int r;
@@ -329,19 +329,19 @@ geo_metric_init(geo_metric *m, const georef *g, tl_err *e)
 	if (g->model != GEO_GEOGRAPHIC && !(u > 0 && isfinite(u)))
 		return tl_fail(e, "georeferencing: invalid unit %g", u);
 	if (g->cell[0] > 0) /* the user's cell size beats any CRS */
-		r = geo_metric_const(m, g->height, g->cell[0], g->cell[1], e);
+		r = geo_ground_const(m, g->height, g->cell[0], g->cell[1], e);
 	else if (g->model == GEO_PROJECTED)
-		r = metric_projected(m, g, e);
+		r = ground_projected(m, g, e);
 	else if ((r = rows_alloc(m, g->height, e)) == 0 &&
 	    g->model == GEO_GEOGRAPHIC)
-		r = metric_geographic(m, g, e);
+		r = ground_geographic(m, g, e);
 	else if (r == 0) /* GEO_NONE: the pixel size in metres */
 		for (int j = 0; j < m->height; j++) {
 			m->dx[j] = fabs(g->step[0]) * u;
 			m->y[j] = j * fabs(g->step[1]) * u;
 		}
 	if (r < 0) {
-		geo_metric_free(m);
+		geo_ground_free(m);
 		return -1;
 	}
 	m->width = g->width, m->height = g->height;
@@ -349,7 +349,7 @@ geo_metric_init(geo_metric *m, const georef *g, tl_err *e)
 }
 
 void
-geo_metric_free(geo_metric *m)
+geo_ground_free(geo_ground *m)
 {
 	free(m->dx), free(m->y);
 	free(m->sx), free(m->sy), free(m->cx), free(m->cy);
@@ -359,7 +359,7 @@ geo_metric_free(geo_metric *m)
 /* --- queries: per-row ---------------------------------------------------- */
 
 static double
-row_dx(const geo_metric *m, long J)
+row_dx(const geo_ground *m, long J)
 {
 	return m->dx[J < 0 ? 0 : J < m->height ? J : m->height - 1];
 }
@@ -367,7 +367,7 @@ row_dx(const geo_metric *m, long J)
 /* y of an integer row; rows past the last continue its spacing (the
  * padding of coarse levels), rows before 0 the first one. */
 static double
-row_y(const geo_metric *m, long J)
+row_y(const geo_ground *m, long J)
 {
 	long last = m->height - 1;
 	double step;
@@ -383,7 +383,7 @@ row_y(const geo_metric *m, long J)
 /* A per-row quantity at a fractional row: linear between rows; exactly
  * the row's value on a row. */
 static double
-rows_at(const geo_metric *m, double J, double (*f)(const geo_metric *, long))
+rows_at(const geo_ground *m, double J, double (*f)(const geo_ground *, long))
 {
 	long j0 = (long)floor(J);
 	double t = J - (double)j0;
@@ -398,7 +398,7 @@ rows_at(const geo_metric *m, double J, double (*f)(const geo_metric *, long))
 /* Node k (0 .. n-2) and fraction u (0 .. 1) of grid coordinate t; past
  * the lattice the edge node's values hold. */
 static inline void
-node_of(const geo_metric *m, double t, int n, int *k, double *u)
+node_of(const geo_ground *m, double t, int n, int *k, double *u)
 {
 	double s = t * m->inv;
 
@@ -414,7 +414,7 @@ node_of(const geo_metric *m, double t, int n, int *k, double *u)
 /* v (a node array) on node row ky, linear in the column between kx and
  * kx + 1. */
 static inline double
-along_row(const geo_metric *m, const double *v, int kx, double u, int ky)
+along_row(const geo_ground *m, const double *v, int kx, double u, int ky)
 {
 	const double *r = v + (size_t)ky * m->nx + kx;
 
@@ -424,7 +424,7 @@ along_row(const geo_metric *m, const double *v, int kx, double u, int ky)
 
 /* ... on node column kx, linear in the row between ky and ky + 1. */
 static inline double
-along_col(const geo_metric *m, const double *v, int ky, double u, int kx)
+along_col(const geo_ground *m, const double *v, int ky, double u, int kx)
 {
 	const double *r = v + (size_t)ky * m->nx + kx;
 
@@ -435,7 +435,7 @@ along_col(const geo_metric *m, const double *v, int ky, double u, int kx)
 /* Bilinear: along the node columns first, then along the row, as
  * geo_row_scales and geo_scale_on_row do it. */
 static double
-lattice_bilinear(const geo_metric *m, const double *v, double I, double J)
+lattice_bilinear(const geo_ground *m, const double *v, double I, double J)
 {
 	int kx, ky;
 	double u, w, a, b;
@@ -451,7 +451,7 @@ lattice_bilinear(const geo_metric *m, const double *v, double I, double J)
  * the ends of piece k, cum the integral up to node k; linear beyond the
  * last node and before the first. */
 static double
-integral(const geo_metric *m, double t, int n, int k, double cum, double s0,
+integral(const geo_ground *m, double t, int n, int k, double cum, double s0,
     double s1)
 {
 	double d;
@@ -465,7 +465,7 @@ integral(const geo_metric *m, double t, int n, int k, double cum, double s0,
 }
 
 static double
-lattice_y(const geo_metric *m, double I, double J)
+lattice_y(const geo_ground *m, double I, double J)
 {
 	int kx, ky;
 	double u, w;
@@ -478,7 +478,7 @@ lattice_y(const geo_metric *m, double I, double J)
 
 /* Metres along row J from column 0 to column I. */
 static double
-lattice_x(const geo_metric *m, double I, double J)
+lattice_x(const geo_ground *m, double I, double J)
 {
 	int kx, ky;
 	double u, w;
@@ -492,7 +492,7 @@ lattice_x(const geo_metric *m, double I, double J)
 /* --- queries ------------------------------------------------------------- */
 
 double
-geo_sx(const geo_metric *m, double I, double J)
+geo_sx(const geo_ground *m, double I, double J)
 {
 	if (m->per_row)
 		return J < 0 ? m->dx[0] : rows_at(m, J, row_dx);
@@ -500,7 +500,7 @@ geo_sx(const geo_metric *m, double I, double J)
 }
 
 double
-geo_y(const geo_metric *m, double I, double J)
+geo_y(const geo_ground *m, double I, double J)
 {
 	if (m->per_row)
 		return J < 0 ? J * (row_y(m, 1) - row_y(m, 0)) :
@@ -509,7 +509,7 @@ geo_y(const geo_metric *m, double I, double J)
 }
 
 double
-geo_x(const geo_metric *m, double I0, double I, double J)
+geo_x(const geo_ground *m, double I0, double I, double J)
 {
 	if (m->per_row)
 		return (I - I0) * geo_sx(m, I0, J);
@@ -517,7 +517,7 @@ geo_x(const geo_metric *m, double I0, double I, double J)
 }
 
 void
-geo_local(const geo_metric *m, double I0, double J0, double I, double J,
+geo_local(const geo_ground *m, double I0, double J0, double I, double J,
     double p[2])
 {
 	p[0] = (I - I0) * geo_sx(m, I0, J);
@@ -525,7 +525,7 @@ geo_local(const geo_metric *m, double I0, double J0, double I, double J,
 }
 
 void
-geo_scale(const geo_metric *m, double I, double J, double *sx, double *sy)
+geo_scale(const geo_ground *m, double I, double J, double *sx, double *sy)
 {
 	if (!m->per_row) {
 		*sx = lattice_bilinear(m, m->sx, I + m->x0, J);
@@ -538,13 +538,13 @@ geo_scale(const geo_metric *m, double I, double J, double *sx, double *sy)
 }
 
 int
-geo_row_nodes(const geo_metric *m)
+geo_row_nodes(const geo_ground *m)
 {
 	return m->per_row ? 1 : m->nx;
 }
 
 void
-geo_row_sx(const geo_metric *m, double J, double *v)
+geo_row_sx(const geo_ground *m, double J, double *v)
 {
 	int ky;
 	double w;
@@ -559,7 +559,7 @@ geo_row_sx(const geo_metric *m, double J, double *v)
 }
 
 void
-geo_row_sy(const geo_metric *m, double J, double *v)
+geo_row_sy(const geo_ground *m, double J, double *v)
 {
 	int ky;
 	double w, sx;
@@ -574,7 +574,7 @@ geo_row_sy(const geo_metric *m, double J, double *v)
 }
 
 void
-geo_row_y(const geo_metric *m, double J, double *v)
+geo_row_y(const geo_ground *m, double J, double *v)
 {
 	if (m->per_row) {
 		v[0] = geo_y(m, 0, J);
@@ -585,7 +585,7 @@ geo_row_y(const geo_metric *m, double J, double *v)
 }
 
 void
-geo_offset_to_grid(const geo_metric *m, double I, double J, double X,
+geo_offset_to_grid(const geo_ground *m, double I, double J, double X,
     double Y, double *di, double *dj)
 {
 	double sx, sy;

@@ -121,9 +121,7 @@ static int
 spool_stdin(const pipeline_opts *o, const scratch *s, char *path, size_t n,
     tl_err *e)
 {
-	char base[256], dir[PATHMAX], buf[1 << 16];
-	long long off = 0;
-	ssize_t r;
+	char base[256], dir[PATHMAX];
 	int fd;
 
 	snprintf(base, sizeof base, "%s", o->name ? o->name : "stdin");
@@ -135,15 +133,9 @@ spool_stdin(const pipeline_opts *o, const scratch *s, char *path, size_t n,
 	if ((fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC,
 	    0600)) < 0)
 		return tl_failsys(e, "%s", path);
-	while ((r = read(0, buf, sizeof buf)) != 0) {
-		if (r < 0 && errno == EINTR)
-			continue;
-		if (r < 0 ? tl_failsys(e, "stdin") < 0 :
-		    tl_pwrite(fd, buf, (size_t)r, off, path, e) < 0) {
-			close(fd);
-			return -1;
-		}
-		off += r;
+	if (tl_copy_fd(0, "stdin", fd, 0, path, e) < 0) {
+		close(fd);
+		return -1;
 	}
 	return close(fd) < 0 ? tl_failsys(e, "%s", path) : 0;
 }

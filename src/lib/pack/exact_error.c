@@ -70,7 +70,7 @@ scales(const state *s, int gi, int gj, double *sx, double *sy)
 void
 lv_node_columns(state *s)
 {
-	const geo_metric *m = s->L->m;
+	const geo_ground *m = s->L->m;
 
 	for (int gi = s->c0; gi < s->cend; gi++) {
 		double t = gi * s->step * m->inv;

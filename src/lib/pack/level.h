@@ -58,7 +58,7 @@ typedef struct {
 	int level;
 	int size[2];     /* the level's vertices */
 	int displaced;
-	const geo_metric *m;
+	const geo_ground *m;
 	level_row_fn row;
 	void *row_ctx;
 	level_block_fn block;

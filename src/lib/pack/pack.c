@@ -444,7 +444,7 @@ int
 pack_run(const pack_args *a, pack_level *out, tl_err *e)
 {
 	pyramid_index ix = { 0 };
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	tl_outfile dir = { 0 };
 	work w = { 0 };
 	dem *d;
@@ -462,7 +462,7 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 	w.a = a, w.d = d, w.ix = &ix, w.m = &m, w.out = out;
 	w.mu = (pthread_mutex_t)PTHREAD_MUTEX_INITIALIZER;
 	if ((ix.lev = tl_alloc(a->nlevels, sizeof *ix.lev, e)) == NULL ||
-	    geo_metric_init(&m, &ix.geo, e) < 0 ||
+	    geo_ground_init(&m, &ix.geo, e) < 0 ||
 	    tl_outdir_begin(&dir, a->dir, e) < 0)
 		goto done;
 	w.tmp = dir.tmp;
@@ -478,7 +478,7 @@ done:
 	if (r < 0)
 		tl_outdir_abort(&dir);
 	dem_close(d);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	pyramid_index_free(&ix);
 	return r;
 }

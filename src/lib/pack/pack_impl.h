@@ -36,7 +36,7 @@ typedef struct {
 	dem *d;
 	const char *tmp; /* the directory being built */
 	pyramid_index *ix;
-	const geo_metric *m;
+	const geo_ground *m;
 	pack_level *out;
 	int fifo;           /* a level comes through a FIFO: read once */
 	pthread_mutex_t mu; /* the stats in out, the progress */

@@ -126,7 +126,7 @@ bad:
 /* What -p, -g and -l share: the DEM's header, the index's levels from
  * the vertex maps' headers. */
 static int
-work_open(work *w, pyramid_index *ix, geo_metric *m, const pack_args *a,
+work_open(work *w, pyramid_index *ix, geo_ground *m, const pack_args *a,
     pack_level *out, tl_err *e)
 {
 	memset(w, 0, sizeof *w);
@@ -140,7 +140,7 @@ work_open(work *w, pyramid_index *ix, geo_metric *m, const pack_args *a,
 	ix->size0[0] = ix->geo.width, ix->size0[1] = ix->geo.height;
 	ix->nlevels = a->nlevels;
 	if ((ix->lev = tl_alloc(a->nlevels, sizeof *ix->lev, e)) == NULL ||
-	    geo_metric_init(m, &ix->geo, e) < 0)
+	    geo_ground_init(m, &ix->geo, e) < 0)
 		return -1;
 	for (int l = 0; l < a->nlevels; l++)
 		if (level_read(w, l, e) < 0)
@@ -149,10 +149,10 @@ work_open(work *w, pyramid_index *ix, geo_metric *m, const pack_args *a,
 }
 
 static void
-work_close(work *w, pyramid_index *ix, geo_metric *m)
+work_close(work *w, pyramid_index *ix, geo_ground *m)
 {
 	dem_close(w->d);
-	geo_metric_free(m);
+	geo_ground_free(m);
 	pyramid_index_free(ix);
 }
 
@@ -238,7 +238,7 @@ pack_piece(const pack_args *a, int l, int b0, int b1, int y0, int y1,
 	pack_level *out = tl_alloc(a->nlevels, sizeof *out, e);
 	level_piece p = { b0, b1 };
 	pyramid_index ix = { 0 };
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	work w = { 0 };
 	int r = -1, np;
 	char sub[16];
@@ -282,7 +282,7 @@ int
 pack_gather(const pack_args *a, const char *dir, pack_level *out, tl_err *e)
 {
 	pyramid_index ix = { 0 };
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	char path[4096];
 	work w = { 0 };
 	int r = -1;
@@ -326,7 +326,7 @@ pack_list(const pack_args *a, FILE *f, tl_err *e)
 {
 	pack_level *out = tl_alloc(a->nlevels, sizeof *out, e);
 	pyramid_index ix = { 0 };
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	work w = { 0 };
 	int r = -1;
 

@@ -14,7 +14,7 @@ world_open(world *w, const char *dir, tl_err *e)
 	if (pyramid_index_read(dir, &w->ix, e) < 0)
 		return -1;
 	if (pyramid_levels_probe(dir, &w->ix, e) < 0 ||
-	    geo_metric_init(&w->m, &w->ix.geo, e) < 0) {
+	    geo_ground_init(&w->m, &w->ix.geo, e) < 0) {
 		pyramid_index_free(&w->ix);
 		return -1;
 	}
@@ -39,7 +39,7 @@ void
 world_close(world *w)
 {
 	pyramid_index_free(&w->ix);
-	geo_metric_free(&w->m);
+	geo_ground_free(&w->m);
 }
 
 /* World x: metres along row J from the centre column (for a per-row

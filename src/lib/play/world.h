@@ -15,7 +15,7 @@
 
 typedef struct {
 	pyramid_index ix;
-	geo_metric m;
+	geo_ground m;
 	double ci, cj;     /* level-0 column and row of the world origin */
 	double zmin, zmax; /* over every block of every level */
 	double base;       /* a height below all terrain, for skirts */

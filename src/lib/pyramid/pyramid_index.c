@@ -1,10 +1,8 @@
 /* pyramid_index.c - index.json of a pyramid (vgis(5)), written and read
- * with jansson; the reader treats the file as untrusted. */
+ * with jansson (base/json.h); the reader treats the file as untrusted. */
 #include "pyramid/pyramid.h"
 
-#include <errno.h>
 #include <float.h>
-#include <jansson.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -13,7 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "base/outfile.h"
+#include "base/json.h"
 #include "geo/levels.h"
 
 void
@@ -83,9 +81,7 @@ int
 pyramid_index_write(const char *dir, const pyramid_index *ix, tl_err *e)
 {
 	char path[4096];
-	tl_outfile o;
 	json_t *root, *levels;
-	char *text;
 	int r;
 
 	levels = json_array();
@@ -98,45 +94,14 @@ pyramid_index_write(const char *dir, const pyramid_index *ix, tl_err *e)
 	if (root == NULL)
 		return tl_fail(e, "%s/" VGIS_INDEX ": cannot build the index",
 		    dir);
-	text = json_dumps(root, JSON_INDENT(1) | JSON_REAL_PRECISION(17));
-	json_decref(root);
-	if (text == NULL)
-		return tl_fail(e, "%s/" VGIS_INDEX ": out of memory", dir);
 	snprintf(path, sizeof path, "%s/" VGIS_INDEX, dir);
-	r = tl_out_begin(&o, path, e);
-	if (r == 0 &&
-	    (r = tl_pwrite(o.fd, text, strlen(text), 0, path, e)) == 0)
-		r = tl_pwrite(o.fd, "\n", 1, (long long)strlen(text), path, e);
-	free(text);
-	if (r != 0) {
-		tl_out_abort(&o);
-		return -1;
-	}
-	return tl_out_commit(&o, e);
+	r = tl_json_write(root, JSON_INDENT(1) | JSON_REAL_PRECISION(17), path,
+	    e);
+	json_decref(root);
+	return r;
 }
 
 /* --- reading: untrusted input ----------------------------------------- */
-
-/* A finite number. */
-static int
-num(json_t *x, double *v)
-{
-	if (!json_is_number(x) || !isfinite(json_number_value(x)))
-		return -1;
-	*v = json_number_value(x);
-	return 0;
-}
-
-/* An integer in lo .. hi, checked before it is narrowed to an int. */
-static int
-int_in(json_t *x, long long lo, long long hi, int *v)
-{
-	if (!json_is_integer(x) || json_integer_value(x) < lo ||
-	    json_integer_value(x) > hi)
-		return -1;
-	*v = (int)json_integer_value(x);
-	return 0;
-}
 
 static int
 num2(json_t *o, const char *key, double v[2])
@@ -144,8 +109,8 @@ num2(json_t *o, const char *key, double v[2])
 	json_t *a = json_object_get(o, key);
 
 	return json_is_array(a) && json_array_size(a) == 2 &&
-	    num(json_array_get(a, 0), &v[0]) == 0 &&
-	    num(json_array_get(a, 1), &v[1]) == 0 ? 0 : -1;
+	    tl_json_num(json_array_get(a, 0), &v[0]) == 0 &&
+	    tl_json_num(json_array_get(a, 1), &v[1]) == 0 ? 0 : -1;
 }
 
 static int
@@ -154,8 +119,8 @@ int2(json_t *o, const char *key, long long lo, long long hi, int v[2])
 	json_t *a = json_object_get(o, key);
 
 	return json_is_array(a) && json_array_size(a) == 2 &&
-	    int_in(json_array_get(a, 0), lo, hi, &v[0]) == 0 &&
-	    int_in(json_array_get(a, 1), lo, hi, &v[1]) == 0 ? 0 : -1;
+	    tl_json_int(json_array_get(a, 0), lo, hi, &v[0]) == 0 &&
+	    tl_json_int(json_array_get(a, 1), lo, hi, &v[1]) == 0 ? 0 : -1;
 }
 
 /* A string that fits buf (never cut short); optional: absent gives "". */
@@ -206,7 +171,7 @@ geo_of(json_t *o, georef *g)
 	if (str(o, "model", s, sizeof s, 0) < 0 ||
 	    geo_model_parse(s, &g->model) < 0)
 		return "georef.model";
-	if (int_in(json_object_get(o, "epsg"), 0, INT_MAX, &g->epsg) < 0)
+	if (tl_json_int(json_object_get(o, "epsg"), 0, INT_MAX, &g->epsg) < 0)
 		return "georef.epsg";
 	if (str(o, "crs", g->crs, sizeof g->crs, 0) < 0)
 		return "georef.crs";
@@ -216,8 +181,8 @@ geo_of(json_t *o, georef *g)
 	g->point = strcmp(s, "point") == 0;
 	if (num2(o, "origin", g->origin) < 0)
 		return "georef.origin";
-	if (num(json_object_get(o, "unit"), &g->unit) < 0 || g->unit < 0 ||
-	    (g->model != GEO_GEOGRAPHIC && !(g->unit > 0)))
+	if (tl_json_num(json_object_get(o, "unit"), &g->unit) < 0 ||
+	    g->unit < 0 || (g->model != GEO_GEOGRAPHIC && !(g->unit > 0)))
 		return "georef.unit";
 	if (num2(o, "step", g->step) < 0 || step_sane(g) < 0)
 		return "georef.step";
@@ -229,7 +194,7 @@ geo_of(json_t *o, georef *g)
 		return "georef.cell";
 	/* JSON has no NaN: a NaN nodata is the string "nan" */
 	x = json_object_get(o, "nodata");
-	if (json_is_number(x) && num(x, &g->nodata) == 0) {
+	if (json_is_number(x) && tl_json_num(x, &g->nodata) == 0) {
 		g->has_nodata = 1;
 	} else if (json_is_string(x) &&
 	    strcmp(json_string_value(x), "nan") == 0) {
@@ -253,7 +218,7 @@ per_block(json_t *o, const char *key, double *v, size_t n, int error,
 		return tl_fail(e, "%s: levels[%d].%s: must list %zu numbers, "
 		    "one a block", what, l, key, n);
 	for (size_t k = 0; k < n; k++)
-		if (num(json_array_get(a, k), &v[k]) < 0 ||
+		if (tl_json_num(json_array_get(a, k), &v[k]) < 0 ||
 		    (error && !(v[k] >= 0 && v[k] < FLT_MAX)))
 			return tl_fail(e, "%s: levels[%d].%s[%zu]: %s", what, l,
 			    key, k, error ? "not a finite error >= 0" :
@@ -291,7 +256,7 @@ level_from_json(json_t *o, pyramid_level *L, int want, const int size0[2],
 	char mode[sizeof L->mode], kernel[sizeof L->kernel];
 
 	if (!json_is_object(o) ||
-	    int_in(json_object_get(o, "level"), 0, 63, &level) < 0 ||
+	    tl_json_int(json_object_get(o, "level"), 0, 63, &level) < 0 ||
 	    int2(o, "size", 2, 1 << 26, sz) < 0 ||
 	    int2(o, "blocks", 1, 1 << 26, bl) < 0 || !json_is_boolean(d) ||
 	    str(o, "mode", mode, sizeof mode, 0) < 0 ||
@@ -431,12 +396,10 @@ pyramid_index_bounded(const char *text, size_t n, const char *what,
 
 /* jansson's reason, never empty ("line -1: " said nothing). */
 static int
-json_failed(const json_error_t *je, size_t n, const char *what, tl_err *e)
+json_failed(const json_error_t *je, int oom, size_t n, const char *what,
+    tl_err *e)
 {
-	/* jansson words every syntax error; an empty text is an allocation
-	 * that failed inside it (its error code is not always set then) */
-	if (json_error_code(je) == json_error_out_of_memory ||
-	    je->text[0] == '\0' || errno == ENOMEM)
+	if (oom)
 		return tl_fail(e, "%s: out of memory parsing its %zu bytes",
 		    what, n);
 	if (json_error_code(je) == json_error_duplicate_key)
@@ -458,10 +421,10 @@ root_of(json_t *root, pyramid_index *ix)
 	if (str(root, "format", fmt, sizeof fmt, 0) < 0 ||
 	    strcmp(fmt, VGIS_FORMAT) != 0)
 		return "format";
-	if (int_in(json_object_get(root, "version"), INT_MIN, INT_MAX,
+	if (tl_json_int(json_object_get(root, "version"), INT_MIN, INT_MAX,
 	    &ix->version) < 0)
 		return "version";
-	if (int_in(json_object_get(root, "block"), INT_MIN, INT_MAX,
+	if (tl_json_int(json_object_get(root, "block"), INT_MIN, INT_MAX,
 	    &block) < 0 || block != BT_SIZE)
 		return "block";
 	if (int2(root, "size0", 3, 1 << 26, ix->size0) < 0)
@@ -478,14 +441,13 @@ pyramid_index_parse(const char *text, size_t n, const char *what,
 	json_error_t je;
 	json_t *root, *levels;
 	const char *bad;
-	int r = -1;
+	int r = -1, oom;
 
 	memset(ix, 0, sizeof *ix);
 	if (pyramid_index_bounded(text, n, what, e) < 0)
 		return -1;
-	errno = 0;
-	if ((root = json_loadb(text, n, JSON_REJECT_DUPLICATES, &je)) == NULL)
-		return json_failed(&je, n, what, e);
+	if ((root = tl_json_parse(text, n, &je, &oom)) == NULL)
+		return json_failed(&je, oom, n, what, e);
 	levels = json_object_get(root, "levels");
 	if ((bad = root_of(root, ix)) != NULL) {
 		tl_fail(e, "%s: not a pyramid index (%s)", what, bad);

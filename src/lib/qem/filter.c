@@ -1,4 +1,19 @@
-/* filter.c - kernels and the separable, streaming quadric filter. */
+/* filter.c - kernels and the separable, streaming quadric filter: one
+ * level of the pyramid from the one below it.
+ *
+ * It implements the "filtering & sub-sampling" step of QEM-filtering
+ * (F. Löffler and H. Schumann, "QEM-Filtering: A New Technique For
+ * Feature-Sensitive Terrain Mesh Simplification", sections 3.3 and 3.4;
+ * ../shared/papers/qem-filtering-loeffler-schumann.txt): the vertices'
+ * Garland-Heckbert quadrics (quadric.h), not their heights, low-pass
+ * filtered and sub-sampled by 2, a quadric moved into the frame of the
+ * coarse vertex that receives it. The levels so made, each half the
+ * last in both directions, coarse vertex k at fine vertex 2k, are those
+ * of the VGIS quadtree (D. Koller, P. Lindstrom, W. Ribarsky et al.,
+ * "Virtual GIS", IEEE Visualization 1995; P. Lindstrom et al., "Real-Time,
+ * Continuous Level of Detail Rendering of Height Fields", SIGGRAPH 1996;
+ * R. Pajarola's survey of quadtree terrain triangulation, section 4,
+ * ../shared/papers/quadtree-terrain-triangulation-pajarola.txt). */
 #include "qem/filter.h"
 
 #include <assert.h>
@@ -72,7 +87,7 @@ channel(const fqm_layout *L, int k)
 
 int
 filter_init(filter_state *f, const filter_kernel *k, int level, int fw, int fh,
-    int w0, int h0, const geo_metric *m, tl_err *e)
+    int w0, int h0, const geo_ground *m, tl_err *e)
 {
 	size_t st;
 

@@ -34,7 +34,7 @@ typedef struct {
 	                    * level's x0/2 + c; 0 after filter_init. The
 	                    * window's edges are filtered as the level's
 	                    * would be: a band job drops the columns near them */
-	const geo_metric *m;
+	const geo_ground *m;
 	int nring;
 	double *ring;      /* nring x FILTER_NF x cw */
 	int *tag;          /* fine row held by each ring slot */
@@ -47,7 +47,7 @@ typedef struct {
 } filter_state;
 
 int filter_init(filter_state *f, const filter_kernel *k, int level, int fw, int fh,
-    int w0, int h0, const geo_metric *m, tl_err *e);
+    int w0, int h0, const geo_ground *m, tl_err *e);
 /* 1 when the next coarse row can be pulled, 0 when a fine row must be
  * pushed first. */
 int filter_ready(const filter_state *f);

@@ -1,6 +1,7 @@
 /* fqm.h - the fundamental quadric map (FQM) and the vertex map as rasters:
- * channels, levels, header attributes, row decoding. The byte-level formats
- * are in raster.h; their meaning is documented in fqm(5). */
+ * channels, levels, header attributes (fqm.c), rows decoded, encoded and
+ * checked (fqm_rows.c). The byte-level formats are in raster.h; their
+ * meaning is documented in fqm(5). Level 0's quadrics are fqm0.h's. */
 #ifndef TL_FQM_H
 #define TL_FQM_H
 
@@ -70,40 +71,8 @@ int fqm_check_row(const float *row, int x0, int w, int nch, int y,
     const char *what, tl_err *e);
 void fqm_encode(const fqm_layout *L, const fqm_vertex *in, int w,
     float *row);
-
-/* Level 0, in two steps so that each triangle is computed once. Every
- * level-0 plane passes through its vertex, so a triangle's quadric is the
- * same A = w n n' (b = 0, c = 0 exactly) at each of its corners.
- *
- * fqm_band0: the cell band between DEM rows J and J+1 (valid[k] 1 for real
- * samples): for each of the w-1 cells, the sums of A over the triangles at
- * each of its 4 corners (0 (i,J) 1 (i+1,J) 2 (i+1,J+1) 3 (i,J+1)), band[]
- * holding (w-1) x 4 x 6 doubles. Each cell contributes both of its
- * triangulations at half weight (the FQM does not depend on a choice of
- * diagonal); a triangle with a void corner contributes nothing. The cell
- * is the symmetric trapezoid of the metric embedding (georef.h) at rows
- * J, J+1, its widths and height taken at its middle column.
- *
- * fqm_row0: level-0 FQM row J from the bands above and below it (NULL past
- * the edges) and the DEM row itself.
- *
- * fqm_step0: the same rows, bit for bit, streamed without the bands (a
- * band of a wide DEM outgrows the caches): row J from the DEM rows J (z0,
- * v0) and J+1 (z1, v1; NULL for the last row) and part[], 6 planes of w
- * doubles (a coefficient a plane) holding the sums of the band above (all
- * 0 for row 0), which it leaves holding those of row J+1.
- * fqm_step0_encode: that row as fqm_encode would encode it, layout L. */
-#define FQM_BAND0_DOUBLES 24
-void fqm_band0(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, int w, int J, const geo_metric *m,
-    double *band);
-void fqm_row0(const double *above, const double *below, const float *z,
-    const unsigned char *valid, int w, fqm_vertex *out);
-void fqm_step0(const float *z0, const unsigned char *v0, const float *z1,
-    const unsigned char *v1, int w, int J, const geo_metric *m,
-    double *part, fqm_vertex *out);
-void fqm_step0_encode(const float *z0, const unsigned char *v0,
-    const float *z1, const unsigned char *v1, int w, int J,
-    const geo_metric *m, double *part, const fqm_layout *L, float *row);
+/* 1 when every channel of L was found (fqm_layout_of's): the invariant of
+ * the row coders. */
+int fqm_layout_ok(const fqm_layout *L);
 
 #endif

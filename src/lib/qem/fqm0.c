@@ -1,4 +1,14 @@
-/* fqm0.c - the level-0 FQM from DEM rows (fqm0.h). */
+/* fqm0.c - the level-0 FQM from DEM rows (fqm0.h): the DEM read two rows
+ * at a time, each row's quadrics made by fqm0_kernel.c's fqm_step0.
+ *
+ * Level 0 is the fundamental quadric map (FQM) of QEM-filtering (F.
+ * Löffler and H. Schumann, "QEM-Filtering: A New Technique For
+ * Feature-Sensitive Terrain Mesh Simplification", section 3.2;
+ * ../shared/papers/qem-filtering-loeffler-schumann.txt): at every DEM
+ * vertex, the Garland-Heckbert quadric of the triangles around it (M.
+ * Garland and P. S. Heckbert, "Surface Simplification Using Quadric
+ * Error Metrics", SIGGRAPH 1997; quadric.h), the finest level of the
+ * VGIS pyramid (P. Lindstrom et al., SIGGRAPH 1996; filter.c). */
 #include <assert.h>
 #include <stdlib.h>
 #include <string.h>
@@ -6,13 +16,13 @@
 #include "qem/fqm0.h"
 
 int
-fqm0_init(fqm0_state *s, dem *d, const geo_metric *m, tl_err *e)
+fqm0_init(fqm0_state *s, dem *d, const geo_ground *m, tl_err *e)
 {
 	return fqm0_init_cols(s, d, m, 0, dem_georef(d)->width, e);
 }
 
 int
-fqm0_init_cols(fqm0_state *s, dem *d, const geo_metric *m, int x0, int n,
+fqm0_init_cols(fqm0_state *s, dem *d, const geo_ground *m, int x0, int n,
     tl_err *e)
 {
 	const georef *g = dem_georef(d);

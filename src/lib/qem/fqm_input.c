@@ -14,7 +14,7 @@ fqm_input_open(fqm_input *in, const char *path, tl_err *e)
 	if ((in->r = fqm_open(path, &in->fi, &in->L, e)) == NULL)
 		return -1;
 	in->h = rs_header_of(in->r);
-	if (geo_metric_init(&in->m, &in->fi.geo, e) < 0)
+	if (geo_ground_init(&in->m, &in->fi.geo, e) < 0)
 		return -1;
 	/* a window's metric answers in its own columns */
 	in->m.x0 = (double)in->fi.x0 * (double)(1L << in->fi.level);
@@ -53,7 +53,7 @@ void
 fqm_input_close(fqm_input *in)
 {
 	rs_close(in->r);
-	geo_metric_free(&in->m);
+	geo_ground_free(&in->m);
 	free(in->row), free(in->v);
 	memset(in, 0, sizeof *in);
 }

@@ -12,7 +12,7 @@ typedef struct {
 	const char *what; /* the input, for messages */
 	fqm_info fi;
 	fqm_layout L;
-	geo_metric m;
+	geo_ground m;
 	float *row;
 	fqm_vertex *v;    /* the row read last, decoded (h->width) */
 	int y;            /* rows read */

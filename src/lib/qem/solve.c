@@ -1,5 +1,16 @@
 /* solve.c - per-level vertex placement, and the streaming fold fix of the
- * 3D mode (see solve.h). */
+ * 3D mode (see solve.h).
+ *
+ * A vertex goes where its filtered quadric is least: the optimal
+ * placement of M. Garland and P. S. Heckbert ("Surface Simplification
+ * Using Quadric Error Metrics", SIGGRAPH 1997; quadric.h), applied, as
+ * QEM-filtering does, to each vertex of a sub-sampled regular level
+ * instead of to an edge collapse (F. Löffler and H. Schumann,
+ * "QEM-Filtering: A New Technique For Feature-Sensitive Terrain Mesh
+ * Simplification", section 3.4, "computation of the vertex position";
+ * ../shared/papers/qem-filtering-loeffler-schumann.txt): along z only
+ * (1D displacement, the grid kept) or in x, y, z (3D). The comparison
+ * modes are the paper's baseline: heights filtered, or sub-sampled. */
 #include "qem/solve.h"
 #include "base/pool.h"
 
@@ -36,7 +47,7 @@ solve_mode_name(enum solve_mode m)
 
 int
 solve_init(solve_state *s, enum solve_mode mode, int level, int w, int h,
-    const geo_metric *m, tl_err *e)
+    const geo_ground *m, tl_err *e)
 {
 	memset(s, 0, sizeof *s);
 	s->mode = mode;
@@ -116,7 +127,7 @@ row0(const solve_state *s, int j)
  * fix asks for it a hundred times per vertex. Rows come in order, so
  * four of the five are the previous row's, moved up. */
 static void
-cache_metric(solve_state *s, int j)
+cache_ground(solve_state *s, int j)
 {
 	int r0 = 0;
 
@@ -345,7 +356,7 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 
 	assert(j < s->h); /* rows 0 .. h-1, in order */
 	if (s->mode == SOLVE_QEM3D)
-		cache_metric(s, j);
+		cache_ground(s, j);
 	for (int i = 0; i < s->w; i++) {
 		out[i].v = in[i].v;
 		out[i].x = out[i].y = 0;

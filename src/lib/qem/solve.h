@@ -20,7 +20,7 @@ typedef struct {
 	double shrink; /* 3D: a cell's triangles keep at least this fraction
 	                * of their grid area (no fold-over, no slivers) */
 	int level, w, h;
-	const geo_metric *m;
+	const geo_ground *m;
 	solve_vertex *hist[2]; /* 3D: the two previous rows (j-1, j-2), final */
 	double *msx[5], *my[5]; /* 3D: geo_sx and geo_y at the vertices of
 	                         * rows j-2 .. j+2 (the fold fix's reach) */
@@ -39,7 +39,7 @@ int solve_mode_parse(const char *s, enum solve_mode *m);
 const char *solve_mode_name(enum solve_mode m);
 
 int solve_init(solve_state *s, enum solve_mode mode, int level, int w, int h,
-    const geo_metric *m, tl_err *e);
+    const geo_ground *m, tl_err *e);
 /* Solves the next row (rows in order). 3D rows are final when returned:
  * each row is fixed so that every foldable triangle touching it (the four
  * of each cell, and the two-cell triangles of scale-1 edge diamonds) keeps

@@ -40,45 +40,22 @@ read_some(int fd, unsigned char *p, int n)
 static int
 spool(rs_reader *r, tl_err *e)
 {
-	enum { N = 1 << 20 };
-	unsigned char *buf;
-	long long off;
-	ssize_t n;
+	char rwhat[sizeof e->msg];
 	int fd;
 
 	if ((fd = tl_scratch(e)) < 0)
 		return -1;
-	if ((buf = tl_alloc(N, 1, e)) == NULL) {
+	snprintf(rwhat, sizeof rwhat, "%s: read", r->name);
+	if (tl_pwrite(fd, r->pre, (size_t)r->npre, 0, "scratch file", e) < 0 ||
+	    tl_copy_fd(r->fd, rwhat, fd, r->npre, "scratch file", e) < 0) {
 		close(fd);
 		return -1;
 	}
-	if (tl_pwrite(fd, r->pre, (size_t)r->npre, 0, "scratch file", e) < 0)
-		goto fail;
-	for (off = r->npre;; off += n) {
-		n = read(r->fd, buf, N);
-		if (n < 0 && errno == EINTR) {
-			n = 0;
-			continue;
-		}
-		if (n < 0) {
-			tl_failsys(e, "%s: read", r->name);
-			goto fail;
-		}
-		if (n == 0)
-			break;
-		if (tl_pwrite(fd, buf, (size_t)n, off, "scratch file", e) < 0)
-			goto fail;
-	}
-	free(buf);
 	if (r->ownfd)
 		close(r->fd);
 	r->fd = fd;
 	r->ownfd = 1;
 	return 0;
-fail:
-	free(buf);
-	close(fd);
-	return -1;
 }
 
 static int

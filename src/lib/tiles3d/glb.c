@@ -2,11 +2,11 @@
  * NORMAL (float32, interleaving none), uint16 indices, one grey material
  * lit by its normals, drawn from both sides (skirts). Little-endian hosts
  * (the file is little-endian). */
-#include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/json.h"
 #include "tiles3d/t3_impl.h"
 
 #define GLB_MAGIC 0x46546C67u

@@ -138,7 +138,7 @@ t3_run(const t3_args *a, t3_report *rep, tl_err *e)
 {
 	pyramid_index ix = { 0 };
 	t3_set s = { 0 };
-	geo_metric m = { 0 };
+	geo_ground m = { 0 };
 	job j = { .a = a, .ix = &ix, .s = &s };
 	int nt = a->jobs < 1 ? 1 : a->jobs > T3_MAXJOBS ? T3_MAXJOBS : a->jobs;
 	int r = -1, ready = 0;
@@ -156,7 +156,7 @@ t3_run(const t3_args *a, t3_report *rep, tl_err *e)
 	j.err = tl_alloc(nt, sizeof *j.err, e);
 	j.failed = tl_alloc(nt, sizeof *j.failed, e);
 	if (!j.w || !j.err || !j.failed || t3_check_datum(a, &ix, e) < 0 ||
-	    geo_metric_init(&m, &ix.geo, e) < 0)
+	    geo_ground_init(&m, &ix.geo, e) < 0)
 		goto done;
 	for (; ready < nt; ready++)
 		if (t3_work_init(&j.w[ready], &ix.geo, &m, e) < 0)
@@ -169,7 +169,7 @@ done:
 		t3_work_free(&j.w[k]);
 	free(j.w), free(j.err), free(j.failed);
 	t3_set_free(&s);
-	geo_metric_free(&m);
+	geo_ground_free(&m);
 	pyramid_index_free(&ix);
 	return r;
 }

@@ -40,7 +40,7 @@ struct t3_work {
 	geo_proj proj;
 	pyramid_block blk;
 	t3_tris tris;
-	const geo_metric *m;       /* QEM-3D offsets to grid steps, or NULL */
+	const geo_ground *m;       /* QEM-3D offsets to grid steps, or NULL */
 	double *px, *py;           /* per grid vertex: level-0 grid place */
 	double *lon, *lat, *h, *x; /* per grid vertex; x: ECEF, 3 each */
 	double *foot, *up;         /* per grid vertex: ECEF at height 0 and
@@ -52,7 +52,7 @@ struct t3_work {
 	long long nverts, ntris, nbytes;
 };
 
-int t3_work_init(t3_work *w, const georef *g, const geo_metric *m,
+int t3_work_init(t3_work *w, const georef *g, const geo_ground *m,
     tl_err *e);
 void t3_work_free(t3_work *w);
 

@@ -12,7 +12,7 @@
 #define MAXI (3 * (2 * BT_CELLS * BT_CELLS + 2 * 4 * BT_CELLS))
 
 int
-t3_work_init(t3_work *w, const georef *g, const geo_metric *m, tl_err *e)
+t3_work_init(t3_work *w, const georef *g, const geo_ground *m, tl_err *e)
 {
 	memset(w, 0, sizeof *w);
 	w->m = m;

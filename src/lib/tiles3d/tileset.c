@@ -1,11 +1,11 @@
 /* tileset.c - tileset.json: an explicit quadtree on the pyramid's levels,
  * the top block the root, each block the parent of the up to four blocks
  * of the level below that it covers (t3_impl.h). */
-#include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "base/json.h"
 #include "tiles3d/t3_impl.h"
 
 /* Children are drawn where their parent's error is too coarse: a parent

@@ -178,7 +178,7 @@ vf_check(const char *dir, const char *dem_path, const dem_opts *dopt,
 		goto done;
 	for (int l = 0; l < c.ix.nlevels; l++)
 		disp |= c.ix.lev[l].displaced;
-	if (disp && geo_metric_init(&c.metric, &c.ix.geo, e) < 0)
+	if (disp && geo_ground_init(&c.metric, &c.ix.geo, e) < 0)
 		goto done;
 	check_levels(&c);
 	check_top_strays(&c);
@@ -189,7 +189,7 @@ vf_check(const char *dir, const char *dem_path, const dem_opts *dopt,
 done:
 	if (c.dem != NULL)
 		dem_close(c.dem);
-	geo_metric_free(&c.metric);
+	geo_ground_free(&c.metric);
 	vf_index_free(&c.ix);
 	vf_tree_free(&c.tree);
 	return ret;

@@ -26,7 +26,7 @@ typedef struct {
 	vf_tree tree;
 	dem *dem;          /* or NULL: no DEM checks */
 	int W, H;          /* level-0 size */
-	geo_metric metric; /* for QEM-3D offsets */
+	geo_ground metric; /* for QEM-3D offsets */
 	tl_err *e;
 } vf_checker;
 

@@ -1,4 +1,5 @@
-/* verify_index.c - the checker's own reader of index.json (jansson).
+/* verify_index.c - the checker's own reader of index.json (jansson,
+ * through base/json.h's strict parse and checked numbers).
  *
  * It shares no reading of fields with the viewer's and the exporters'
  * reader (pyramid_index.c): a pyramid whose index that reader misreads is
@@ -10,11 +11,10 @@
  * it cannot check against (not JSON, a field missing or of the wrong
  * type, block counts that do not fit the level's size). */
 #include "verify/verify.h"
+#include "base/json.h"
 #include "pyramid/pyramid.h"
 #include "pyramid/vgis.h"
 
-#include <errno.h>
-#include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,10 +31,8 @@ num2(json_t *parent, const char *key, double v[2])
 	if (json_array_size(a) != 2)
 		return -1;
 	for (size_t k = 0; k < 2; k++) {
-		json_t *x = json_array_get(a, k);
-		if (!json_is_number(x))
+		if (tl_json_num(json_array_get(a, k), &v[k]) < 0)
 			return -1;
-		v[k] = json_number_value(x);
 	}
 	return 0;
 }
@@ -48,11 +46,9 @@ int2(json_t *parent, const char *key, int v[2])
 	if (json_array_size(a) != 2)
 		return -1;
 	for (size_t k = 0; k < 2; k++) {
-		json_t *x = json_array_get(a, k);
-		if (!json_is_integer(x) || json_integer_value(x) < -(1 << 30) ||
-		    json_integer_value(x) > (1 << 30))
+		if (tl_json_int(json_array_get(a, k), -(1 << 30), 1 << 30,
+		    &v[k]) < 0)
 			return -1;
-		v[k] = (int)json_integer_value(x);
 	}
 	return 0;
 }
@@ -60,13 +56,8 @@ int2(json_t *parent, const char *key, int v[2])
 static int
 int1(json_t *parent, const char *key, int *v)
 {
-	json_t *x = json_object_get(parent, key);
-
-	if (!json_is_integer(x) || json_integer_value(x) < -(1 << 30) ||
-	    json_integer_value(x) > (1 << 30))
-		return -1;
-	*v = (int)json_integer_value(x);
-	return 0;
+	return tl_json_int(json_object_get(parent, key), -(1 << 30), 1 << 30,
+	    v);
 }
 
 /* A string into buf; NULL json (optional, absent) gives "". */
@@ -109,10 +100,8 @@ georef_of(json_t *o, georef *g)
 		return "georef.origin";
 	if (num2(o, "step", g->step) < 0)
 		return "georef.step";
-	x = json_object_get(o, "unit");
-	if (!json_is_number(x))
+	if (tl_json_num(json_object_get(o, "unit"), &g->unit) < 0)
 		return "georef.unit";
-	g->unit = json_number_value(x);
 	if (str(o, "vdatum", g->vdatum, sizeof g->vdatum, 1) < 0)
 		return "georef.vdatum";
 	if (json_object_get(o, "cell") != NULL &&
@@ -121,9 +110,8 @@ georef_of(json_t *o, georef *g)
 		return "georef.cell";
 	/* JSON has no NaN: vgis(5) writes a NaN nodata as "nan" */
 	x = json_object_get(o, "nodata");
-	if (json_is_number(x)) {
+	if (tl_json_num(x, &g->nodata) == 0) {
 		g->has_nodata = 1;
-		g->nodata = json_number_value(x);
 	} else if (json_is_string(x) && strcmp(json_string_value(x),
 	    "nan") == 0) {
 		g->has_nodata = 1;
@@ -145,12 +133,10 @@ per_block(json_t *o, const char *key, size_t nb)
 	    (v = malloc((nb ? nb : 1) * sizeof *v)) == NULL)
 		return NULL;
 	for (size_t k = 0; k < nb; k++) {
-		json_t *x = json_array_get(a, k);
-		if (!json_is_number(x)) {
+		if (tl_json_num(json_array_get(a, k), &v[k]) < 0) {
 			free(v);
 			return NULL;
 		}
-		v[k] = json_number_value(x);
 	}
 	return v;
 }
@@ -202,7 +188,7 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 	const char *bad = NULL;
 	json_error_t je;
 	json_t *root, *levels;
-	int version, block, r = -1;
+	int version, block, r = -1, oom;
 	char *text;
 	size_t n;
 
@@ -216,12 +202,9 @@ vf_index_read(const char *dir, vf_index *ix, tl_err *e)
 		free(text);
 		return -1;
 	}
-	errno = 0;
-	root = json_loadb(text, n, JSON_REJECT_DUPLICATES, &je);
+	root = tl_json_parse(text, n, &je, &oom);
 	free(text);
-	/* jansson words every syntax error: no words, a failed allocation */
-	if (root == NULL && (json_error_code(&je) == json_error_out_of_memory
-	    || je.text[0] == '\0' || errno == ENOMEM))
+	if (root == NULL && oom)
 		return tl_fail(e, "%s: out of memory parsing its %zu bytes",
 		    path, n);
 	if (root == NULL)
