@@ -58,7 +58,7 @@ print("maxzoom", L["maxzoom"] == len(L["available"]) - 1 ==
 want = {"tilejson": "2.1.0", "format": "quantized-mesh-1.0",
         "scheme": "tms", "projection": "EPSG:4326", "minzoom": 0,
         "tiles": ["{z}/{x}/{y}.terrain?v={version}"],
-        "extensions": ["octvertexnormals", "metadata"],
+        "extensions": ["octvertexnormals"],
         "attribution": "SRTM (NASA)",
         "parentUrl": "https://example.org/terrain/"}
 print("fields", all(L.get(k) == v for k, v in want.items()) and
