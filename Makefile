@@ -1,5 +1,5 @@
 # terrain LOD toolchain: dem2fqm fqmfilter fqmsolve tilepack tileplay
-# tilecheck dem2vgis vgis2tiles
+# tilecheck dem2vgis vgis2tiles vgis2terrain
 # make            build everything (installs missing Debian packages first)
 # make check      build and run every test
 # make example    build a pyramid from the default example DEM

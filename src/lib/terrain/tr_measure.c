@@ -290,10 +290,20 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 {
 	const double *lon, *lat;
 	const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
-	double wd = r[2] - r[0];
+	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
+	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
 
 	if (b == NULL)
 		return -1;
+	/* a geographic grid: latitude per row, longitude per column, so the
+	 * normals' sines and cosines per row and column (as geo_ellipsoid
+	 * computes them) */
+	for (int k = 0; !w->g->projected && k < BT_SIZE; k++) {
+		double a = lat[k * BT_SIZE] * (M_PI / 180), o = lon[k] *
+		    (M_PI / 180);
+		sl[k] = sin(a), cl[k] = cos(a), so[k] = sin(o), co[k] = cos(o);
+		nn[k] = 6378137.0 / sqrt(1 - e2 * sl[k] * sl[k]);
+	}
 	for (int J = 0; J < BT_SIZE; J++) {
 		if (bj * BT_CELLS + J >= w->g->h0)
 			break;
@@ -310,7 +320,15 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
 			const double *n = l->plane + 4 * q;
-			geo_ellipsoid(lon[k], lat[k], f, up);
+			if (w->g->projected)
+				geo_ellipsoid(lon[k], lat[k], f, up);
+			else {
+				f[0] = nn[J] * cl[J] * co[I];
+				f[1] = nn[J] * cl[J] * so[I];
+				f[2] = nn[J] * (1 - e2) * sl[J];
+				up[0] = cl[J] * co[I], up[1] = cl[J] * so[I];
+				up[2] = sl[J];
+			}
 			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
 			d[0] = fmax(d[0], fabs(hs - flat(w, q, lon[k], lat[k])));
