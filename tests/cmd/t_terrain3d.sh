@@ -4,7 +4,8 @@
 # schema; an independent reader (tests/tools/t3t_check.py) parses every
 # subtree and finds its availability exactly the files present, each glb
 # one primitive within its tile's rectangle, heights and bounding sphere
-# (TILE_* metadata), its CESIUM_tile_edges exactly the edge vertices; the
+# (TILE_* metadata), its CESIUM_tile_edges exactly the edge vertices in
+# the order the skirts walk them; the
 # reader fails on a missing tile; -j 1 and -j 2 give the same bytes; the
 # same meshes as -f qm (same triangle counts per level).
 . "$(dirname "$0")/../lib.sh"

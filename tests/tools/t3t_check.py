@@ -10,7 +10,7 @@ NORMAL, triangles and CESIUM_tile_edges; its vertices, placed by the node
 matrix and Y-up to Z-up, lie inside the tile's rectangle, between the
 TILE_MINIMUM_HEIGHT and TILE_MAXIMUM_HEIGHT and inside the
 TILE_BOUNDING_SPHERE; each edge list holds exactly the vertices on that
-edge. Prints a summary; exit 1 on the first failure."""
+edge, in the order the skirts walk. Prints a summary; exit 1 on the first failure."""
 import json
 import math
 import os
@@ -104,9 +104,15 @@ def check_glb(path, root, z, x, y, meta):
     idx = accessor(g, binc, p["indices"])
     if idx.size % 3 or idx.max() >= len(pos):
         fail(path + ": indices")
-    for name, c, v in (("left", lon, x0), ("right", lon, x0 + w),
-                       ("bottom", lat, y0), ("top", lat, y0 + w)):
+    # the order CesiumJS's skirts walk: west south to north, south east
+    # to west, east north to south, north west to east
+    for name, c, v, along, sign in (
+            ("left", lon, x0, lat, 1), ("right", lon, x0 + w, lat, -1),
+            ("bottom", lat, y0, lon, -1), ("top", lat, y0 + w, lon, 1)):
         e = accessor(g, binc, ed[name])
+        k = [i for i in e.tolist() if not polar[i]]
+        if np.any(sign * np.diff(along[k]) < -ang):
+            fail("%s: edge %s out of order" % (path, name))
         on = set(np.nonzero(np.abs(c - v) <= ang)[0].tolist())
         listed = set(e.tolist())
         if c is lon:
