@@ -5,8 +5,8 @@
 # subtree and finds its availability exactly the files present, each glb
 # one primitive within its tile's rectangle, heights and bounding sphere
 # (TILE_* metadata), its CESIUM_tile_edges exactly the edge vertices in
-# the order the skirts walk them; the
-# reader fails on a missing tile; -j 1 and -j 2 give the same bytes; the
+# the order the skirts walk them; CesiumJS's own ImplicitSubtree
+# (tests/js/t3t_subtrees.mjs) agrees; both readers fail on a missing tile; -j 1 and -j 2 give the same bytes; the
 # same meshes as -f qm (same triangle counts per level).
 . "$(dirname "$0")/../lib.sh"
 
@@ -35,6 +35,9 @@ run "tileset.json passes the 3D Tiles 1.1 schema" \
 run "every subtree parses; availability is exactly the files; glbs agree with their TILE_* metadata and edges" \
     $PY "$TOP/tests/tools/t3t_check.py" "$T/t3"
 sed 's/^/#   /' "$T/out"
+run "CesiumJS's ImplicitSubtree reads every subtree: availability is exactly the files, TILE_* metadata present" \
+    node "$JS/t3t_subtrees.mjs" "$T/t3"
+sed 's/^/#   /' "$T/out"
 grep -q '"subdivisionScheme":"QUADTREE"' "$T/t3/tileset.json" &&
     grep -q TILE_HORIZON_OCCLUSION_POINT "$T/t3/tileset.json" &&
     grep -q '"geometricError":78271.52' "$T/t3/tileset.json"
@@ -46,6 +49,9 @@ rm "$(sed -n 5p "$T/glbs" | sed "s|$T/t3|$T/bad|")"
 $PY "$TOP/tests/tools/t3t_check.py" "$T/bad" >"$T/out" 2>&1
 [ $? -eq 1 ] && grep -q "availability 1, file False" "$T/out"
 ok $? "the reader finds a missing tile"
+node "$JS/t3t_subtrees.mjs" "$T/bad" >"$T/out" 2>&1
+[ $? -eq 1 ] && grep -q "available true" "$T/out"
+ok $? "and so does CesiumJS's reader"
 cp -r "$T/t3" "$T/bad2"
 cp "$(sed -n 5p "$T/glbs")" "$T/bad2/r0/0/0/9.glb"
 $PY "$TOP/tests/tools/t3t_check.py" "$T/bad2" >"$T/out" 2>&1
