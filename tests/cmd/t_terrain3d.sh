@@ -68,6 +68,9 @@ diff -r "$T/t3" "$T/one" >/dev/null; ok $? "-j 1 and -j 2 are byte-identical"
 run "an existing 3D Tiles terrain is replaced" \
     vgis2terrain -q -f 3dtiles -j 2 "$T/pyr" "$T/one"
 diff -r "$T/t3" "$T/one" >/dev/null; ok $? "and the rerun is byte-identical"
+mkdir "$T/m3d" && echo "{}" >"$T/m3d/tileset.json"
+fails "a tileset.json of another kind (vgis2tiles): not replaced" 1 \
+    "not a terrain tileset" vgis2terrain -q -f 3dtiles "$T/pyr" "$T/m3d"
 fails "an unknown format: usage, exit 2" 2 usage \
     vgis2terrain -f b3dm "$T/pyr" "$T/x"
 fails "-z with -f 3dtiles: usage, exit 2" 2 usage \

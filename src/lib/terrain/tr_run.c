@@ -257,7 +257,8 @@ check_out(const char *out, tl_err *e)
 		return errno == ENOENT ? 0 : tl_failsys(e, "%s", out);
 	snprintf(p, sizeof p, "%s/layer.json", out);
 	if (!S_ISDIR(st.st_mode) || (stat(p, &st) < 0 &&
-	    (snprintf(p, sizeof p, "%s/tileset.json", out), stat(p, &st) < 0)))
+	    (snprintf(p, sizeof p, "%s/r0/0/0/0.subtree", out),
+	    stat(p, &st) < 0)))
 		return tl_fail(e, "%s: exists and is not a terrain tileset: "
 		    "not replaced", out);
 	return 0;
