@@ -40,13 +40,11 @@ uses_play    := base geo raster pyramid
 uses_tiles3d := base geo pyramid
 uses_terrain := base geo pyramid
 uses_jobs    := base raster qem
-pkgs_base    := jansson
+pkgs_base    := jansson zlib
 pkgs_geo     := proj geographiclib
 pkgs_raster  := OpenEXR libdeflate
 libs_raster  := -lOpenEXRCore-3_1
 pkgs_dem     := gdal
-pkgs_verify  := zlib
-pkgs_terrain := zlib
 pkgs_play    := egl epoxy glfw3 stb
 # the programs: the layers each uses (cli.c, their shared start-up, uses
 # uses_cli; the other files of src/cmd, the work the programs share, are
@@ -89,7 +87,8 @@ ld       = $(call archives,$(1)) -Wl,--as-needed \
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 
-# tilecheck dem2vgis vgis2tiles vgis2terrain (and vgis-job, the steps plans run)
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis2terrain vgis-job
+CMDOBJS := $(patsubst src/cmd/%.c,$(B)/cmd/%.o,$(filter-out $(PROGS:%=src/cmd/%.c),$(wildcard src/cmd/*.c)))
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.
 PLUGIN  := $(B)/tl_oiio.so

@@ -7,8 +7,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
 
+#include "base/gzip.h"
 #include "terrain/tr_impl.h"
 
 #define WGS84_A 6378137.0
@@ -238,28 +238,14 @@ normals(tr_work *w)
 static int
 deflate_buf(tr_work *w, tl_err *e)
 {
-	z_stream z = { 0 };
-	uLong cap = deflateBound(&z, (uLong)w->nbuf) + 64;
 	unsigned char *out;
-	int r;
+	size_t n;
+	tl_err z;
 
-	if (deflateInit2(&z, 9, Z_DEFLATED, 31, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-		return tl_fail(e, "tile: zlib: cannot start");
-	cap = deflateBound(&z, (uLong)w->nbuf) + 64;
-	if ((out = malloc(cap)) == NULL) {
-		deflateEnd(&z);
-		return tl_fail(e, "tile: out of memory");
-	}
-	z.next_in = w->buf, z.avail_in = (uInt)w->nbuf;
-	z.next_out = out, z.avail_out = (uInt)cap;
-	r = deflate(&z, Z_FINISH);
-	deflateEnd(&z);
-	if (r != Z_STREAM_END) {
-		free(out);
-		return tl_fail(e, "tile: zlib: deflate failed");
-	}
+	if (tl_gzip(w->buf, w->nbuf, &out, &n, &z) < 0)
+		return tl_fail(e, "tile: %s", z.msg);
 	free(w->buf);
-	w->buf = out, w->cbuf = cap, w->nbuf = z.total_out;
+	w->buf = out, w->cbuf = n, w->nbuf = n;
 	return 0;
 }
 

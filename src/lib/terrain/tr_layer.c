@@ -3,7 +3,7 @@
  * format, scheme, tile URL template, projection, zoom range, extensions
  * and the available tiles per level, as inclusive rectangles that match
  * the files written exactly. */
-#include <jansson.h>
+#include "base/json.h"
 #include <stdio.h>
 
 #include "base/outfile.h"

@@ -4,6 +4,7 @@
  * indices (16-bit, 32-bit above 65536 vertices, aligned to their size),
  * the four edge lists, the extensions. A gzip'd file is inflated first
  * (zlib). Every length is checked against the bytes left before use. */
+#include "base/gzip.h"
 #include "verify/qm.h"
 
 #include <errno.h>
@@ -12,7 +13,6 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #define QM_HEADER 88
 #define QM_MAXBYTES (1u << 30) /* an inflated tile larger is refused */
@@ -237,44 +237,10 @@ static int
 gunzip(const unsigned char *b, size_t len, unsigned char **out,
     size_t *outlen, tl_err *e)
 {
-	z_stream z;
-	size_t cap = len * 4 + 4096, n = 0;
-	unsigned char *o = malloc(cap), *p;
-	int rc = Z_OK;
+	tl_err z;
 
-	memset(&z, 0, sizeof z);
-	if (o == NULL || inflateInit2(&z, 16 + MAX_WBITS) != Z_OK) {
-		free(o);
-		return tl_fail(e, "gzip: cannot start zlib");
-	}
-	z.next_in = (unsigned char *)b;
-	while (rc != Z_STREAM_END) {
-		if (n == cap) {
-			if (cap >= QM_MAXBYTES ||
-			    (p = realloc(o, cap * 2)) == NULL) {
-				rc = Z_MEM_ERROR;
-				break;
-			}
-			o = p, cap *= 2;
-		}
-		z.avail_in = (uInt)(len - (size_t)(z.next_in - b));
-		z.next_out = o + n;
-		z.avail_out = (uInt)(cap - n);
-		rc = inflate(&z, Z_NO_FLUSH);
-		n = cap - z.avail_out;
-		if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR)
-			break;
-		if (rc == Z_BUF_ERROR && z.avail_out != 0)
-			break; /* input ended inside the stream */
-	}
-	inflateEnd(&z);
-	if (rc != Z_STREAM_END) {
-		free(o);
-		return tl_fail(e, "truncated: gzip stream %s",
-		    rc == Z_MEM_ERROR ? "inflates past 1 GiB" :
-		    "damaged or cut short");
-	}
-	*out = o, *outlen = n;
+	if (tl_gunzip(b, len, QM_MAXBYTES, out, outlen, &z) < 0)
+		return tl_fail(e, "truncated: %s", z.msg);
 	return 0;
 }
 

@@ -6,7 +6,7 @@
 #include "verify/qm.h"
 
 #include <dirent.h>
-#include <jansson.h>
+#include "base/json.h"
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>

@@ -5,7 +5,7 @@
  * Float checks report the worst vertex once per tile. */
 #include "verify/qm.h"
 
-#include <jansson.h>
+#include "base/json.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
