@@ -51,6 +51,22 @@ big() {
 	return 1
 }
 
+# browser_test NAME: a test of a browser (CesiumJS in Chromium) goes on
+# only where node and chromium are, and not under TL_QUICK: the browser,
+# not our code, is what such a test spends its minutes in, and the
+# programs it runs are run under the sanitizers by the other tests.
+browser_test() {
+	if ! command -v node >/dev/null || [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ]; then
+		ok 0 "$1 # SKIP no node or no chromium (scripts/install-deps)"
+	elif [ -n "${TL_QUICK:-}" ]; then
+		ok 0 "$1 # SKIP under the sanitizers (make check runs it)"
+	else
+		return 0
+	fi
+	done_testing
+	exit
+}
+
 done_testing() {
 	echo "1..$_n"
 	[ $_failed -eq 0 ]
