@@ -205,6 +205,23 @@ frame(tr_mesh *m, const double c[4], const double r[4], tl_err *e)
 	return 0;
 }
 
+/* 1 when a vertex of m other than c's corners lies in r, the DEM's part
+ * of cell c where it has no area (a side or corner the DEM touches): a
+ * vertex there is the DEM's edge in the next cell, and c must fan onto
+ * it (frame) or leave a T-junction. */
+static int
+touched(const tr_mesh *m, const double c[4], const double r[4])
+{
+	if (!(r[0] <= r[2] && r[1] <= r[3]))
+		return 0;
+	for (int i = 0; i < m->nv; i++)
+		if (m->x[i] >= r[0] && m->x[i] <= r[2] && m->y[i] >= r[1] &&
+		    m->y[i] <= r[3] && !((m->x[i] == c[0] || m->x[i] == c[2]) &&
+		    (m->y[i] == c[1] || m->y[i] == c[3])))
+			return 1;
+	return 0;
+}
+
 /* Cell (i, j) of the tile's lattice: its rectangle c and its part r in
  * the terrain's rectangle (lon/lat); 1 when r has an area. */
 static int
@@ -252,7 +269,8 @@ tr_mesh_tile(tr_work *w, const tr_choice *ch, int x, int y, tl_err *e)
 	for (int j = 0; j < n; j++)
 		for (int i = 0; i < n; i++) {
 			int a, b, d, f;
-			if (cell_rects(w, ch, x, y, i, j, c, r)) {
+			if (cell_rects(w, ch, x, y, i, j, c, r) ||
+			    touched(m, c, r)) {
 				if (frame(m, c, r, e) < 0)
 					return -1;
 				continue;
