@@ -11,6 +11,21 @@
 
 #define RMIN 6335439.0 /* m: WGS 84's least radius of curvature */
 
+/* A geographic grid line the DEM means to lie on a line of the tiles
+ * (a tile's edge, a lattice line: multiples of 180 / 2^24 degrees from
+ * -180, -90) but reaches a few ulps off it by the affine map's rounding
+ * is put on it: off, it is a vertex just inside one tile and missing
+ * from its neighbour, a sliver that quantisation folds (a crack). Within
+ * 1e-12 degrees: no line of a real DEM's grid is that near one it is not
+ * on. */
+static double
+snap(double v, double o)
+{
+	double s = ldexp(180, -24), l = o + rint((v - o) / s) * s;
+
+	return fabs(v - l) < 1e-12 ? l : v;
+}
+
 int
 tr_lonlat(const tr_grid *g, geo_proj *p, const georef *geo, double *x,
     double *y, int n, tl_err *e)
@@ -20,7 +35,8 @@ tr_lonlat(const tr_grid *g, geo_proj *p, const georef *geo, double *x,
 
 	if (!g->projected) {
 		for (int i = 0; i < n; i++)
-			x[i] = g->ax + g->bx * x[i], y[i] = g->ay + g->by * y[i];
+			x[i] = snap(g->ax + g->bx * x[i], -180),
+			y[i] = snap(g->ay + g->by * y[i], -90);
 		return 0;
 	}
 	if ((z = calloc((size_t)n, sizeof *z)) == NULL)
