@@ -68,6 +68,7 @@ typedef struct {
 /* A selection triangle: longitudes, latitudes, heights. */
 typedef struct {
 	double x[3], y[3], h[3];
+	double lo[2], hi[2];    /* its box */
 } tr_tri;
 
 /* One thread's state. */
@@ -81,6 +82,7 @@ typedef struct {
 	int ckey[TR_CACHE][3], cused[TR_CACHE];
 	tr_tri *sel;            /* the selection over the tile */
 	int nsel, csel;
+	int *row;               /* those meeting a row of cells (csel) */
 	tr_mesh m;
 	uint16_t *u, *v, *q;    /* quantised vertices */
 	double *pos;            /* decoded ECEF, 3 each */

@@ -333,22 +333,34 @@ locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
 	return 0;
 }
 
+/* The least barycentric coordinate of (su, sv) in triangle t. */
+static double
+least(const tr_work *w, int t, double su, double sv)
+{
+	const int *k = w->m.tri + 3 * t;
+	double x0 = w->u[k[0]], y0 = w->v[k[0]];
+	double x1 = w->u[k[1]] - x0, y1 = w->v[k[1]] - y0;
+	double x2 = w->u[k[2]] - x0, y2 = w->v[k[2]] - y0;
+	double d = x1 * y2 - x2 * y1, px = su - x0, py = sv - y0;
+	double b1 = (px * y2 - x2 * py) / d, b2 = (x1 * py - px * y1) / d;
+
+	return fmin(1 - b1 - b2, fmin(b1, b2));
+}
+
 /* The triangle over (su, sv): the one of its bucket with the largest
- * least barycentric coordinate (inside: >= 0). */
+ * least barycentric coordinate (inside: >= 0). The previous sample's
+ * triangle, hint, when the point is well inside it: no other triangle
+ * then comes near (they do not overlap), the bucket's answer is it. */
 static int
-locate(const tr_work *w, const locator *l, double su, double sv)
+locate(const tr_work *w, const locator *l, double su, double sv, int hint)
 {
 	int b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0), best = -1;
 	double bv = -INFINITY;
 
+	if (hint >= 0 && least(w, hint, su, sv) > 1e-9)
+		return hint;
 	for (int i = l->start[b]; i < l->start[b + 1]; i++) {
-		const int *k = w->m.tri + 3 * l->list[i];
-		double x0 = w->u[k[0]], y0 = w->v[k[0]];
-		double x1 = w->u[k[1]] - x0, y1 = w->v[k[1]] - y0;
-		double x2 = w->u[k[2]] - x0, y2 = w->v[k[2]] - y0;
-		double d = x1 * y2 - x2 * y1, px = su - x0, py = sv - y0;
-		double b1 = (px * y2 - x2 * py) / d, b2 = (x1 * py - px * y1) / d;
-		double mn = fmin(1 - b1 - b2, fmin(b1, b2));
+		double mn = least(w, l->list[i], su, sv);
 		if (mn > bv)
 			bv = mn, best = l->list[i];
 	}
@@ -379,6 +391,7 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 	const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
+	int hint = -1;
 
 	if (b == NULL)
 		return -1;
@@ -401,8 +414,8 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 			if (lon[k] < t[0] || lon[k] > t[2] || lat[k] < t[1] ||
 			    lat[k] > t[3])
 				continue;
-			int q = locate(w, l, (lon[k] - r[0]) / wd * QM_MAX,
-			    (lat[k] - r[1]) / wd * QM_MAX);
+			int q = hint = locate(w, l, (lon[k] - r[0]) / wd * QM_MAX,
+			    (lat[k] - r[1]) / wd * QM_MAX, hint);
 			if (q < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);

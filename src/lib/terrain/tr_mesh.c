@@ -51,6 +51,7 @@ typedef struct {
 	const tr_choice *c;
 	double lmax2;      /* 2 lmax^2, level-p cells */
 	double r[4];       /* the tile over the DEM, lon/lat */
+	double dx, dy;     /* geographic: a level-p cell, degrees; else 0 */
 	int failed;
 } sel;
 
@@ -76,6 +77,18 @@ split(void *ctx, int gi, int gj)
 	/* the padding past the level's last real vertex needs nothing:
 	 * E bounds the real samples in a diamond against its triangles as
 	 * they are, padding heights and all (vgis(5)) */
+	/* a geographic grid: a triangle whose box (within half its
+	 * hypotenuse of its midpoint) misses the tile is not split; emit
+	 * drops it and all it holds alike, and those that meet the tile
+	 * are cut as before, in the same order */
+	if (s->dx > 0) {
+		double h = sqrt(hyp2(c, r) / 8) + 1, x = s->lon[r * BT_SIZE + c];
+		double y = s->lat[r * BT_SIZE + c], ex = h * s->dx + 1e-9;
+		double ey = h * s->dy + 1e-9;
+		if (x + ex < s->r[0] || x - ex > s->r[2] || y + ey < s->r[1] ||
+		    y - ey > s->r[3])
+			return 0;
+	}
 	return s->b->e[r * BT_SIZE + c] > s->c->tau || hyp2(c, r) > s->lmax2;
 }
 
@@ -98,14 +111,18 @@ emit(void *ctx, const int t[3][2])
 	if (hi[0] < s->r[0] || lo[0] > s->r[2] || hi[1] < s->r[1] ||
 	    lo[1] > s->r[3] || s->failed)
 		return;
+	q.lo[0] = lo[0], q.lo[1] = lo[1], q.hi[0] = hi[0], q.hi[1] = hi[1];
 	if (w->nsel == w->csel) {
 		int n = w->csel ? 2 * w->csel : 1024;
 		tr_tri *a = realloc(w->sel, (size_t)n * sizeof *a);
-		if (a == NULL) {
+		int *o = a ? realloc(w->row, (size_t)n * sizeof *o) : NULL;
+		if (a)
+			w->sel = a;
+		if (o == NULL) {
 			s->failed = 1;
 			return;
 		}
-		w->sel = a, w->csel = n;
+		w->row = o, w->csel = n;
 	}
 	w->sel[w->nsel++] = q;
 }
@@ -122,6 +139,9 @@ select_tile(tr_work *w, const tr_choice *c, const double t[4], tl_err *e)
 	double lmax = sqrt(6335439.0 * c->el / 2) / w->g->cell / (1 << c->p);
 
 	s.lmax2 = 2 * fmax(lmax, 1) * fmax(lmax, 1);
+	if (!w->g->projected)
+		s.dx = ldexp(fabs(w->g->bx), c->p), s.dy = ldexp(fabs(w->g->by),
+		    c->p);
 	s.r[0] = fmax(t[0], w->g->r[0]), s.r[2] = fmin(t[2], w->g->r[2]);
 	s.r[1] = fmax(t[1], w->g->r[1]), s.r[3] = fmin(t[3], w->g->r[3]);
 	w->nsel = 0;
@@ -250,22 +270,27 @@ tr_mesh_tile(tr_work *w, const tr_choice *ch, int x, int y, tl_err *e)
 	tr_tile_rect(ch->z, x, y, t);
 	if (select_tile(w, ch, t, e) < 0)
 		return -1;
-	/* the DEM first, so that a cell corner on its edge takes its height */
-	for (int j = 0; j < n; j++)
+	/* the DEM first, so that a cell corner on its edge takes its height;
+	 * per row of cells the triangles meeting it, in their order */
+	for (int j = 0; j < n; j++) {
+		int nrow = 0, built = 0;
 		for (int i = 0; i < n; i++) {
 			if (!cell_rects(w, ch, x, y, i, j, c, r))
 				continue;
-			for (int k = 0; k < w->nsel; k++) {
-				const tr_tri *q = &w->sel[k];
-				if (fmax(q->x[0], fmax(q->x[1], q->x[2])) < r[0] ||
-				    fmin(q->x[0], fmin(q->x[1], q->x[2])) > r[2] ||
-				    fmax(q->y[0], fmax(q->y[1], q->y[2])) < r[1] ||
-				    fmin(q->y[0], fmin(q->y[1], q->y[2])) > r[3])
+			/* r[1], r[3]: the same along the row */
+			for (int k = 0; !built && k < w->nsel; k++)
+				if (!(w->sel[k].hi[1] < r[1] || w->sel[k].lo[1] > r[3]))
+					w->row[nrow++] = k;
+			built = 1;
+			for (int k = 0; k < nrow; k++) {
+				const tr_tri *q = &w->sel[w->row[k]];
+				if (q->hi[0] < r[0] || q->lo[0] > r[2])
 					continue;
 				if (tr_clip(m, q, r, e) < 0)
 					return -1;
 			}
 		}
+	}
 	for (int j = 0; j < n; j++)
 		for (int i = 0; i < n; i++) {
 			int a, b, d, f;

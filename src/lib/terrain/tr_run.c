@@ -304,7 +304,7 @@ work_free(tr_work *w)
 	if (w->g->projected)
 		geo_proj_close(&w->proj);
 	tr_mesh_free(&w->m);
-	free(w->sel), free(w->u), free(w->v), free(w->q), free(w->pos);
+	free(w->sel), free(w->row), free(w->u), free(w->v), free(w->q), free(w->pos);
 	free(w->order), free(w->tmp), free(w->buf);
 }
 
