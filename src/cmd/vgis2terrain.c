@@ -3,12 +3,16 @@
  * {z}/{x}/{y}.terrain on the global geographic quadtree. The work is
  * tr_run (terrain/terrain.h). */
 #include <stdlib.h>
+#include <string.h>
 
 #include "cli.h"
 #include "terrain/terrain.h"
 
 static const char usage[] =
-    "[-qz] [-j jobs] [--parent-url URL] [--attribution TEXT] dir outdir\n"
+    "[-qz] [-f qm|3dtiles] [-j jobs] [--parent-url URL] [--attribution "
+    "TEXT] dir outdir\n"
+    "  -f format           qm: quantized-mesh (default); 3dtiles: the 3D "
+    "Tiles terrain profile\n"
     "  -j jobs             threads (default: the CPUs)\n"
     "  -q                  no warnings, no report on stderr\n"
     "  -z                  gzip the tiles (serve them with "
@@ -48,11 +52,16 @@ main(int argc, char **argv)
 
 	cli_init(&c, argv, usage, 0);
 	a.jobs = cli_jobs();
-	while ((ch = cli_next(&c, argc, argv, "j:qz", longopts)) != -1) {
+	while ((ch = cli_next(&c, argc, argv, "f:j:qz", longopts)) != -1) {
 		switch (ch) {
 		case 'j':
 			a.jobs = (int)cli_number(&c, "-j", optarg, 1,
 			    TR_MAXJOBS);
+			break;
+		case 'f':
+			if (strcmp(optarg, "qm") && strcmp(optarg, "3dtiles"))
+				return cli_usage_error(&c);
+			a.format = strcmp(optarg, "3dtiles") == 0;
 			break;
 		case 'q':
 			a.quiet = 1;
@@ -72,8 +81,8 @@ main(int argc, char **argv)
 	}
 	if (c.status >= 0)
 		return c.status;
-	if (argc - optind != 2)
-		return cli_usage_error(&c);
+	if (argc - optind != 2 || (a.format && a.gzip))
+		return cli_usage_error(&c); /* glbs are not gzipped */
 	a.dir = argv[optind], a.out = argv[optind + 1], a.prog = c.prog;
 	r = tr_run(&a, &rep, &e);
 	if (r == 0 && !a.quiet)

@@ -25,6 +25,7 @@ typedef struct {
 	const char *attrib;    /* --attribution, or NULL */
 	int jobs;              /* threads */
 	int gzip;              /* -z: tiles gzipped */
+	int format;            /* 0: quantized-mesh, 1: 3D Tiles (t3t.h) */
 	const char *prog;      /* for warnings; NULL: none */
 	int quiet;
 } tr_args;

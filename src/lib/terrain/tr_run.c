@@ -17,6 +17,7 @@
 #include "base/paths.h"
 #include "base/pool.h"
 #include "geo/vdatum.h"
+#include "terrain/t3t.h"
 #include "terrain/tr_impl.h"
 
 #define TRIES 8
@@ -31,6 +32,7 @@ typedef struct {
 	tr_choice c;
 	int x0, y0, nx;
 	const int *next;  /* the next level's rectangle, NULL at maxzoom */
+	t3t_set *t3;      /* -f 3dtiles, else NULL */
 } job;
 
 static int
@@ -68,12 +70,15 @@ one_tile(job *j, tr_work *w, int x, int y, tl_err *e)
 	if (tr_mesh_tile(w, &j->c, x, y, e) < 0 ||
 	    tr_quantise(w, j->c.z, x, y, &lo, &hi, e) < 0 ||
 	    tr_measure(w, j->c.z, x, y, d, e) < 0 ||
-	    qm_encode(w, lo, hi, j->a->gzip, e) < 0)
+	    (j->t3 ? t3t_glb(w, j->t3, j->c.z, x, y, lo, hi, e) :
+	    qm_encode(w, lo, hi, j->a->gzip, e)) < 0)
 		return -1;
 	w->err = fmax(w->err, d[0]), w->direct = fmax(w->direct, d[1]);
 	w->tiles++, w->tris += w->m.nt, w->bytes += (long long)w->nbuf;
 	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", j->tmp, j->c.z, x,
 	    y);
+	if (j->t3)
+		t3t_path(path, sizeof path, j->tmp, j->c.z, x, y);
 	return write_file(path, w, e);
 }
 
@@ -251,7 +256,9 @@ check_out(const char *out, tl_err *e)
 	if (stat(out, &st) < 0)
 		return errno == ENOENT ? 0 : tl_failsys(e, "%s", out);
 	snprintf(p, sizeof p, "%s/layer.json", out);
-	if (!S_ISDIR(st.st_mode) || stat(p, &st) < 0)
+	if (!S_ISDIR(st.st_mode) || (stat(p, &st) < 0 &&
+	    (snprintf(p, sizeof p, "%s/r0/0/0/0.subtree", out),
+	    stat(p, &st) < 0)))
 		return tl_fail(e, "%s: exists and is not a terrain tileset: "
 		    "not replaced", out);
 	return 0;
@@ -272,14 +279,19 @@ export(job *j, const pyramid_index *ix, int nt, tr_report *rep, tl_err *e)
 	    e) < 0)
 		return -1;
 	j->tmp = od.tmp;
+	if (j->a->format && (j->t3 = t3t_new(rep->maxzoom,
+	    (const int (*)[4])av, e)) == NULL)
+		goto done;
 	if ((pool = tl_pool_new(nt, e)) == NULL)
 		goto done;
 	for (int z = 0; z <= rep->maxzoom; z++)
 		if ((j->next = z < rep->maxzoom ? av[z + 1] : NULL, 0) ||
-		    level_dirs(od.tmp, z, av[z], e) < 0 ||
+		    (j->t3 ? t3t_dirs(od.tmp, z, av[z], e) :
+		    level_dirs(od.tmp, z, av[z], e)) < 0 ||
 		    do_level(j, pool, nt, z, av[z], rep, e) < 0)
 			goto done;
-	if (tr_layer_write(od.tmp, j->a, rep->maxzoom,
+	if (j->t3 ? t3t_finish(j->t3, od.tmp, j->a, datum, e) < 0 :
+	    tr_layer_write(od.tmp, j->a, rep->maxzoom,
 	    (const int (*)[4])av, datum, e) < 0)
 		goto done;
 	r = tl_outdir_commit(&od, e);
@@ -288,6 +300,7 @@ done:
 		tl_outdir_abort(&od);
 	if (pool)
 		tl_pool_free(pool);
+	t3t_free(j->t3);
 	return r;
 }
 
