@@ -1,5 +1,5 @@
-// terrain.js [--noskirts] [--imagery] [--lit] [--sse N] [--size WxH]
-//     [--shot OUT.png] [--samples FILE] TERRAIN W,S,E,N VIEW...:
+// terrain.js [--3dtiles] [--noskirts] [--imagery] [--lit] [--sse N]
+//     [--size WxH] [--shot OUT.png] [--samples FILE] TERRAIN W,S,E,N VIEW...:
 // the quantized-mesh terrain directory TERRAIN (layer.json and
 // {z}/{x}/{y}.terrain, served as plain files, no special headers) as
 // CesiumJS's globe terrain (CesiumTerrainProvider.fromUrl) in headless
@@ -19,7 +19,11 @@
 // (height above the ellipsoid, the DEM's); CesiumJS's
 // sampleTerrainMostDetailed at each (a line "sample LON LAT HEIGHT
 // level L CesiumJS H") must be at level maxzoom and agree within its
-// E_L = 77067.34 m / 2^maxzoom. One line per check on stdout; exit 1
+// E_L = 77067.34 m / 2^maxzoom. --3dtiles: TERRAIN is the 3D Tiles
+// terrain profile (tileset.json, r0/ and r1/: vgis2terrain -f 3dtiles)
+// through Cesium3DTilesTerrainProvider.fromUrl, the same checks, its
+// levels' tiles its glbs, maxzoom its implicit tiling's availableLevels - 1,
+// E_L its own 78271.52 m / 2^L. One line per check on stdout; exit 1
 // when a check fails, 2 on usage or a broken browser. --shot writes the
 // last view's picture; --size: the frame in pixels (default 480x270:
 // SwiftShader's time goes with the pixels). CHROMIUM: the browser
@@ -30,12 +34,13 @@ const fs = require('fs');
 const path = require('path');
 const { chromium } = require('playwright-core');
 
-const usage = 'usage: terrain.js [--noskirts] [--imagery] [--lit] [--sse N] [--size WxH] [--shot OUT.png] [--samples FILE] TERRAIN W,S,E,N VIEW...';
+const usage = 'usage: terrain.js [--3dtiles] [--noskirts] [--imagery] [--lit] [--sse N] [--size WxH] [--shot OUT.png] [--samples FILE] TERRAIN W,S,E,N VIEW...';
 const a = process.argv.slice(2);
-const opt = { noskirts: false, imagery: false, lit: false, sse: 2, shot: null, samples: null, size: [480, 270] };
+const opt = { t3: false, noskirts: false, imagery: false, lit: false, sse: 2, shot: null, samples: null, size: [480, 270] };
 while (a.length && a[0].startsWith('--')) {
 	const o = a.shift();
-	if (o === '--noskirts') opt.noskirts = true;
+	if (o === '--3dtiles') opt.t3 = true;
+	else if (o === '--noskirts') opt.noskirts = true;
 	else if (o === '--imagery') opt.imagery = true;
 	else if (o === '--lit') opt.lit = true;
 	else if (o === '--sse' && a.length) opt.sse = Number(a.shift());
@@ -44,7 +49,8 @@ while (a.length && a[0].startsWith('--')) {
 	else if (o === '--size' && a.length) opt.size = a.shift().split('x').map(Number);
 	else { console.error(usage); process.exit(2); }
 }
-if (a.length < 3 || !fs.existsSync(path.join(a[0], 'layer.json'))) {
+if (a.length < 3 ||
+    !fs.existsSync(path.join(a[0], opt.t3 ? 'tileset.json' : 'layer.json'))) {
 	console.error(usage); process.exit(2);
 }
 const terrainDir = path.resolve(a[0]);
@@ -57,7 +63,9 @@ if (rect.length !== 4 || rect.some(isNaN) || opt.size.length !== 2 ||
 }
 const samples = opt.samples ? fs.readFileSync(opt.samples, 'utf8').trim()
     .split('\n').map((l) => l.trim().split(/\s+/).map(Number)) : [];
-const E0 = 6378137 * 2 * Math.PI * 0.25 / (65 * 2);	// 77067.34 m
+// the level-0 error each provider assumes (getLevelMaximumGeometricError):
+// a 65-sample heightmap's for quantized-mesh, a 64-sample one's for 3D Tiles
+const E0 = 6378137 * 2 * Math.PI * 0.25 / ((opt.t3 ? 64 : 65) * 2);
 
 // A plain static server: two roots, nothing outside them, no encoding.
 const roots = { '/terrain/': terrainDir,
@@ -206,7 +214,7 @@ function fetched(got, maxzoom) {
 
 async function run(page, errors, got) {
 	await page.goto(`http://127.0.0.1:${server.address().port}/` +
-	    `?rect=${rect.join(',')}&sse=${opt.sse}` +
+	    `?rect=${rect.join(',')}&sse=${opt.sse}${opt.t3 ? '&t3=1' : ''}` +
 	    `${opt.noskirts ? '&noskirts=1' : ''}${opt.lit ? '&lit=1' : ''}`);
 	await page.evaluate(() => window.ready);
 	const maxzoom = await page.evaluate(() => window.maxzoom);
@@ -245,7 +253,8 @@ async function main() {
 		page.on('console', (m) => {
 			// CesiumJS logs a tile provider's errors (a tile that
 			// fails to load or decode) with console.log
-			if (m.type() === 'error' || /An error occurred in/.test(m.text()))
+			if (m.type() === 'error' ||
+			    /An error occurred in|Could not load/.test(m.text()))
 				errors.push(`console error: ${m.text()}`);
 			else if (m.type() === 'warning') console.log(`# warning: ${m.text()}`);
 		});
@@ -253,7 +262,9 @@ async function main() {
 		page.on('requestfailed', (r) => errors.push(`request failed: ${r.url()}`));
 		page.on('response', (r) => {
 			if (r.status() >= 400) errors.push(`${r.status()} ${r.url()}`);
-			const m = r.url().match(/\/terrain\/(\d+)\/\d+\/\d+\.terrain/);
+			const m = r.url().match(opt.t3 ?
+			    /\/terrain\/r[01]\/(\d+)\/\d+\/\d+\.glb/ :
+			    /\/terrain\/(\d+)\/\d+\/\d+\.terrain/);
 			if (m && r.status() === 200)
 				got.set(Number(m[1]), (got.get(Number(m[1])) || 0) + 1);
 		});
