@@ -51,10 +51,6 @@ tr_layer_write(const char *dir, const tr_args *a, int maxzoom,
 	    available(maxzoom, avail));
 	if (j == NULL)
 		return tl_fail(e, "layer.json: out of memory");
-	/* each tile's extension 4 holds the next level's availability:
-	 * CesiumJS parses it only with metadataAvailability set (else its
-	 * availabilityTilesLoaded is undefined and every tile fails) */
-	json_object_set_new(j, "metadataAvailability", json_integer(1));
 	if (a->attrib)
 		json_object_set_new(j, "attribution", json_string(a->attrib));
 	if (a->parent)
