@@ -8,10 +8,7 @@
 # the check can fail.
 . "$(dirname "$0")/../lib.sh"
 
-if ! command -v node >/dev/null || [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ]; then
-	ok 0 "CesiumJS in Chromium # SKIP no node or no chromium (scripts/install-deps)"
-	done_testing; exit
-fi
+browser_test "CesiumJS in Chromium"
 JS=$TOP/tests/js
 # 1025x1025 void-free SRTM samples of southern Vancouver Island (relief
 # 0-800 m), ellipsoidal: 4 levels, 85 tiles

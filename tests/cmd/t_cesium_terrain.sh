@@ -12,10 +12,7 @@
 # OUT_SHOT=FILE.png: also a picture of the draped terrain, lit, there.
 . "$(dirname "$0")/../lib.sh"
 
-if ! command -v node >/dev/null || [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ]; then
-	ok 0 "CesiumJS terrain in Chromium # SKIP no node or no chromium (scripts/install-deps)"
-	done_testing; exit
-fi
+browser_test "CesiumJS terrain in Chromium"
 JS=$TOP/tests/js
 # 513x513 SRTM samples of southern Vancouver Island (relief -6 to
 # 1061 m, 747 voids, which the pyramid fills), heights made ellipsoidal

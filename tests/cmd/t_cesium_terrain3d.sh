@@ -13,10 +13,7 @@
 # the same views with globe.showSkirts = false do show cracks.
 . "$(dirname "$0")/../lib.sh"
 
-if ! command -v node >/dev/null || [ ! -x "${CHROMIUM:-/usr/bin/chromium}" ]; then
-	ok 0 "CesiumJS 3D Tiles terrain in Chromium # SKIP no node or no chromium (scripts/install-deps)"
-	done_testing; exit
-fi
+browser_test "CesiumJS 3D Tiles terrain in Chromium"
 JS=$TOP/tests/js
 # 513x513 SRTM samples of southern Vancouver Island (relief -6 to
 # 1061 m, 747 voids, which the pyramid fills), heights made ellipsoidal
