@@ -23,7 +23,9 @@
  * file made in row jobs (filled(5), PARTS). Each calls only those
  * before it and the reader (dem.c, dem_load.c); the reader calls only
  * dem_fill of the first: no loop runs between them (t_loops.sh).
- * Here: the jobs. */
+ * Here: the jobs. One concern in one file, over 600 lines: the parts'
+ * protocol (their names, formats and the four steps that write and read
+ * them), which no step can change without the others. */
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>

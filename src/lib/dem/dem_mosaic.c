@@ -11,7 +11,11 @@
  *
  * Only headers are held, one per tile: samples stream through GDAL's
  * block cache; at most two tiles are open at once besides the VRT's own
- * pool of open sources, which GDAL bounds. */
+ * pool of open sources, which GDAL bounds.
+ *
+ * One operation in one file, over 600 lines: dem_read_mosaic, its checks
+ * (the sections below, in the order it runs them) sharing the tiles'
+ * table and the GDAL handles, then the VRT they vouch for. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,7 +1,9 @@
 /* stream.c - the fqm(5) stream: a raster framed for pipes, read and written
  * strictly in sequence. Little-endian throughout; a CRC-32 guards the
  * header, every row and the trailer, so truncation and damage are reported
- * by row, never passed on as data. */
+ * by row, never passed on as data. One concern in one file, over 600
+ * lines: the format, its writer and its reader, which mirror each
+ * other's framing (order, CRCs, attribute encoding) and change together. */
 #include "base/byteorder.h"
 #include "raster/rs_impl.h"
 

@@ -1,0 +1,40 @@
+/* plan_impl.h - the plan's insides, shared by plan*.c: what each
+ * consumer's writer is given, the writers plan.c's table names (one file
+ * each: plan_make.c, plan_job.c, plan_parallel.c, plan_slurm.c) and the
+ * quoting they share (plan_word.c, a leaf). Calls go one way: plan.c
+ * to the writers, the writers to plan_word.c. */
+#ifndef TL_PLAN_IMPL_H
+#define TL_PLAN_IMPL_H
+
+#include <stdio.h>
+
+#include "jobs/plan.h"
+
+/* What a writer is given: the plan's options (dem: dems.txt's absolute
+ * path for a mosaic) and the plan's final absolute path. */
+typedef struct {
+	const plan_opts *o;
+	const char *dir;
+} plan_ctx;
+
+/* One consumer's file of the plan: its name, whether executable, and
+ * the function writing it. plan.c walks a table of them. */
+typedef struct {
+	const char *name;
+	int exec;
+	void (*write)(FILE *, const plan_ctx *);
+} plan_backend;
+
+/* The writers (the graph made concrete for each consumer). */
+void plan_makefile(FILE *, const plan_ctx *);  /* make: Makefile */
+void plan_mkpieces(FILE *, const plan_ctx *);  /* make: the pieces' rules */
+void plan_job(FILE *, const plan_ctx *);       /* every job's wrapper */
+void plan_parallel(FILE *, const plan_ctx *);  /* GNU parallel */
+void plan_slurm(FILE *, const plan_ctx *);     /* Slurm */
+
+/* A word for the shell, single-quoted; make: also as make reads a
+ * variable's value. plan_words: n of them, each after a blank. */
+void plan_word(FILE *, const char *w, int make);
+void plan_words(FILE *, const char *const *w, int n, int make);
+
+#endif
