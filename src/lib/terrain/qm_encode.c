@@ -1,8 +1,9 @@
 /* qm_encode.c - a tile's bytes in quantized-mesh-1.0 (quantized-mesh(5)):
  * the header, zig-zag delta coded u, v, height, high-water-mark indices,
- * the four edge lists, extension 1 (oct-encoded normals) and extension 4
- * (metadata: the children written); gzipped on request. Little-endian
- * whatever the host. */
+ * the four edge lists, extension 1 (oct-encoded normals); gzipped on
+ * request. Little-endian whatever the host. No extension 4 (metadata):
+ * CesiumJS (1.129) throws on a tile's metadata unless layer.json names
+ * metadataAvailability, and then ignores layer.json's available. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -160,9 +161,10 @@ header(tr_work *w, float minh, float maxh)
 	}
 	r = r * (1 + 1e-9) + 1e-3; /* every vertex inside, rounding too */
 	/* where no point sees every vertex over the horizon (a root tile,
-	 * half the globe: CesiumJS's computation has no result), the
-	 * point that sees those it can */
-	(void)qm_horizon(c, w->pos, n, hp);
+	 * half the globe: CesiumJS's computation has no result), NaN:
+	 * CesiumJS then never culls the tile by the horizon */
+	if (qm_horizon(c, w->pos, n, hp) < 0)
+		hp[0] = hp[1] = hp[2] = NAN;
 	for (int k = 0; k < 3; k++)
 		put_f64(w, c[k]);
 	put_f32(w, minh), put_f32(w, maxh);
@@ -233,24 +235,6 @@ normals(tr_work *w)
 	free(nr);
 }
 
-/* Extension 4: {"available":[[{children}]]} or {"available":[]}. */
-static int
-metadata(tr_work *w, tl_err *e)
-{
-	char j[256];
-	int n = w->kids[0] < 0 ? snprintf(j, sizeof j, "{\"available\":[]}") :
-	    snprintf(j, sizeof j, "{\"available\":[[{\"startX\":%d,"
-	    "\"startY\":%d,\"endX\":%d,\"endY\":%d}]]}", w->kids[0],
-	    w->kids[1], w->kids[2], w->kids[3]);
-
-	if (room(w, 9 + (size_t)n, e) < 0)
-		return -1;
-	put(w, 4, 1), put(w, 4 + (uint32_t)n, 4), put(w, (uint32_t)n, 4);
-	memcpy(w->buf + w->nbuf, j, (size_t)n);
-	w->nbuf += (size_t)n;
-	return 0;
-}
-
 static int
 deflate_buf(tr_work *w, tl_err *e)
 {
@@ -302,7 +286,5 @@ qm_encode(tr_work *w, float minh, float maxh, int gzip, tl_err *e)
 	edge(w, w->u, QM_MAX, wide), edge(w, w->v, QM_MAX, wide);
 	put(w, 1, 1), put(w, 2 * (uint32_t)nv, 4);
 	normals(w);
-	if (metadata(w, e) < 0)
-		return -1;
 	return gzip ? deflate_buf(w, e) : 0;
 }

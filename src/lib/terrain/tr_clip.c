@@ -101,6 +101,50 @@ clip1(const tr_tri *t, const pv *in, int n, pv *out, int axis, double v,
 	return k;
 }
 
+/* Twice the signed area of vertices a b c of m. */
+static double
+area2(const tr_mesh *m, int a, int b, int c)
+{
+	return (m->x[b] - m->x[a]) * (m->y[c] - m->y[a]) -
+	    (m->y[b] - m->y[a]) * (m->x[c] - m->x[a]);
+}
+
+/* The convex polygon id[0..k-1] in triangles that use every one of its
+ * vertices (none left on another triangle's side: a T-junction): a fan
+ * from a corner whose neighbours are corners too (no vertex lies on the
+ * lines of its sides), else from a vertex added at the centroid, on
+ * the triangle's plane. */
+static int
+fan(tr_mesh *m, const tr_tri *t, const int *id, int k, tl_err *e)
+{
+	int flat[16], a = -1, c;
+	double cx = 0, cy = 0;
+
+	for (int i = 0; i < k; i++)
+		flat[i] = area2(m, id[(i + k - 1) % k], id[i], id[(i + 1) % k]) ==
+		    0;
+	for (int i = 0; i < k && a < 0; i++)
+		if (!flat[i] && !flat[(i + k - 1) % k] && !flat[(i + 1) % k])
+			a = i;
+	if (a >= 0) {
+		for (int i = 1; i + 1 < k; i++)
+			if (area2(m, id[a], id[(a + i) % k], id[(a + i + 1) % k]) !=
+			    0 && tr_mesh_tri(m, id[a], id[(a + i) % k],
+			    id[(a + i + 1) % k], e) < 0)
+				return -1;
+		return 0;
+	}
+	for (int i = 0; i < k; i++)
+		cx += m->x[id[i]] / k, cy += m->y[id[i]] / k;
+	if ((c = tr_mesh_vertex(m, cx, cy, plane(t, cx, cy), e)) < 0)
+		return -1;
+	for (int i = 0; i < k; i++)
+		if (area2(m, c, id[i], id[(i + 1) % k]) != 0 &&
+		    tr_mesh_tri(m, c, id[i], id[(i + 1) % k], e) < 0)
+			return -1;
+	return 0;
+}
+
 int
 tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e)
 {
@@ -123,14 +167,5 @@ tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e)
 			return -1;
 		k++;
 	}
-	for (int i = 1; i + 1 < k; i++) {
-		double ax = m->x[id[i]] - m->x[id[0]], ay = m->y[id[i]] -
-		    m->y[id[0]], bx = m->x[id[i + 1]] - m->x[id[0]],
-		    by = m->y[id[i + 1]] - m->y[id[0]];
-		if (ax * by - ay * bx == 0)
-			continue;
-		if (tr_mesh_tri(m, id[0], id[i], id[i + 1], e) < 0)
-			return -1;
-	}
-	return 0;
+	return k < 3 ? 0 : fan(m, t, id, k, e);
 }

@@ -87,8 +87,6 @@ typedef struct {
 	int *order, *tmp;
 	unsigned char *buf;     /* the encoded tile */
 	size_t nbuf, cbuf;
-	int kids[4];            /* the tile's children written (x0 y0 x1
-	                         * y1 at the next level), x0 < 0: none */
 	double err, direct;     /* largest d[0], d[1] of its tiles (pass) */
 	long long tiles, tris, bytes;
 } tr_work;

@@ -42,12 +42,12 @@ tr_layer_write(const char *dir, const tr_args *a, int maxzoom,
 	    "77067.34 m / 2^L of every DEM sample it covers, measured on the "
 	    "decoded mesh; the ellipsoid (height 0) past the DEM", datum);
 	j = json_pack("{s:s,s:s,s:s,s:s,s:s,s:s,s:[s],s:s,s:o,s:i,s:i,"
-	    "s:[s,s],s:o}", "tilejson", "2.1.0", "name", "vgis2terrain",
+	    "s:[s],s:o}", "tilejson", "2.1.0", "name", "vgis2terrain",
 	    "description", desc, "version", "1.0.0", "format",
 	    "quantized-mesh-1.0", "scheme", "tms", "tiles",
 	    "{z}/{x}/{y}.terrain?v={version}", "projection", "EPSG:4326",
 	    "bounds", bounds(), "minzoom", 0, "maxzoom", maxzoom,
-	    "extensions", "octvertexnormals", "metadata", "available",
+	    "extensions", "octvertexnormals", "available",
 	    available(maxzoom, avail));
 	if (j == NULL)
 		return tl_fail(e, "layer.json: out of memory");

@@ -97,13 +97,91 @@ renumber(tr_work *w)
 	m->nv = n;
 }
 
+/* A triangle a m b that quantisation made a segment (three vertices in
+ * a line, m between): the triangle on the other side of a b would leave
+ * m on its side, a T-junction; it is split at m. */
+static int
+unsplit(tr_work *w, const int d[3], tl_err *e)
+{
+	tr_mesh *m = &w->m;
+	int mid = -1, a, b;
+
+	for (int i = 0; i < 3 && mid < 0; i++) {
+		int p = d[i], q = d[(i + 1) % 3], r = d[(i + 2) % 3];
+		long t = (long)(w->u[p] - w->u[q]) * (w->u[p] - w->u[r]) +
+		    (long)(w->v[p] - w->v[q]) * (w->v[p] - w->v[r]);
+		if (t < 0) /* p between q and r */
+			mid = p, a = q, b = r;
+	}
+	if (mid < 0)
+		return 0;
+	for (int t = 0; t < m->nt; t++) {
+		int *k = m->tri + 3 * t;
+		for (int i = 0; i < 3; i++) {
+			int p = k[i], q = k[(i + 1) % 3], c = k[(i + 2) % 3];
+			if (!((p == a && q == b) || (p == b && q == a)))
+				continue;
+			k[0] = p, k[1] = mid, k[2] = c;
+			return tr_mesh_tri(m, mid, q, c, e);
+		}
+	}
+	return 0;
+}
+
+/* Vertices that quantise to one u, v become one (an edge collapse: the
+ * triangles between them lose their area and go, the others keep the
+ * mesh closed), the one first in (longitude, latitude) order standing for
+ * them, so that two tiles merge their shared edge's vertices alike; the
+ * others are marked dead (u = v = 0xFFFF) and their triangles remapped. */
+static void
+merge(tr_work *w)
+{
+	tr_mesh *m = &w->m;
+	unsigned cap = 1;
+	int *tab = w->tmp;
+
+	while (2 * cap <= 3 * (unsigned)m->cv)
+		cap *= 2;
+	for (unsigned i = 0; i < cap; i++)
+		tab[i] = -1;
+	for (int i = 0; i < m->nv; i++) {
+		unsigned k = ((unsigned)w->u[i] * 32771u + w->v[i]) * 2654435761u &
+		    (cap - 1);
+		for (;; k = (k + 1) & (cap - 1)) {
+			int j = tab[k];
+			if (j < 0) {
+				tab[k] = i;
+				break;
+			}
+			if (w->u[j] != w->u[i] || w->v[j] != w->v[i])
+				continue;
+			if (m->x[i] < m->x[j] || (m->x[i] == m->x[j] &&
+			    m->y[i] < m->y[j]))
+				tab[k] = i;
+			break;
+		}
+	}
+	for (int i = 0; i < m->nv; i++) {
+		unsigned k = ((unsigned)w->u[i] * 32771u + w->v[i]) * 2654435761u &
+		    (cap - 1);
+		while (w->u[tab[k]] != w->u[i] || w->v[tab[k]] != w->v[i])
+			k = (k + 1) & (cap - 1);
+		w->order[i] = tab[k];
+	}
+	for (int i = 0; i < 3 * m->nt; i++)
+		m->tri[i] = w->order[m->tri[i]];
+	for (int i = 0; i < m->nv; i++)
+		if (w->order[i] != i)
+			w->u[i] = w->v[i] = 0xFFFF;
+}
+
 int
 tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
     tl_err *e)
 {
 	tr_mesh *m = &w->m;
 	double r[4], wd = ldexp(180, -z), lo = INFINITY, hi = -INFINITY;
-	int nt = 0;
+	int nt = 0, drop[256][3], ndrop = 0;
 
 	if (grow(w, e) < 0)
 		return -1;
@@ -121,6 +199,7 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 		w->u[i] = (uint16_t)u, w->v[i] = (uint16_t)v;
 		w->q[i] = 0;
 	}
+	merge(w);
 	/* counter-clockwise in longitude, latitude; those quantisation
 	 * leaves without area dropped */
 	for (int t = 0; t < m->nt; t++) {
@@ -131,11 +210,19 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 			int s = k[1];
 			k[1] = k[2], k[2] = s;
 		}
-		if (qarea(w, k) <= 0)
+		if (qarea(w, k) <= 0) {
+			if (qarea(w, k) == 0 && k[0] != k[1] && k[1] != k[2] &&
+			    k[0] != k[2] && ndrop < (int)(sizeof drop /
+			    sizeof drop[0]))
+				memcpy(drop[ndrop++], k, sizeof drop[0]);
 			continue;
+		}
 		memmove(m->tri + 3 * nt++, k, 3 * sizeof *k);
 	}
 	m->nt = nt;
+	for (int i = 0; i < ndrop; i++)
+		if (unsplit(w, drop[i], e) < 0)
+			return -1;
 	renumber(w);
 	/* the header's heights: the used vertices' extremes, as floats
 	 * holding them; the extremes decode to them exactly */

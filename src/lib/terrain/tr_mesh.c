@@ -138,7 +138,6 @@ typedef struct {
 	const double *lon, *lat; /* the block's vertices' */
 	const tr_choice *c;
 	double lmax2;      /* 2 lmax^2, level-p cells */
-	int last[2];       /* the level's last real vertex */
 	double r[4];       /* the tile over the DEM, lon/lat */
 	int failed;
 } sel;
@@ -162,13 +161,9 @@ split(void *ctx, int gi, int gj)
 	sel *s = ctx;
 	int c = gi - s->b->bi * BT_CELLS, r = gj - s->b->bj * BT_CELLS;
 
-	int h = (gi | gj) & -(gi | gj); /* the vertex's scale */
-
-	/* a diamond reaching into the padding past the level's last real
-	 * vertex: split (its E speaks for the real samples only, the
-	 * padding's copied heights are not the DEM's), down to the leaves */
-	if (gi + h > s->last[0] || gj + h > s->last[1])
-		return 1;
+	/* the padding past the level's last real vertex needs nothing:
+	 * E bounds the real samples in a diamond against its triangles as
+	 * they are, padding heights and all (vgis(5)) */
 	return s->b->e[r * BT_SIZE + c] > s->c->tau || hyp2(c, r) > s->lmax2;
 }
 
@@ -215,7 +210,6 @@ select_tile(tr_work *w, const tr_choice *c, const double t[4], tl_err *e)
 	double lmax = sqrt(6335439.0 * c->el / 2) / w->g->cell / (1 << c->p);
 
 	s.lmax2 = 2 * fmax(lmax, 1) * fmax(lmax, 1);
-	s.last[0] = L->size[0] - 1, s.last[1] = L->size[1] - 1;
 	s.r[0] = fmax(t[0], w->g->r[0]), s.r[2] = fmin(t[2], w->g->r[2]);
 	s.r[1] = fmax(t[1], w->g->r[1]), s.r[3] = fmin(t[3], w->g->r[3]);
 	w->nsel = 0;

@@ -30,7 +30,6 @@ typedef struct {
 	const char *tmp;
 	tr_choice c;
 	int x0, y0, nx;
-	const int *next;  /* the next level's rectangle, NULL at maxzoom */
 } job;
 
 static int
@@ -56,15 +55,6 @@ one_tile(job *j, tr_work *w, int x, int y, tl_err *e)
 	float lo, hi;
 	double d[2];
 
-	w->kids[0] = -1;
-	if (j->next) {
-		int k[4] = { 2 * x > j->next[0] ? 2 * x : j->next[0],
-			2 * y > j->next[1] ? 2 * y : j->next[1],
-			2 * x + 1 < j->next[2] ? 2 * x + 1 : j->next[2],
-			2 * y + 1 < j->next[3] ? 2 * y + 1 : j->next[3] };
-		if (k[0] <= k[2] && k[1] <= k[3])
-			memcpy(w->kids, k, sizeof k);
-	}
 	if (tr_mesh_tile(w, &j->c, x, y, e) < 0 ||
 	    tr_quantise(w, j->c.z, x, y, &lo, &hi, e) < 0 ||
 	    tr_measure(w, j->c.z, x, y, d, e) < 0 ||
@@ -275,8 +265,7 @@ export(job *j, const pyramid_index *ix, int nt, tr_report *rep, tl_err *e)
 	if ((pool = tl_pool_new(nt, e)) == NULL)
 		goto done;
 	for (int z = 0; z <= rep->maxzoom; z++)
-		if ((j->next = z < rep->maxzoom ? av[z + 1] : NULL, 0) ||
-		    level_dirs(od.tmp, z, av[z], e) < 0 ||
+		if (level_dirs(od.tmp, z, av[z], e) < 0 ||
 		    do_level(j, pool, nt, z, av[z], rep, e) < 0)
 			goto done;
 	if (tr_layer_write(od.tmp, j->a, rep->maxzoom,
