@@ -3,7 +3,8 @@
  * quantized-mesh tileset, the triangles a right-triangulated irregular
  * network (RTIN: longest-edge bisection, as Martini and MapLibre use) of
  * each tile needs to be within E_L = 77067.34 m / 2^L of every valid DEM
- * sample in the tile. Independent of the writer: it reads only the DEM
+ * sample in the tile, measured as the renderer draws it: flat triangles
+ * in ECEF (WGS 84), vertical distance. Independent of the writer: it reads only the DEM
  * (GDAL) and the names of the tile files, never their bytes.
  *
  * usage: rtin DEM TERRAINDIR   (a geographic DEM, heights as the tiles')
@@ -13,9 +14,8 @@
  * the DEM and on voids a vertex has height 0, the ellipsoid), a square
  * window of 2^k + 1 samples from the sample at or west/north of the
  * tile's corner, covering the tile. A triangle splits while some valid
- * sample inside the tile and under it is more than E_L from its plane
- * (heights linear in the grid: no chord sag, no quantisation, so the
- * reference is leaner than any tile that must hold E_L in ECEF). Splits
+ * sample inside the tile and under it (in the grid) is more than E_L,
+ * vertically, from its plane in ECEF (no quantisation, no skirts). Splits
  * are then closed so that the mesh is conforming (a split hypotenuse is
  * split on both sides, the 4-8 mesh rule), the new triangles retested,
  * until nothing changes. Counted: the triangles that meet the tile's
@@ -32,12 +32,17 @@
 #include <gdal.h>
 
 #define EL0	77067.34
+#define WGS_A	6378137.0
+#define WGS_E2	(1 / 298.257223563 * (2 - 1 / 298.257223563))
+#define D2R	(M_PI / 180)
 #define MAXLEV	32
 
 struct dem {
 	float	*z;		/* w * h, NaN where no valid sample */
 	int	 w, h;
 	double	 gt[6];
+	double	*clat, *slat, *nrad;	/* per row: cos, sin, prime vertical */
+	double	*clon, *slon;		/* per column */
 };
 
 struct tile {
@@ -116,24 +121,61 @@ height(const struct tile *t, long x, long y)
 	return isnan(v) ? 0 : v;
 }
 
-/* largest |plane - sample| over the checked samples under triangle abc,
- * stopping once over t->e */
+/* ECEF of the window point (x, y) at height z (WGS 84) */
+static void
+ecef(const struct tile *t, long x, long y, double z, double *p)
+{
+	const double *g = t->d->gt;
+	double lon = (g[0] + (t->ox + x + 0.5) * g[1]) * D2R;
+	double lat = (g[3] + (t->oy + y + 0.5) * g[5]) * D2R, n;
+
+	lat = fmax(-M_PI / 2, fmin(M_PI / 2, lat));
+	n = WGS_A / sqrt(1 - WGS_E2 * sin(lat) * sin(lat));
+	p[0] = (n + z) * cos(lat) * cos(lon);
+	p[1] = (n + z) * cos(lat) * sin(lon);
+	p[2] = (n * (1 - WGS_E2) + z) * sin(lat);
+}
+
+/* vertical distance from DEM sample (i, j) of height v to the plane
+ * through pa with normal nn, in ECEF, as the renderer draws it */
+static double
+vdist(const struct dem *d, long i, long j, double v, const double *pa,
+    const double *nn)
+{
+	double q[3], u[3], r = d->nrad[j], den;
+
+	u[0] = d->clat[j] * d->clon[i];
+	u[1] = d->clat[j] * d->slon[i];
+	u[2] = d->slat[j];
+	q[0] = (r + v) * u[0];
+	q[1] = (r + v) * u[1];
+	q[2] = (r * (1 - WGS_E2) + v) * u[2];
+	den = nn[0] * u[0] + nn[1] * u[1] + nn[2] * u[2];
+	if (fabs(den) < 1e-12)
+		return INFINITY;
+	return fabs((nn[0] * (pa[0] - q[0]) + nn[1] * (pa[1] - q[1]) +
+	    nn[2] * (pa[2] - q[2])) / den);
+}
+
+/* largest vertical distance (ECEF) from the triangle abc's plane to the
+ * checked samples under it (in the grid), stopping once over t->e */
 static double
 tri_error(const struct tile *t, const long *a, const long *b, const long *c)
 {
 	long x, y, x0, x1, y0, y1, i, j;
-	double za = height(t, a[0], a[1]), zb = height(t, b[0], b[1]);
-	double zc = height(t, c[0], c[1]), den, l1, l2, p, worst = 0;
+	double pa[3], pb[3], pc[3], nn[3], den, l1, l2, e, worst = 0;
 	float v;
 
-	x0 = fmin(a[0], fmin(b[0], c[0])) + t->ox;
-	x1 = fmax(a[0], fmax(b[0], c[0])) + t->ox;
-	y0 = fmin(a[1], fmin(b[1], c[1])) + t->oy;
-	y1 = fmax(a[1], fmax(b[1], c[1])) + t->oy;
-	x0 = x0 > t->vx0 ? x0 : t->vx0;
-	x1 = x1 < t->vx1 ? x1 : t->vx1;
-	y0 = y0 > t->vy0 ? y0 : t->vy0;
-	y1 = y1 < t->vy1 ? y1 : t->vy1;
+	ecef(t, a[0], a[1], height(t, a[0], a[1]), pa);
+	ecef(t, b[0], b[1], height(t, b[0], b[1]), pb);
+	ecef(t, c[0], c[1], height(t, c[0], c[1]), pc);
+	nn[0] = (pb[1] - pa[1]) * (pc[2] - pa[2]) - (pb[2] - pa[2]) * (pc[1] - pa[1]);
+	nn[1] = (pb[2] - pa[2]) * (pc[0] - pa[0]) - (pb[0] - pa[0]) * (pc[2] - pa[2]);
+	nn[2] = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+	x0 = fmax(fmin(a[0], fmin(b[0], c[0])) + t->ox, t->vx0);
+	x1 = fmin(fmax(a[0], fmax(b[0], c[0])) + t->ox, t->vx1);
+	y0 = fmax(fmin(a[1], fmin(b[1], c[1])) + t->oy, t->vy0);
+	y1 = fmin(fmax(a[1], fmax(b[1], c[1])) + t->oy, t->vy1);
 	den = (double)(b[1] - c[1]) * (a[0] - c[0]) +
 	    (double)(c[0] - b[0]) * (a[1] - c[1]);
 	for (j = y0; j <= y1; j++)
@@ -149,8 +191,8 @@ tri_error(const struct tile *t, const long *a, const long *b, const long *c)
 			    (double)(a[0] - c[0]) * (y - c[1])) / den;
 			if (l1 < -1e-9 || l2 < -1e-9 || l1 + l2 > 1 + 1e-9)
 				continue;
-			p = l1 * za + l2 * zb + (1 - l1 - l2) * zc;
-			if (fabs(p - v) > worst && (worst = fabs(p - v)) > t->e)
+			e = vdist(t->d, i, j, v, pa, nn);
+			if (e > worst && (worst = e) > t->e)
 				return worst;
 		}
 	return worst;
@@ -337,7 +379,7 @@ load(const char *path, struct dem *d)
 {
 	GDALDatasetH ds;
 	GDALRasterBandH b;
-	double nd;
+	double nd, lat, lon;
 	int has;
 	size_t i;
 
@@ -356,6 +398,23 @@ load(const char *path, struct dem *d)
 	for (i = 0; i < (size_t)d->w * d->h; i++)
 		if (has && d->z[i] == (float)nd)
 			d->z[i] = NAN;
+	if ((d->clat = malloc(3 * d->h * sizeof(double))) == NULL ||
+	    (d->clon = malloc(2 * d->w * sizeof(double))) == NULL)
+		return -1;
+	d->slat = d->clat + d->h;
+	d->nrad = d->slat + d->h;
+	d->slon = d->clon + d->w;
+	for (i = 0; i < (size_t)d->h; i++) {
+		lat = (d->gt[3] + (i + 0.5) * d->gt[5]) * D2R;
+		d->clat[i] = cos(lat);
+		d->slat[i] = sin(lat);
+		d->nrad[i] = WGS_A / sqrt(1 - WGS_E2 * d->slat[i] * d->slat[i]);
+	}
+	for (i = 0; i < (size_t)d->w; i++) {
+		lon = (d->gt[0] + (i + 0.5) * d->gt[1]) * D2R;
+		d->clon[i] = cos(lon);
+		d->slon[i] = sin(lon);
+	}
 	GDALClose(ds);
 	return 0;
 }
@@ -411,5 +470,7 @@ main(int argc, char **argv)
 	for (z = 0; z < MAXLEV; z++)
 		level(&d, argv[2], z);
 	free(d.z);
+	free(d.clat);
+	free(d.clon);
 	return 0;
 }
