@@ -7,7 +7,8 @@
  * in ECEF (WGS 84), vertical distance. Independent of the writer: it reads only the DEM
  * (GDAL) and the names of the tile files, never their bytes.
  *
- * usage: rtin DEM TERRAINDIR   (a geographic DEM, heights as the tiles')
+ * usage: rtin DEM TERRAINDIR [F]   (a geographic DEM, heights as the
+ * tiles'; F: hold F E_L instead, default 1)
  * prints: "level L tiles N triangles T forced F" per level present.
  *
  * The lattice is the DEM's own sample grid (vertices on samples; outside
@@ -36,6 +37,8 @@
 #define WGS_E2	(1 / 298.257223563 * (2 - 1 / 298.257223563))
 #define D2R	(M_PI / 180)
 #define MAXLEV	32
+
+static double frac = 1;	/* the fraction of E_L held */
 
 struct dem {
 	float	*z;		/* w * h, NaN where no valid sample */
@@ -345,7 +348,7 @@ tile_rtin(const struct dem *d, int z, long tx, long ty, long *forced)
 	int k = 0;
 
 	t.d = d;
-	t.e = EL0 / (double)(1L << z);
+	t.e = frac * EL0 / (double)(1L << z);
 	t.rx0 = (w - d->gt[0]) / d->gt[1] - 0.5;
 	t.rx1 = (w + span - d->gt[0]) / d->gt[1] - 0.5;
 	t.ry0 = (so + span - d->gt[3]) / d->gt[5] - 0.5;
@@ -459,8 +462,8 @@ main(int argc, char **argv)
 	struct dem d;
 	int z;
 
-	if (argc != 3) {
-		fprintf(stderr, "usage: rtin DEM TERRAINDIR\n");
+	if (argc < 3 || argc > 4 || (argc == 4 && (frac = atof(argv[3])) <= 0)) {
+		fprintf(stderr, "usage: rtin DEM TERRAINDIR [fraction]\n");
 		return 2;
 	}
 	if (load(argv[1], &d) == -1) {
