@@ -6,7 +6,7 @@
 # make bench      measure errors, speed and memory on ../shared/data
 #                 (scripts/bench: the filters; scripts/bench-pyramid: DEM to
 #                 pyramid, triangle counts and real errors; scripts/bench-tiles:
-#                 the 3D Tiles export)
+#                 the 3D Tiles export; scripts/bench-terrain: the terrain)
 # make install    PREFIX=/usr/local DESTDIR=
 
 PREFIX  ?= /usr/local
@@ -205,6 +205,7 @@ bench: all $(TOOLBIN)
 	sh scripts/bench-pyramid
 	sh scripts/bench-play
 	sh scripts/bench-tiles
+	sh scripts/bench-terrain
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
