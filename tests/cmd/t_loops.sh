@@ -14,8 +14,11 @@
 if [ -n "${TL_LOOPS_OBJS:-}" ]; then
 	objs=$TL_LOOPS_OBJS
 else
-	# the archives, and the programs' own objects (cli.o and each main)
-	objs=$(ls "$B"/lib*.a "$B"/cmd/*.o 2>/dev/null)
+	# the layers' archives (the Makefile's table: no stale archive of
+	# an old layout in a reused build folder), and the programs' own
+	# objects (cli.o and each main)
+	objs=$(for l in $(make -s -C "$TOP" print-layers 2>/dev/null | cut -d: -f1); do
+		ls "$B/lib$l.a"; done 2>/dev/null; ls "$B"/cmd/*.o 2>/dev/null)
 fi
 [ -n "$objs" ]; ok $? "archives to read ($(echo $objs | wc -w))"
 # nm -A: "archive:member: value type name", or "archive:member: U name"
