@@ -69,20 +69,8 @@ bounds(const tr_work *w, double *meta)
 static void
 normals(const tr_work *w, float *out)
 {
-	double *nr = calloc((size_t)w->m.nv * 3, sizeof *nr);
+	double *nr = tr_area_normals(&w->m, w->pos);
 
-	for (int t = 0; nr && t < w->m.nt; t++) {
-		const int *k = w->m.tri + 3 * t;
-		const double *a = w->pos + 3 * k[0], *b = w->pos + 3 * k[1],
-		    *c = w->pos + 3 * k[2];
-		double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-		double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-		double x[3] = { u[1] * v[2] - u[2] * v[1],
-			u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0] };
-		for (int j = 0; j < 3; j++)
-			for (int d = 0; d < 3; d++)
-				nr[3 * k[j] + d] += x[d];
-	}
 	for (int i = 0; i < w->m.nv; i++) {
 		const double *p = nr ? nr + 3 * i : w->pos + 3 * i;
 		double l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);

@@ -119,6 +119,10 @@ void tr_mesh_free(tr_mesh *m);
 /* Vertex of (x, y, h), shared with an earlier one at the same place. */
 int tr_mesh_vertex(tr_mesh *m, double x, double y, double h, tl_err *e);
 int tr_mesh_tri(tr_mesh *m, int a, int b, int c, tl_err *e);
+/* Per vertex of m (ECEF positions pos, 3 a vertex) the sum of its
+ * triangles' area vectors, the smooth normal both encoders write:
+ * calloc'd, or NULL when out of memory. */
+double *tr_area_normals(const tr_mesh *m, const double *pos);
 /* The part of selection triangle t inside r (x0, y0, x1, y1), into m
  * (tr_clip.c). */
 int tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e);

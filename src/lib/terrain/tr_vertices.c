@@ -93,3 +93,23 @@ tr_mesh_free(tr_mesh *m)
 	free(m->x), free(m->y), free(m->h), free(m->tri), free(m->hash);
 	memset(m, 0, sizeof *m);
 }
+
+double *
+tr_area_normals(const tr_mesh *m, const double *pos)
+{
+	double *nr = calloc((size_t)m->nv * 3, sizeof *nr);
+
+	for (int t = 0; nr && t < m->nt; t++) {
+		const int *k = m->tri + 3 * t;
+		const double *a = pos + 3 * k[0], *b = pos + 3 * k[1],
+		    *c = pos + 3 * k[2];
+		double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+		double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+		double x[3] = { u[1] * v[2] - u[2] * v[1],
+			u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0] };
+		for (int j = 0; j < 3; j++)
+			for (int d = 0; d < 3; d++)
+				nr[3 * k[j] + d] += x[d];
+	}
+	return nr;
+}
