@@ -321,9 +321,12 @@ container(const unsigned char *b, size_t len, doc *d, tl_err *e)
 		    je.text);
 	d->bin = b + 28 + jl, d->binlen = bl;
 	b0 = json_array_get(json_object_get(d->g, "buffers"), 0);
+	if (member(b0, "byteLength", -1, MAXBYTES, &blen) == 0 &&
+	    (size_t)blen > bl)
+		return tl_fail(e, "truncated: buffers[0] has %lld bytes, the "
+		    "BIN chunk %u", blen, bl);
 	if (member(b0, "byteLength", -1, MAXBYTES, &blen) < 0 ||
-	    json_object_get(b0, "uri") != NULL || (size_t)blen > bl ||
-	    bl - (size_t)blen > 3)
+	    json_object_get(b0, "uri") != NULL || bl - (size_t)blen > 3)
 		return tl_fail(e, "buffers[0]: not the BIN chunk's %u bytes "
 		    "(byteLength up to 3 less, no uri)", bl);
 	d->buflen = (size_t)blen;

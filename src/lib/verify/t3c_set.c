@@ -307,7 +307,9 @@ tiles(ctx *c, int rt, const subtree *st, int s, int sx, int sy,
 		if (n < rows)
 			row(c, st, props, rows, n, &m, name);
 		else
-			m.hmin = m.hmax = NAN;
+			m.hmin = m.hmax = m.sphere[0] = m.sphere[1] =
+			    m.sphere[2] = m.sphere[3] = m.hop[0] = m.hop[1] =
+			    m.hop[2] = NAN;
 		n++;
 		if (--c->budget < 0 || push(&c->tiles, QM_KEY(z, (sx << d) +
 		    lx + ((long)rt << z), (sy << d) + ly), &m) < 0)
