@@ -332,8 +332,11 @@ walk(ctx *c, int rt, int s, int sx, int sy)
 	snprintf(path, sizeof path, "%s/%s", c->dir, name);
 	if (ta == NULL)
 		return -1;
-	if (read_subtree(path, name, &buf, &st, c->r) < 0 ||
-	    tiles(c, rt, &st, s, sx, sy, name, ta, ntile) < 0)
+	if (read_subtree(path, name, &buf, &st, c->r) < 0) {
+		rc = 0; /* reported */
+		goto done;
+	}
+	if (tiles(c, rt, &st, s, sx, sy, name, ta, ntile) < 0)
 		goto done;
 	if (bits(&st, json_object_get(st.j, "childSubtreeAvailability"),
 	    nchild, ta + ntile, name, "childSubtreeAvailability", c->r) < 0) {
