@@ -10,7 +10,8 @@
  *
  *   t3c_glb.c   a glb's bytes: container, glTF JSON, accessors
  *   t3c_tile.c  one tile against itself and its TILE_* metadata
- *   t3c_set.c   tileset.json, the subtrees, the files present
+ *   t3c_set.c   tileset.json, the files present, announced against them
+ *   t3c_subtree.c  the subtree files: availability, TILE_* rows
  *   t3c_seam.c  same-level neighbours along their shared edges
  *   t3c_run.c   every tile, the seams, the DEM, the report, --dump
  *
@@ -75,6 +76,49 @@ int t3c_place(const t3c_tile *t, int z, int x, int y, double *uv,
  * walk; normals unit and not into the ground. Violations go to r. */
 void t3c_tile_check(const t3c_tile *t, const t3c_meta *m, int z, int x,
     int y, qm_report *r);
+
+/* --- subtrees (t3c_subtree.c) ------------------------------------- */
+
+typedef struct {
+	qm_key k;
+	t3c_meta m;
+} t3c_ent;
+
+typedef struct {
+	t3c_ent *e;
+	long n, cap;
+} t3c_ents;
+
+/* k (and m, unless NULL) appended: 0, or -1 out of memory. */
+int t3c_push(t3c_ents *s, qm_key k, const t3c_meta *m);
+
+/* TILE_MINIMUM_HEIGHT, TILE_MAXIMUM_HEIGHT, TILE_BOUNDING_SPHERE,
+ * TILE_HORIZON_OCCLUSION_POINT: t3c_walk's prop[] and psize[] order. */
+extern const char *const t3c_semantic[4];
+
+/* One root's walk: what tileset.json says of it, what its subtrees
+ * announce. */
+typedef struct {
+	const char *dir;
+	const char *prefix;  /* the root's folder */
+	qm_report *r;
+	char prop[4][128];   /* the class's property of each semantic */
+	int psize[4];        /* its component's bytes: 8, 4 (0: none) */
+	int levels, k;       /* availableLevels, subtreeLevels */
+	t3c_ents tiles, subs; /* announced: global keys (x from -180) */
+	long budget;         /* tiles and subtrees it may still announce */
+} t3c_walk;
+
+/* Subtree (s, sx, sy) of root rt (its tile coordinates) and every one
+ * below it whose file exists: each file parsed and checked (header
+ * "subt" version 1, lengths, the JSON padded to 8, buffer views
+ * 8-aligned in its binary, bitstreams or constants, availableCount,
+ * content availability the tile availability with its root available,
+ * a property table row per available tile, nothing at or past
+ * availableLevels), its tiles with their metadata and its child
+ * subtrees announced into w. Violations go to w->r; -1 only out of
+ * memory or past the budget. */
+int t3c_walk_subtree(t3c_walk *w, int rt, int s, int sx, int sy);
 
 /* --- the tileset (t3c_set.c) --------------------------------------- */
 
