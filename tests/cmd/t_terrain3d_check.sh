@@ -8,8 +8,8 @@
 # are the quantized-mesh export's (the --dump checksums, levels 6 on);
 # hostile tilesets fail, exit 1, naming the file: a glb whose buffer is
 # truncated, an index out of range, an edge list short of a vertex, a
-# clockwise triangle, a subtree bit flipped, a missing tile, a tile no
-# subtree announces.
+# clockwise triangle, a triangle left out, a subtree bit flipped, a
+# missing tile, a tile no subtree announces.
 . "$(dirname "$0")/../lib.sh"
 
 PY=/usr/bin/python3
@@ -112,6 +112,8 @@ elif act == "index":           # triangle 0's first index past the vertices
     struct.pack_into("<H", bn, o, n + 7)
 elif act == "edge":            # the left list one vertex short
     g["accessors"][prim["extensions"]["CESIUM_tile_edges"]["left"]]["count"] -= 1
+elif act == "drop":            # the last triangle left out
+    g["accessors"][prim["indices"]]["count"] -= 3
 elif act == "winding":         # triangle 0 turned clockwise
     o = view(prim["indices"])
     i0, i1 = struct.unpack_from("<HH", bn, o)
@@ -137,6 +139,7 @@ hostile "a glb whose buffer is truncated" truncate "decode: truncated"
 hostile "an index out of range" index "index: triangle 0"
 hostile "an edge list one vertex short" edge "edges: vertex [0-9]+ .* on the left edge but not in"
 hostile "a clockwise triangle" winding "winding: triangle 0"
+hostile "a triangle left out" drop "hole: [0-9]+ edges inside the tile belong to one triangle"
 
 # a subtree's bit flipped: the last available tile of the leaf's subtree
 # made unavailable; its glb is then a file no subtree announces

@@ -42,7 +42,7 @@ t3c_push(t3c_ents *s, qm_key k, const t3c_meta *m)
 }
 
 static void
-subtree_name(const t3c_walk *c, int r, int z, int x, int y, char *b, size_t n)
+subtree_name(const t3c_walk *c, int z, int x, int y, char *b, size_t n)
 {
 	snprintf(b, n, "%s/%d/%d/%d.subtree", c->prefix, z, x, y);
 }
@@ -275,7 +275,7 @@ t3c_walk_subtree(t3c_walk *c, int rt, int s, int sx, int sy)
 	subtree st = { NULL, NULL, 0 };
 	int rc = -1;
 
-	subtree_name(c, rt, s, sx, sy, name, sizeof name);
+	subtree_name(c, s, sx, sy, name, sizeof name);
 	snprintf(path, sizeof path, "%s/%s", c->dir, name);
 	if (ta == NULL)
 		return -1;
@@ -315,7 +315,7 @@ t3c_walk_subtree(t3c_walk *c, int rt, int s, int sx, int sy)
 		if (!ta[ntile + i] || s + c->k >= c->levels)
 			continue;
 		demorton(i, &lx, &ly);
-		subtree_name(c, rt, s + c->k, (sx << c->k) + lx,
+		subtree_name(c, s + c->k, (sx << c->k) + lx,
 		    (sy << c->k) + ly, name, sizeof name);
 		snprintf(sub, sizeof sub, "%s/%s", c->dir, name);
 		if (access(sub, F_OK) == 0 && t3c_walk_subtree(c, rt, s + c->k,
