@@ -7,7 +7,8 @@
  *   qm_tile.c    one tile against itself: header, indices, edges
  *   qm_layer.c   layer.json, the files present, availability, ancestors
  *   qm_seam.c    same-level neighbours along their shared edges
- *   qm_dem.c     the surface drawn against every valid DEM sample
+ *   qm_dem.c     the surface drawn against every valid DEM sample (any
+ *                format's mesh, through a loader: t3c.h's too)
  *   qm_run.c     the report, --dump, the programs' entry
  *
  * It shares no code with any writer of these tiles: the format is read
