@@ -3,6 +3,10 @@
  * Exit 0 pass, 1 violations, 2 usage, 3 cannot check (as cmp(1) has it). */
 #include "cli.h"
 #include "verify/qm.h"
+#include "verify/t3c.h"
+
+#include <stdio.h>
+#include <unistd.h>
 #include "verify/verify.h"
 
 enum { CANNOT_CHECK = 3 };
@@ -18,7 +22,8 @@ static const char usage[] =
     "                  for a mosaic): check its errors too\n"
     "  --tau t,...     tolerances in metres instead of each level's sweep\n"
     CLI_DEM_HELP
-    "  --terrain       outdir is quantized-mesh terrain (layer.json, tiles)\n"
+    "  --terrain       outdir is terrain: quantized-mesh (layer.json) or the\n"
+    "                  3D Tiles terrain profile (tileset.json)\n"
     "  --dump          per tile: vertices, triangles, checksum\n"
     "exit status: 0 pass, 1 violations, 2 usage, 3 cannot check\n";
 
@@ -64,8 +69,18 @@ main(int argc, char **argv)
 	if (optind != argc - 1)
 		return cli_usage_error(&c);
 	if (q.dir != NULL) { /* --terrain (tilecheck(1) TERRAIN) */
+		char tj[4096];
+
 		q.dir = argv[optind], q.dem_path = a.dem_path, q.dem = c.dem;
-		r = qm_run(&q, c.prog);
+		/* the format is what outdir holds: layer.json, else
+		 * tileset.json (the 3D Tiles profile) */
+		snprintf(tj, sizeof tj, "%s/layer.json", q.dir);
+		if (access(tj, F_OK) == 0 ||
+		    (snprintf(tj, sizeof tj, "%s/tileset.json", q.dir),
+		    access(tj, F_OK) < 0))
+			r = qm_run(&q, c.prog);
+		else
+			r = t3c_run(&q, c.prog);
 		return r < 0 ? CANNOT_CHECK : r;
 	}
 	a.dir = argv[optind];

@@ -7,7 +7,8 @@
  *   qm_tile.c    one tile against itself: header, indices, edges
  *   qm_layer.c   layer.json, the files present, availability, ancestors
  *   qm_seam.c    same-level neighbours along their shared edges
- *   qm_dem.c     the surface drawn against every valid DEM sample
+ *   qm_dem.c     the surface drawn against every valid DEM sample (any
+ *                format's mesh, through a loader: t3c.h's too)
  *   qm_run.c     the report, --dump, the programs' entry
  *
  * It shares no code with any writer of these tiles: the format is read
@@ -107,6 +108,12 @@ typedef struct {
 
 typedef struct {
 	int dem;            /* the DEM check ran */
+	double (*level_error)(int z); /* E_z (qm_level_error by default) */
+	const char *const *names; /* kind names printed (NULL: the default) */
+	/* tile z/x/y as the report names it (NULL: "z/x/y") */
+	void (*tile_name)(const void *ctx, int z, int x, int y, char *b,
+	    size_t n);
+	const void *name_ctx;
 	int maxz;           /* deepest level with a tile, -1: none */
 	qm_level lev[QM_MAXZ + 1];
 	long long count[QM_NKIND], total;
@@ -124,6 +131,12 @@ void qm_issue_add(qm_report *r, int kind, int z, int x, int y,
     const char *fmt, ...) __attribute__((format(printf, 6, 7)));
 
 /* --- one tile (qm_tile.c) ------------------------------------------ */
+
+/* CesiumJS's EllipsoidalOccluder: the magnitude along the unit
+ * direction d (scaled space, divided by rad) at which a point hides
+ * only what ECEF point p hides too; <= 0 or not finite: none does. */
+double qm_horizon_magnitude(const double p[3], const double d[3],
+    const double rad[3]);
 
 /* Everything a tile says about itself: u, v, heights in 0..32767;
  * header finite, the minimum and maximum heights the vertices' extremes,
@@ -186,16 +199,38 @@ void qm_metadata_check(const qm_set *s, const qm_tile *t, int z, int x,
 
 /* --- the DEM (qm_dem.c) -------------------------------------------- */
 
+/* A tile as drawn, whatever its format: what the DEM is measured
+ * against. */
+typedef struct {
+	uint32_t n, ntri;
+	double *p;           /* ECEF, 3 n */
+	double *uv;          /* u, v in 0..QM_MAXQ over the tile, 2 n */
+	unsigned char *pole; /* n: the vertex is at a pole (its u is
+	                      * unknown); NULL: none is */
+	uint32_t *tri;       /* 3 ntri, each < n */
+} qm_mesh;
+
+/* A format's reader: tile k of the set into m (fields malloc'd): 0
+ * done, 1 it cannot be placed (its own checks say why; its samples are
+ * skipped), -1 out of memory. */
+typedef int (*qm_mesh_load)(void *ctx, qm_key k, qm_mesh *m);
+void qm_mesh_free(qm_mesh *m);
+
 /* For every tile level, every valid DEM sample (heights as dem_open
  * gives them with o: -H ellipsoid as the pyramid was made) inside a
  * tile of that level (closed rectangles: a sample on a shared edge
  * counts in both): the vertical distance, along the ellipsoid's normal
  * at the sample, to the plane of the ECEF triangle whose (u, v) holds
- * it. Per tile the largest goes to r (error / E_z per level); over
- * E_z + 1 mm is an error violation; a sample in no tile of a level up
- * to the deepest, or in no triangle of its tile, a coverage one. The
- * DEM is read once, a row at a time, holding per level only the tiles
- * near that row. */
+ * it (for a triangle with a vertex at a pole, the triangle its
+ * vertical passes through). Per tile the largest goes to r (error /
+ * E_z per level, E_z r->level_error's); over E_z + 1 mm is an error
+ * violation; a sample in no tile of a level up to the deepest, or in no
+ * triangle of its tile, a coverage one. The DEM is read once, a row at
+ * a time, holding per level only the tiles near that row, each loaded
+ * by load. */
+int qm_dem_measure(const qm_set *s, qm_mesh_load load, void *ctx,
+    const char *dem_path, const dem_opts *o, qm_report *r, tl_err *e);
+/* qm_dem_measure on the quantized-mesh tiles dir/{z}/{x}/{y}.terrain. */
 int qm_dem_check(const char *dir, const qm_set *s, const char *dem_path,
     const dem_opts *o, qm_report *r, tl_err *e);
 
@@ -220,5 +255,9 @@ int qm_check(const char *dir, const char *dem_path, const dem_opts *o,
  * violations (or a tile that does not decode in a dump), -1 when it
  * cannot check ("prog: what: why" on stderr). */
 int qm_run(const qm_args *a, const char *prog);
+/* The report of the tileset in dir (s its tiles) on f, as qm_run prints
+ * it. */
+void qm_report_print(FILE *f, const qm_report *r, const qm_set *s,
+    const char *dir, const char *dem_path);
 
 #endif

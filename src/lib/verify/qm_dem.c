@@ -21,12 +21,9 @@
 typedef struct {
 	qm_key key;
 	long slot;        /* its index in the set's keys */
-	int ok;           /* decoded, u v heights in range */
+	int ok;           /* placed: its format's reader could load it */
 	double rect[4];
-	uint32_t n, ntri;
-	double *p;        /* ECEF, 3 n */
-	int32_t *uv;      /* 2 n */
-	uint32_t *tri;    /* 3 ntri */
+	qm_mesh m;
 	int g;            /* g x g cells over (u, v) */
 	uint32_t *cell;   /* g g + 1 starts into list */
 	uint32_t *list;
@@ -38,8 +35,9 @@ typedef struct {
 } cache;
 
 typedef struct {
-	const char *dir;
 	const qm_set *s;
+	qm_mesh_load load;
+	void *ctx;
 	qm_report *r;
 	cache c[QM_MAXZ + 1];
 	double *maxerr;   /* per tile of the set */
@@ -52,7 +50,8 @@ qt_free(qt *t)
 {
 	if (t == NULL)
 		return;
-	free(t->p), free(t->uv), free(t->tri), free(t->cell), free(t->list);
+	qm_mesh_free(&t->m);
+	free(t->cell), free(t->list);
 	free(t);
 }
 
@@ -64,14 +63,17 @@ cellof(double q, int g)
 	return c < 0 ? 0 : c >= g ? g - 1 : c;
 }
 
-/* Triangles listed under every cell their (u, v) box meets. */
+/* Triangles listed under every cell their (u, v) box meets; one with a
+ * vertex at a pole (whose u is the whole pole's row) under every cell
+ * of its rows. */
 static int
 grid(qt *t)
 {
+	const qm_mesh *M = &t->m;
 	uint32_t *fill;
 	int g;
 
-	t->g = g = (int)fmin(256, fmax(1, sqrt(t->ntri / 2.0)));
+	t->g = g = (int)fmin(256, fmax(1, sqrt(M->ntri / 2.0)));
 	t->cell = calloc((size_t)g * g + 1, sizeof *t->cell);
 	fill = calloc((size_t)g * g + 1, sizeof *fill);
 	if (t->cell == NULL || fill == NULL) {
@@ -79,13 +81,15 @@ grid(qt *t)
 		return -1;
 	}
 	for (int pass = 0; pass < 2; pass++) {
-		for (uint32_t k = 0; k < t->ntri; k++) {
-			const uint32_t *c = t->tri + 3 * (size_t)k;
-			int32_t u0 = QM_MAXQ, u1 = 0, v0 = QM_MAXQ, v1 = 0;
+		for (uint32_t k = 0; k < M->ntri; k++) {
+			const uint32_t *c = M->tri + 3 * (size_t)k;
+			double u0 = QM_MAXQ, u1 = 0, v0 = QM_MAXQ, v1 = 0;
 
 			for (int m = 0; m < 3; m++) {
-				int32_t u = t->uv[2 * c[m]], v = t->uv[2 * c[m] + 1];
+				double u = M->uv[2 * c[m]], v = M->uv[2 * c[m] + 1];
 
+				if (M->pole != NULL && M->pole[c[m]])
+					u0 = 0, u1 = QM_MAXQ, u = 0.5 * QM_MAXQ;
 				u0 = u < u0 ? u : u0, u1 = u > u1 ? u : u1;
 				v0 = v < v0 ? v : v0, v1 = v > v1 ? v : v1;
 			}
@@ -116,34 +120,62 @@ grid(qt *t)
 	return 0;
 }
 
-/* The tile's drawn geometry; ok 0 when it does not decode (reported by
- * qm_tile_check already: its samples are skipped). NULL: no memory. */
+void
+qm_mesh_free(qm_mesh *m)
+{
+	free(m->p), free(m->uv), free(m->pole), free(m->tri);
+	memset(m, 0, sizeof *m);
+}
+
+/* The tile's drawn geometry from its format's reader; ok 0 when it
+ * cannot be placed (its own checks say why: its samples are skipped).
+ * NULL: no memory. */
 static qt *
 qt_load(const run *R, qm_key k, long slot)
 {
-	char path[4096];
 	qt *t = calloc(1, sizeof *t);
-	qm_tile m;
-	tl_err e;
-	double llh[3];
+	int st;
 
 	if (t == NULL)
 		return NULL;
 	t->key = k, t->slot = slot;
 	qm_rect(QM_KZ(k), QM_KX(k), QM_KY(k), t->rect);
-	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", R->dir, QM_KZ(k),
-	    QM_KX(k), QM_KY(k));
+	if ((st = R->load(R->ctx, k, &t->m)) < 0 ||
+	    (st == 0 && grid(t) < 0)) {
+		qt_free(t);
+		return NULL;
+	}
+	t->ok = st == 0;
+	return t;
+}
+
+/* quantized-mesh's reader: the tile's vertices as CesiumJS places them,
+ * its triangles in range. */
+static int
+qm_load(void *ctx, qm_key k, qm_mesh *M)
+{
+	char path[4096];
+	double rect[4], llh[3];
+	qm_tile m;
+	tl_err e;
+	int st = 1;
+
+	memset(M, 0, sizeof *M);
+	qm_rect(QM_KZ(k), QM_KX(k), QM_KY(k), rect);
+	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", (const char *)ctx,
+	    QM_KZ(k), QM_KX(k), QM_KY(k));
 	if (qm_read(path, &m, &e) < 0 || !qm_tile_sane(&m))
 		goto done;
-	t->p = malloc(((size_t)m.n * 3 + 1) * sizeof *t->p);
-	t->uv = malloc(((size_t)m.n * 2 + 1) * sizeof *t->uv);
-	t->tri = malloc(((size_t)m.ntri * 3 + 1) * sizeof *t->tri);
-	if (t->p == NULL || t->uv == NULL || t->tri == NULL)
-		goto fail;
-	t->n = m.n;
+	st = -1;
+	M->p = malloc(((size_t)m.n * 3 + 1) * sizeof *M->p);
+	M->uv = malloc(((size_t)m.n * 2 + 1) * sizeof *M->uv);
+	M->tri = malloc(((size_t)m.ntri * 3 + 1) * sizeof *M->tri);
+	if (M->p == NULL || M->uv == NULL || M->tri == NULL)
+		goto done;
+	M->n = m.n;
 	for (uint32_t i = 0; i < m.n; i++) {
-		qm_vertex(&m, t->rect, i, llh, t->p + 3 * (size_t)i);
-		t->uv[2 * i] = m.u[i], t->uv[2 * i + 1] = m.v[i];
+		qm_vertex(&m, rect, i, llh, M->p + 3 * (size_t)i);
+		M->uv[2 * i] = m.u[i], M->uv[2 * i + 1] = m.v[i];
 	}
 	for (uint32_t k2 = 0; k2 < m.ntri; k2++) {
 		const int64_t *c = m.idx + 3 * (size_t)k2;
@@ -152,19 +184,15 @@ qt_load(const run *R, qm_key k, long slot)
 		    c[1] >= m.n || c[2] >= m.n)
 			continue;
 		for (int q = 0; q < 3; q++)
-			t->tri[3 * (size_t)t->ntri + q] = (uint32_t)c[q];
-		t->ntri++;
+			M->tri[3 * (size_t)M->ntri + q] = (uint32_t)c[q];
+		M->ntri++;
 	}
-	if (grid(t) < 0)
-		goto fail;
-	t->ok = 1;
+	st = 0;
 done:
 	qm_free(&m);
-	return t;
-fail:
-	qm_free(&m);
-	qt_free(t);
-	return NULL;
+	if (st < 0)
+		qm_mesh_free(M);
+	return st;
 }
 
 static size_t
@@ -264,32 +292,62 @@ evict(cache *c, double lat)
 	return 0;
 }
 
+/* The sample's vertical through a triangle with a vertex at a pole: the
+ * point at height hs inside the ECEF triangle (the pole's u is
+ * unknown, its (u, v) triangle meaningless). */
+static int
+inside3(const double *A, const double *B, const double *C, const double N[3],
+    const double foot[3], const double up[3], double hs)
+{
+	const double *V[3] = { A, B, C };
+	double X[3], nn = N[0] * N[0] + N[1] * N[1] + N[2] * N[2];
+
+	for (int k = 0; k < 3; k++)
+		X[k] = foot[k] + hs * up[k];
+	for (int m = 0; m < 3; m++) {
+		const double *P = V[(m + 1) % 3], *Q = V[(m + 2) % 3];
+		double p[3], q[3], x[3];
+
+		for (int k = 0; k < 3; k++)
+			p[k] = P[k] - X[k], q[k] = Q[k] - X[k];
+		x[0] = p[1] * q[2] - p[2] * q[1];
+		x[1] = p[2] * q[0] - p[0] * q[2];
+		x[2] = p[0] * q[1] - p[1] * q[0];
+		if ((x[0] * N[0] + x[1] * N[1] + x[2] * N[2]) / nn < -BARY)
+			return 0;
+	}
+	return 1;
+}
+
 /* Height of the drawn surface at the sample, along its normal: the plane
  * of the triangle whose (u, v) holds (su, sv). 0: none holds it. */
 static int
 surface(const qt *t, double su, double sv, const double foot[3],
     const double up[3], double *hs)
 {
+	const qm_mesh *M = &t->m;
 	size_t q = (size_t)cellof(sv, t->g) * t->g + cellof(su, t->g);
 
 	for (uint32_t m = t->cell[q]; m < t->cell[q + 1]; m++) {
-		const uint32_t *c = t->tri + 3 * (size_t)t->list[m];
-		const int32_t *a = t->uv + 2 * c[0], *b = t->uv + 2 * c[1];
-		const int32_t *d = t->uv + 2 * c[2];
-		const double *A = t->p + 3 * (size_t)c[0];
-		const double *B = t->p + 3 * (size_t)c[1];
-		const double *C = t->p + 3 * (size_t)c[2];
-		double area = (double)(b[0] - a[0]) * (d[1] - a[1]) -
-		    (double)(b[1] - a[1]) * (d[0] - a[0]);
+		const uint32_t *c = M->tri + 3 * (size_t)t->list[m];
+		const double *a = M->uv + 2 * c[0], *b = M->uv + 2 * c[1];
+		const double *d = M->uv + 2 * c[2];
+		const double *A = M->p + 3 * (size_t)c[0];
+		const double *B = M->p + 3 * (size_t)c[1];
+		const double *C = M->p + 3 * (size_t)c[2];
+		double area = (b[0] - a[0]) * (d[1] - a[1]) -
+		    (b[1] - a[1]) * (d[0] - a[0]);
 		double l0, l1, e1[3], e2[3], N[3], den, num = 0;
+		int pole = M->pole != NULL &&
+		    (M->pole[c[0]] || M->pole[c[1]] || M->pole[c[2]]);
 
-		if (area == 0)
+		if (area == 0 && !pole)
 			continue;
 		l0 = ((b[0] - su) * (d[1] - sv) - (b[1] - sv) * (d[0] - su)) /
 		    area;
 		l1 = ((d[0] - su) * (a[1] - sv) - (d[1] - sv) * (a[0] - su)) /
 		    area;
-		if (l0 < -BARY || l1 < -BARY || 1 - l0 - l1 < -BARY)
+		if (!pole && (l0 < -BARY || l1 < -BARY || 1 - l0 - l1 < -BARY))
 			continue;
 		for (int k = 0; k < 3; k++)
 			e1[k] = B[k] - A[k], e2[k] = C[k] - A[k];
@@ -302,6 +360,8 @@ surface(const qt *t, double su, double sv, const double foot[3],
 		for (int k = 0; k < 3; k++)
 			num += (A[k] - foot[k]) * N[k];
 		*hs = num / den;
+		if (pole && !inside3(A, B, C, N, foot, up, *hs))
+			continue;
 		return 1;
 	}
 	return 0;
@@ -369,7 +429,7 @@ finish(run *R)
 		int z = QM_KZ(s->key[k]), x = QM_KX(s->key[k]);
 		int y = QM_KY(s->key[k]);
 		qm_level *L = &R->r->lev[z];
-		double el = qm_level_error(z), *p;
+		double el = R->r->level_error(z), *p;
 
 		if (R->samples[k] == 0)
 			continue;
@@ -456,8 +516,8 @@ done:
 }
 
 int
-qm_dem_check(const char *dir, const qm_set *s, const char *dem_path,
-    const dem_opts *o, qm_report *r, tl_err *e)
+qm_dem_measure(const qm_set *s, qm_mesh_load load, void *ctx,
+    const char *dem_path, const dem_opts *o, qm_report *r, tl_err *e)
 {
 	run R;
 	dem *d;
@@ -466,7 +526,7 @@ qm_dem_check(const char *dir, const qm_set *s, const char *dem_path,
 	int maxz = s->n ? QM_KZ(s->key[s->n - 1]) : -1, st = -1;
 
 	memset(&R, 0, sizeof R);
-	R.dir = dir, R.s = s, R.r = r;
+	R.s = s, R.r = r, R.load = load, R.ctx = ctx;
 	if ((d = dem_open(dem_path, o, e)) == NULL)
 		return -1;
 	g = dem_georef(d);
@@ -502,4 +562,11 @@ qm_dem_check(const char *dir, const qm_set *s, const char *dem_path,
 		geo_proj_close(pp);
 	dem_close(d);
 	return st;
+}
+
+int
+qm_dem_check(const char *dir, const qm_set *s, const char *dem_path,
+    const dem_opts *o, qm_report *r, tl_err *e)
+{
+	return qm_dem_measure(s, qm_load, (void *)dir, dem_path, o, r, e);
 }

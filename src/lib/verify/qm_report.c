@@ -27,6 +27,7 @@ qm_report_init(qm_report *r)
 	memset(r, 0, sizeof *r);
 	r->maxz = -1;
 	r->max_issues = 20;
+	r->level_error = qm_level_error;
 }
 
 void

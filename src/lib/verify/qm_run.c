@@ -25,7 +25,7 @@ print_level(FILE *f, const qm_report *r, int z)
 	    L->triangles);
 	if (!r->dem)
 		return;
-	fprintf(f, "  E_L %.6g m, %lld valid samples", qm_level_error(z),
+	fprintf(f, "  E_L %.6g m, %lld valid samples", r->level_error(z),
 	    L->samples);
 	if (L->nratio > 0) {
 		double *s = malloc((size_t)L->nratio * sizeof *s), med;
@@ -45,10 +45,18 @@ print_level(FILE *f, const qm_report *r, int z)
 	fputc('\n', f);
 }
 
-static void
-print_report(FILE *f, const qm_report *r, const qm_set *s, const char *dir,
-    const char *dem_path)
+static const char *
+kind(const qm_report *r, int k)
 {
+	return r->names != NULL ? r->names[k] : qm_kind_name(k);
+}
+
+void
+qm_report_print(FILE *f, const qm_report *r, const qm_set *s,
+    const char *dir, const char *dem_path)
+{
+	char name[256];
+
 	fprintf(f, "terrain %s: %ld tiles, %ld announced, levels 0..%d%s%s\n",
 	    dir, s->n, s->navail, r->maxz, dem_path ? ", against " : "",
 	    dem_path ? dem_path : "");
@@ -57,19 +65,24 @@ print_report(FILE *f, const qm_report *r, const qm_set *s, const char *dir,
 	fprintf(f, "violations:");
 	for (int k = 0; k < QM_NKIND; k++)
 		if (r->dem || (k != QM_COVERAGE && k != QM_ERROR))
-			fprintf(f, " %s %lld", qm_kind_name(k), r->count[k]);
+			fprintf(f, " %s %lld", kind(r, k), r->count[k]);
 		else
-			fprintf(f, " %s -", qm_kind_name(k));
+			fprintf(f, " %s -", kind(r, k));
 	fputc('\n', f);
 	for (int i = 0; i < r->nissue; i++) {
 		const qm_issue *q = &r->issue[i];
 
 		if (q->z < 0)
-			fprintf(f, "tileset: %s: %s\n", qm_kind_name(q->kind),
+			fprintf(f, "tileset: %s: %s\n", kind(r, q->kind),
 			    q->text);
-		else
+		else if (r->tile_name != NULL) {
+			r->tile_name(r->name_ctx, q->z, q->x, q->y, name,
+			    sizeof name);
+			fprintf(f, "%s: %s: %s\n", name, kind(r, q->kind),
+			    q->text);
+		} else
 			fprintf(f, "%d/%d/%d: %s: %s\n", q->z, q->x, q->y,
-			    qm_kind_name(q->kind), q->text);
+			    kind(r, q->kind), q->text);
 	}
 	if (r->total == 0) {
 		fprintf(f, "result: pass\n");
@@ -78,7 +91,7 @@ print_report(FILE *f, const qm_report *r, const qm_set *s, const char *dir,
 	fprintf(f, "result: FAIL, %lld violations:", r->total);
 	for (int k = 0; k < QM_NKIND; k++)
 		if (r->count[k])
-			fprintf(f, " %s %lld", qm_kind_name(k), r->count[k]);
+			fprintf(f, " %s %lld", kind(r, k), r->count[k]);
 	fputc('\n', f);
 }
 
@@ -173,7 +186,7 @@ qm_run(const qm_args *a, const char *prog)
 		fprintf(stderr, "%s: %s\n", prog, e.msg);
 		st = -1;
 	} else {
-		print_report(stdout, &r, &s, a->dir, a->dem_path);
+		qm_report_print(stdout, &r, &s, a->dir, a->dem_path);
 		st = r.total > 0;
 	}
 	qm_set_free(&s);

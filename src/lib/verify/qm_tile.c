@@ -80,10 +80,9 @@ check_heights(const qm_tile *t, int z, int x, int y, qm_report *r)
 		    t->hmax);
 }
 
-/* CesiumJS's magnitude along the unit direction d at which a point hides
- * only what vertex p (ECEF) hides too; <= 0 or not finite: none does. */
-static double
-horizon_magnitude(const double p[3], const double d[3], const double *rad)
+double
+qm_horizon_magnitude(const double p[3], const double d[3],
+    const double rad[3])
 {
 	double s[3], m2 = 0, m, c = 0, x[3], sa, cb, sb;
 
@@ -122,7 +121,7 @@ recomputed(const qm_tile *t, const double rect[4])
 		d[k] /= sqrt(dl);
 	for (uint32_t i = 0; i < t->n; i++) {
 		qm_vertex(t, rect, i, llh, p);
-		if (horizon_magnitude(p, d, rad) < 0)
+		if (qm_horizon_magnitude(p, d, rad) < 0)
 			return 0;
 	}
 	return 1;
@@ -152,7 +151,7 @@ check_geometry(const qm_tile *t, int z, int x, int y, qm_report *r)
 		 * CesiumJS's comparisons with it are false */
 		if (!isfinite(pm))
 			continue;
-		m = horizon_magnitude(p, d, radii);
+		m = qm_horizon_magnitude(p, d, radii);
 		if (!(m > 0) || !isfinite(m)) {
 			if (inone < 0)
 				inone = i, mnone = m;
