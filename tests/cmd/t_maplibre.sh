@@ -20,6 +20,8 @@
 # fail). TL_MAPLIBRE_PMTILES=FILE.pmtiles (the same tiles as one PMTiles
 # archive, npm pmtiles in tests/js): the same style through the pmtiles
 # protocol, the same heights. OUT_SHOT=FILE.png: a picture of it there.
+# TL_MAPLIBRE_TREE=DIR: that tree instead (made of the same cut:
+# gdal_translate -srcwin 2944 2816 513 513 N48W125.hgt).
 . "$(dirname "$0")/../lib.sh"
 
 browser_test "MapLibre GL JS raster-dem terrain in Chromium"
@@ -100,15 +102,19 @@ run "the fixture: zooms 8 to 11, 512 px, Terrarium" \
     /usr/bin/python3 "$T/enc.py" "$T/srtm.tif" "$T/ref" terrarium 8 11 512 0 &&
     /usr/bin/python3 "$T/declare.py" "$T/ref" "$T/srtm.tif" "$TOP/tests/tools"
 
-# the tree under test
-if [ -x "$B/dem2rgb" ] && [ -z "${TL_RGB_FIXTURE:-}" ]; then
+# the tree under test: TL_MAPLIBRE_TREE=DIR (one made of the same 513 x
+# 513 cut elsewhere), else dem2rgb's, else the fixture
+if [ -n "${TL_MAPLIBRE_TREE:-}" ]; then
+	under=$TL_MAPLIBRE_TREE
+	cp -R "$TL_MAPLIBRE_TREE" "$T/tree"
+elif [ -x "$B/dem2rgb" ] && [ -z "${TL_RGB_FIXTURE:-}" ]; then
 	under=dem2rgb
 	run "dem2rgb exports the DEM" dem2rgb -q -Z 8 "$T/srtm.tif" "$T/tree"
 else
 	under=fixture
 	cp -R "$T/ref" "$T/tree"
 fi
-echo "#   the tree: $under's"
+echo "#   the tree: $under"
 
 dec check "$T/tree" "$T/srtm.tif" >"$T/out" 2>"$T/err"
 ok $? "the tiles: exactly those tiles.json's bounds and zooms imply with content"
@@ -165,9 +171,10 @@ pm=${TL_MAPLIBRE_PMTILES:-}
 [ -z "$pm" ] || [ -d "$JS/node_modules/pmtiles" ] || {
 	echo "#   TL_MAPLIBRE_PMTILES: no npm pmtiles in tests/js"; pm=; }
 s=$(date +%s)
-TMPDIR=$T timeout -k 5 200 node "$JS/maplibre.js" --size 256x256 \
-    --samples "$T/views" ${pm:+--pmtiles "$pm"} ${OUT_SHOT:+--shot "$OUT_SHOT"} \
-    "$T/tree" \
+# (a picture, OUT_SHOT: 640 x 360, its views holding the 256 x 256 ones)
+TMPDIR=$T timeout -k 5 400 node "$JS/maplibre.js" --size 256x256 \
+    --samples "$T/views" ${pm:+--pmtiles "$pm"} \
+    ${OUT_SHOT:+--shot "$OUT_SHOT" --size 640x360} "$T/tree" \
     >"$T/out" 2>"$T/err"
 st=$?
 grep -v '^sample ' "$T/out" | sed 's/^/#   /'
