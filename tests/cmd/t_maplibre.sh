@@ -122,7 +122,7 @@ sed 's/^/#   /' "$T/out" "$T/err"
 dec claim "$T/tree" "$T/srtm.tif" >"$T/claim" 2>"$T/err"
 ok $? "the error of the surface MapLibre draws, per zoom, within tiles.json's"
 sed 's/^/#   /' "$T/claim" "$T/err"
-if [ $under = dem2rgb ]; then	# the quadric chain against averaging
+if [ "$under" = dem2rgb ]; then	# the quadric chain against averaging
 	dec error "$T/ref" "$T/srtm.tif" >"$T/ref.err"
 	awk 'NR == FNR { rms[$2] = $8; next }
 	    ($2 in rms) { n++; if ($6 > 1.1 * rms[$2] + 1 / 256) {
@@ -227,7 +227,7 @@ PY
 /usr/bin/python3 "$T/cmp.py" "$T/tree" "$T/srtm.tif" "$T/samples" \
     "$TOP/tests/tools" <"$T/out" >"$T/cmp"
 grep '^#' "$T/cmp"
-read -r route n atz same within worst <<EOF
+read -r _ n atz same within worst <<EOF
 $(grep '^tree ' "$T/cmp")
 EOF
 echo "#   tree: $n samples, $atz at the zoom asked, $same equal to the decoder, $within within the zoom's error (largest distance to the DEM $worst m)"
