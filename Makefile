@@ -46,6 +46,7 @@ pkgs_raster  := OpenEXR libdeflate
 libs_raster  := -lOpenEXRCore-3_1
 pkgs_dem     := gdal
 pkgs_play    := egl epoxy glfw3 stb
+pkgs_terrain := glu
 # the programs: the layers each uses (cli.c, their shared start-up, uses
 # uses_cli; the other files of src/cmd, the work the programs share, are
 # build/libcmd.a, of which each links what it calls)

@@ -33,6 +33,7 @@ headers() {
 	egl) echo 'EGL/' ;;
 	epoxy) echo 'epoxy/' ;;
 	glfw3) echo 'GLFW/' ;;
+	glu) echo 'GL/glu\.h' ;;
 	stb) echo 'stb_[a-z_]*\.h' ;;
 	OpenImageIO) echo 'OpenImageIO/' ;;
 	*) echo "unknown-package-$1" ;;

@@ -9,7 +9,6 @@
 
 #include "terrain/tr_impl.h"
 
-#define RMIN 6335439.0 /* m: WGS 84's least radius of curvature */
 
 /* A geographic grid line the DEM means to lie on a line of the tiles
  * (a tile's edge, a lattice line: multiples of 180 / 2^24 degrees from
@@ -95,6 +94,52 @@ sides(const tr_grid *g, geo_proj *p, const georef *geo, double lo[4],
 	return r;
 }
 
+double
+tr_rim_band(const tr_grid *g, int z)
+{
+	double q = ldexp(180, -z) / QM_MAX * 111320.0; /* m: a latitude's */
+
+	return 0.25 + 8 * q / g->cell;
+}
+
+/* A projected DEM's footprint: the box of every sample on its four
+ * sides (the image of its inside is within that of its sides), west,
+ * south, east, north, into g->fp; r, the terrain's rectangle: that box
+ * widened by the band of level 0 (the widest, tr_rim_band) and a
+ * hundredth of a cell for the curve of a side between two samples. */
+static int
+footprint(tr_grid *g, geo_proj *p, const georef *geo, double r[4],
+    tl_err *e)
+{
+	int n = 2 * (g->w0 + g->h0), k = 0, ret;
+	double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n *
+	    sizeof *y), *f = g->fp;
+
+	r[0] = r[1] = INFINITY, r[2] = r[3] = -INFINITY;
+	if (!x || !y) {
+		free(x), free(y);
+		return tl_fail(e, "grid: out of memory");
+	}
+	for (int i = 0; i < g->w0; i++)
+		x[k] = i, y[k++] = 0, x[k] = i, y[k++] = g->h0 - 1;
+	for (int j = 0; j < g->h0; j++)
+		x[k] = 0, y[k++] = j, x[k] = g->w0 - 1, y[k++] = j;
+	ret = tr_lonlat(g, p, geo, x, y, k, e);
+	f[0] = f[1] = INFINITY, f[2] = f[3] = -INFINITY;
+	for (int i = 0; ret == 0 && i < k; i++) {
+		f[0] = fmin(f[0], x[i]), f[2] = fmax(f[2], x[i]);
+		f[1] = fmin(f[1], y[i]), f[3] = fmax(f[3], y[i]);
+	}
+	free(x), free(y);
+	if (ret < 0)
+		return -1;
+	double m = (tr_rim_band(g, 0) + 0.01) * g->cell / 111000.0;
+	double c = cos(fmin(89, fmax(fabs(f[1]), fabs(f[3]))) * M_PI / 180);
+	r[0] = f[0] - m / c, r[2] = f[2] + m / c;
+	r[1] = f[1] - m, r[3] = f[3] + m;
+	return 0;
+}
+
 /* Per block of each level: the box of its vertices' longitudes and
  * latitudes, from its border (a block's image is convex enough: the
  * border holds the extremes up to the chord of one level step). */
@@ -152,23 +197,13 @@ tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
 	g->ax = x0, g->bx = x1 - x0, g->ay = y0, g->by = y1 - y0;
 	g->cell = g->projected ? fmax(fabs(g->bx), fabs(g->by)) * geo->unit :
 	    fmax(fabs(g->bx), fabs(g->by)) * 111700.0;
-	if (sides(g, p, geo, lo, e) < 0)
+	if ((g->projected ? footprint(g, p, geo, lo, e) : sides(g, p, geo, lo,
+	    e)) < 0)
 		return -1;
-	if (g->projected) {
-		/* the chord of a straight grid side drawn straight between
-		 * longitude-latitude points bulges up to d^2/8R: inset */
-		double d = fmax(g->w0, g->h0) * g->cell;
-		double in = (2 * g->cell + d * d / (8 * RMIN)) / 111000.0;
-		lo[0] += in / cos(fmin(89, fmax(fabs(lo[1]), fabs(lo[3]))) *
-		    M_PI / 180), lo[2] -= in / cos(fmin(89, fmax(fabs(lo[1]),
-		    fabs(lo[3]))) * M_PI / 180);
-		lo[1] += in, lo[3] -= in;
-	}
 	g->r[0] = fmin(lo[0], lo[2]), g->r[2] = fmax(lo[0], lo[2]);
 	g->r[1] = fmin(lo[1], lo[3]), g->r[3] = fmax(lo[1], lo[3]);
 	if (!(g->r[0] >= -180 && g->r[2] <= 180 && g->r[1] >= -90 &&
-	    g->r[3] <= 90 && (g->projected ? lo[0] < lo[2] && lo[1] < lo[3] :
-	    1)))
+	    g->r[3] <= 90))
 		return tl_fail(e, "the DEM's longitudes %.9g .. %.9g, latitudes "
 		    "%.9g .. %.9g: not a rectangle within -180 .. 180, "
 		    "-90 .. 90", lo[0], lo[2], lo[1], lo[3]);

@@ -35,14 +35,15 @@ int qm_horizon(const double dir[3], const double *p, int n, double out[3]);
  * latitude (degrees), affine for a geographic DEM (lon = ax + bx I,
  * lat = ay + by J), through PROJ for a projected one; the rectangle r
  * (west, south, east, north) of the terrain made from it: the DEM's
- * extent when geographic, the largest rectangle inside its footprint,
- * inset, when projected; and per pyramid level and block the longitude,
- * latitude box of its vertices (4 each). */
+ * extent when geographic; when projected the box fp of its footprint
+ * widened by level 0's band (tr_rim_band); and per pyramid level and
+ * block the longitude, latitude box of its vertices (4 each). */
 typedef struct {
 	int projected;
 	double ax, bx, ay, by;
 	int w0, h0;             /* level-0 size */
 	double r[4];
+	double fp[4];           /* projected: the box of the side samples */
 	double cell;            /* metres: the longest level-0 step */
 	double **box;           /* per level: 4 per block */
 } tr_grid;
@@ -63,6 +64,9 @@ typedef struct {
 	int *tri;               /* 3 per triangle */
 	int nt, ct;
 	int *hash, hcap;        /* (x, y) -> vertex + 1 */
+	unsigned char *rim;     /* projected DEMs: per triangle, 1 past the
+	                         * footprint (tr_rim.c); else NULL */
+	int crim;
 } tr_mesh;
 
 /* A selection triangle: longitudes, latitudes, heights. */
@@ -126,6 +130,23 @@ double *tr_area_normals(const tr_mesh *m, const double *pos);
 /* The part of selection triangle t inside r (x0, y0, x1, y1), into m
  * (tr_clip.c). */
 int tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e);
+
+/* A projected DEM (tr_rim.c): selection triangle t (level p, block b
+ * and its vertices' lon, lat) cut to the DEM's grid rectangle, into
+ * w->sel where it meets r; -1 when out of memory or PROJ fails. */
+int tr_rim_sel(tr_work *w, const tr_choice *c, const pyramid_block *b,
+    const double *lon, const double *lat, const int t[3][2],
+    const double r[4]);
+/* The width, in level-0 cells, of the band the terrain of level z (tr_grid.c)
+ * carries a projected DEM's edge heights past its sides: a quarter cell
+ * and eight quanta of u, v, so that no sample at the edge is drawn by
+ * the ellipsoid and the band holds its turn through quantisation. */
+double tr_rim_band(const tr_grid *g, int z);
+/* The mesh of tile (x, y) from w->sel: the footprint's part of each
+ * cell, the ellipsoid over the rest of it (m->rim marking it). */
+int tr_rim_tile(tr_work *w, const tr_choice *c, int x, int y, tl_err *e);
+/* The triangle just appended takes triangle from's m->rim mark. */
+int tr_rim_inherit(tr_mesh *m, int from, tl_err *e);
 
 /* Quantise, order, decode w->m for tile (z, x, y): fills u, v, q, pos,
  * the triangles counter-clockwise in u, v; *minh, *maxh the header's

@@ -121,8 +121,15 @@ unsplit(tr_work *w, const int d[3], tl_err *e)
 			int p = k[i], q = k[(i + 1) % 3], c = k[(i + 2) % 3];
 			if (!((p == a && q == b) || (p == b && q == a)))
 				continue;
+			/* a projected DEM's sliver turned over (tr_rim.c):
+			 * only into the triangle that now holds mid */
+			int t1[3] = { p, mid, c }, t2[3] = { mid, q, c };
+			if (m->rim && (qarea(w, t1) <= 0 || qarea(w, t2) <= 0))
+				continue;
 			k[0] = p, k[1] = mid, k[2] = c;
-			return tr_mesh_tri(m, mid, q, c, e);
+			if (tr_mesh_tri(m, mid, q, c, e) < 0)
+				return -1;
+			return tr_rim_inherit(m, t, e);
 		}
 	}
 	return 0;
@@ -211,12 +218,15 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 			k[1] = k[2], k[2] = s;
 		}
 		if (qarea(w, k) <= 0) {
-			if (qarea(w, k) == 0 && k[0] != k[1] && k[1] != k[2] &&
+			if ((qarea(w, k) == 0 || m->rim) && k[0] != k[1] &&
+			    k[1] != k[2] &&
 			    k[0] != k[2] && ndrop < (int)(sizeof drop /
 			    sizeof drop[0]))
 				memcpy(drop[ndrop++], k, sizeof drop[0]);
 			continue;
 		}
+		if (m->rim)
+			m->rim[nt] = m->rim[t];
 		memmove(m->tri + 3 * nt++, k, 3 * sizeof *k);
 	}
 	m->nt = nt;
@@ -431,7 +441,9 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 			}
 			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
-			d[0] = fmax(d[0], fabs(hs - flat(w, q, lon[k], lat[k])));
+			/* past a projected DEM's footprint, the sample itself */
+			d[0] = fmax(d[0], fabs(hs - (w->m.rim && w->m.rim[q] ?
+			    b->z[k] : flat(w, q, lon[k], lat[k]))));
 			d[1] = fmax(d[1], fabs(hs - b->z[k]));
 		}
 	}

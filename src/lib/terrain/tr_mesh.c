@@ -4,7 +4,8 @@
  * part over the DEM clipped from the selection (tr_clip.c), the part past
  * it the ellipsoid (height 0): a frame of four trapezoids around the DEM
  * in a cell the DEM's edge crosses, fanned onto the DEM's edge vertices,
- * two triangles in a cell it misses. */
+ * two triangles in a cell it misses. A projected DEM's selection is cut
+ * to its grid (tr_cut.c) and its cells made by tr_rim.c. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -100,6 +101,12 @@ emit(void *ctx, const int t[3][2])
 	tr_tri q;
 	double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
 
+	if (w->g->projected) { /* cut to the DEM's grid (tr_cut.c) */
+		if (!s->failed && tr_rim_sel(w, s->c, s->b, s->lon, s->lat, t,
+		    s->r) < 0)
+			s->failed = 1;
+		return;
+	}
 	for (int k = 0; k < 3; k++) {
 		int c = t[k][0] - s->b->bi * BT_CELLS;
 		int r = t[k][1] - s->b->bj * BT_CELLS;
@@ -270,6 +277,8 @@ tr_mesh_tile(tr_work *w, const tr_choice *ch, int x, int y, tl_err *e)
 	tr_tile_rect(ch->z, x, y, t);
 	if (select_tile(w, ch, t, e) < 0)
 		return -1;
+	if (w->g->projected)
+		return tr_rim_tile(w, ch, x, y, e);
 	/* the DEM first, so that a cell corner on its edge takes its height;
 	 * per row of cells the triangles meeting it, in their order */
 	for (int j = 0; j < n; j++) {

@@ -208,7 +208,8 @@ check_pyramid(const tr_args *a, const pyramid_index *ix, tl_err *e)
 }
 
 /* The deepest level and the tiles of each level: those the terrain's
- * rectangle covers with some area, and both roots. */
+ * rectangle covers with some area (a projected DEM's: the box of its
+ * footprint widened by the level's band, tr_rim_band), and both roots. */
 static void
 plan(const tr_grid *g, int *maxz, int (*av)[4])
 {
@@ -220,12 +221,20 @@ plan(const tr_grid *g, int *maxz, int (*av)[4])
 		++*maxz;
 	av[0][0] = 0, av[0][1] = 0, av[0][2] = 1, av[0][3] = 0;
 	for (int z = 1; z <= *maxz; z++) {
-		double w = ldexp(180, -z);
+		double w = ldexp(180, -z), r[4] = { g->r[0], g->r[1], g->r[2],
+			g->r[3] };
 		int nx = 2 << z, ny = 1 << z;
-		av[z][0] = (int)floor((g->r[0] + 180) / w);
-		av[z][2] = (int)ceil((g->r[2] + 180) / w) - 1;
-		av[z][1] = (int)floor((g->r[1] + 90) / w);
-		av[z][3] = (int)ceil((g->r[3] + 90) / w) - 1;
+		if (g->projected) {
+			double m = (tr_rim_band(g, z) + 0.01) * g->cell / 111000.0;
+			double c = cos(fmin(89, fmax(fabs(g->fp[1]),
+			    fabs(g->fp[3]))) * M_PI / 180);
+			r[0] = g->fp[0] - m / c, r[2] = g->fp[2] + m / c;
+			r[1] = g->fp[1] - m, r[3] = g->fp[3] + m;
+		}
+		av[z][0] = (int)floor((r[0] + 180) / w);
+		av[z][2] = (int)ceil((r[2] + 180) / w) - 1;
+		av[z][1] = (int)floor((r[1] + 90) / w);
+		av[z][3] = (int)ceil((r[3] + 90) / w) - 1;
 		for (int k = 0; k < 2; k++) {
 			int m = k ? ny : nx;
 			av[z][k] = av[z][k] < 0 ? 0 : av[z][k] >= m ? m - 1 :
