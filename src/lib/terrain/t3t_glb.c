@@ -62,8 +62,10 @@ bounds(const tr_work *w, double *meta)
 		    (p[2] - c[2]) * (p[2] - c[2])));
 	}
 	meta[5] = r * (1 + 1e-9) + 1e-3;
-	/* a root tile has no point seeing every vertex: as qm_encode */
-	(void)qm_horizon(c, w->pos, n, meta + 6);
+	/* a root tile has no point seeing every vertex: NaN, never
+	 * culled, as qm_encode writes it */
+	if (qm_horizon(c, w->pos, n, meta + 6) < 0)
+		meta[6] = meta[7] = meta[8] = NAN;
 }
 
 static void

@@ -85,11 +85,13 @@ check_meta(const t3c_meta *m, int z, int x, int y, qm_report *r)
 	int bad = !isfinite(m->hmin) || !isfinite(m->hmax) ||
 	    m->hmin > m->hmax || !isfinite(m->sphere[3]) || m->sphere[3] < 0;
 
+	/* an occlusion point of NaN (none exists: a root tile) is never
+	 * culled, as in the .terrain header; infinities are refused */
 	for (int k = 0; k < 3; k++)
-		bad |= !isfinite(m->sphere[k]) || !isfinite(m->hop[k]);
+		bad |= !isfinite(m->sphere[k]) || isinf(m->hop[k]);
 	if (bad)
 		qm_issue_add(r, QM_HEADER, z, x, y, "TILE_* metadata not "
-		    "finite, or minimum height %g over maximum %g, or radius "
+		    "finite (the occlusion point may be NaN), or minimum height %g over maximum %g, or radius "
 		    "%g", m->hmin, m->hmax, m->sphere[3]);
 }
 
