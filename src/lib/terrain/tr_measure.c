@@ -388,11 +388,12 @@ least(const locator *l, int t, double su, double sv)
 static int
 locate(const locator *l, double su, double sv, int hint)
 {
-	int b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0), best = -1;
+	int b, best = -1;
 	double bv = -INFINITY;
 
 	if (hint >= 0 && least(l, hint, su, sv) > 1e-9)
 		return hint;
+	b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0);
 	for (int i = l->start[b]; i < l->start[b + 1]; i++) {
 		double mn = least(l, l->list[i], su, sv);
 		if (mn > bv)
@@ -424,6 +425,7 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
 	int hint = -1;
+	double d0 = d[0], d1 = d[1];
 
 	if (b == NULL)
 		return -1;
@@ -463,10 +465,11 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 			}
 			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
-			d[0] = dmax(d[0], fabs(hs - flat(l, q, lon[k], lat[k])));
-			d[1] = dmax(d[1], fabs(hs - b->z[k]));
+			d0 = dmax(d0, fabs(hs - flat(l, q, lon[k], lat[k])));
+			d1 = dmax(d1, fabs(hs - b->z[k]));
 		}
 	}
+	d[0] = d0, d[1] = d1;
 	return 0;
 }
 
