@@ -215,13 +215,11 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 	x = w->clon[s], y = w->clat[s];
 	/* geographic: a column's longitude, a row's latitude, once */
 	int n = w->g->projected ? PYRAMID_N : BT_SIZE;
-	for (int r = 0; r < BT_SIZE; r++)
-		for (int c = 0; c < BT_SIZE; c++) {
-			x[r * BT_SIZE + c] = (double)(bi * BT_CELLS + c) * (1 << l);
-			y[r * BT_SIZE + c] = (double)(bj * BT_CELLS + r) * (1 << l);
-		}
-	for (int k = 0; n == BT_SIZE && k < BT_SIZE; k++)
-		y[k] = y[k * BT_SIZE];
+	for (int k = 0; k < n; k++) {
+		x[k] = (double)(bi * BT_CELLS + k % BT_SIZE) * (1 << l);
+		y[k] = (double)(bj * BT_CELLS + (n == BT_SIZE ? k : k /
+		    BT_SIZE)) * (1 << l);
+	}
 	if (tr_lonlat(w->g, &w->proj, &w->ix->geo, x, y, n, e) < 0)
 		return NULL;
 	for (int k = PYRAMID_N - 1; n == BT_SIZE && k >= BT_SIZE; k--)

@@ -494,7 +494,9 @@ tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
 		(t[3] - r[1]) / (r[3] - r[1]) * QM_MAX };
 	if (locate_init(w, &l, uv, e) < 0)
 		goto done;
-	for (int k = 0; k < L0->blocks[0] * L0->blocks[1]; k++) {
+	/* last to first: the blocks the selection read last (level 0 at
+	 * the deep levels) are still in the cache */
+	for (int k = L0->blocks[0] * L0->blocks[1] - 1; k >= 0; k--) {
 		const double *o = w->g->box[0] + 4 * k;
 		if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3])
 			continue;
