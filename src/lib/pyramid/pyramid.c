@@ -198,9 +198,11 @@ block_content(const char *path, pyramid_block *b, tl_err *e)
 			return tl_fail(e, "%s: vertex (%d,%d): E %g: %s", path,
 			    c, r, b->e[k], corner(k) ? "a corner's E must be "
 			    "FLT_MAX" : "not a finite error >= 0");
-		lo = fmin(lo, b->z[k]), hi = fmax(hi, b->z[k]);
-		if (!corner(k))
-			b->emax = fmax(b->emax, b->e[k]);
+		/* finite here: comparisons, not libm's fmin and fmax calls
+		 * (vgis2terrain reads a block once per level) */
+		lo = b->z[k] < lo ? b->z[k] : lo, hi = b->z[k] > hi ? b->z[k] : hi;
+		if (!corner(k) && b->e[k] > b->emax)
+			b->emax = b->e[k];
 	}
 	if (lo != b->zmin || hi != b->zmax)
 		return tl_fail(e, "%s: Z ranges %.9g..%.9g, vgis:zrange says "

@@ -248,13 +248,19 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 	if (pyramid_block_load(w->dir, w->ix, b, e) < 0)
 		return NULL;
 	x = w->clon[s], y = w->clat[s];
-	for (int r = 0; r < BT_SIZE; r++)
-		for (int c = 0; c < BT_SIZE; c++) {
-			x[r * BT_SIZE + c] = (double)(bi * BT_CELLS + c) * (1 << l);
-			y[r * BT_SIZE + c] = (double)(bj * BT_CELLS + r) * (1 << l);
-		}
-	if (tr_lonlat(w->g, &w->proj, &w->ix->geo, x, y, PYRAMID_N, e) < 0)
+	/* geographic: a column's longitude, a row's latitude, once */
+	int n = w->g->projected ? PYRAMID_N : BT_SIZE;
+	for (int k = 0; k < n; k++) {
+		x[k] = (double)(bi * BT_CELLS + k % BT_SIZE) * (1 << l);
+		y[k] = (double)(bj * BT_CELLS + (n == BT_SIZE ? k : k /
+		    BT_SIZE)) * (1 << l);
+	}
+	if (tr_lonlat(w->g, &w->proj, &w->ix->geo, x, y, n, e) < 0)
 		return NULL;
+	for (int k = PYRAMID_N - 1; n == BT_SIZE && k >= BT_SIZE; k--)
+		x[k] = x[k % BT_SIZE], y[k] = y[k / BT_SIZE];
+	for (int k = BT_SIZE - 1; n == BT_SIZE && k > 0; k--)
+		y[k] = y[0];
 	w->cused[s] = 1;
 	w->ckey[s][0] = l, w->ckey[s][1] = bi, w->ckey[s][2] = bj;
 	*lon = x, *lat = y;

@@ -116,6 +116,13 @@ const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj,
 void tr_tile_rect(int z, int x, int y, double r[4]);
 double tr_lattice_lon(int z, int x, int n, int k);
 double tr_lattice_lat(int z, int y, int n, int k);
+/* Tile i (0 .. nx ny - 1) of a level's nx x ny in the order the threads
+ * take them: strips of tile columns about one level-0 block wide, each
+ * row by row, so that consecutive tiles read the blocks the thread's
+ * cache holds (row-major order reread every block once per row of
+ * tiles). Every order writes the same files. */
+void tr_tile_at(const tr_grid *g, int z, int nx, int ny, int i, int *x,
+    int *y);
 
 /* The mesh of tile (x, y) under choice c (tr_mesh.c). */
 int tr_mesh_tile(tr_work *w, const tr_choice *c, int x, int y, tl_err *e);

@@ -263,12 +263,28 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 
 /* The triangles by bucket of a grid over the part of the u, v square
  * that holds samples (the tile within the terrain's rectangle), about
- * one triangle a bucket. */
+ * one triangle a bucket; per triangle the terms of its barycentric
+ * coordinates in u, v and in longitude, latitude, computed once (the
+ * same operations per sample as computing them there). */
 typedef struct {
 	int *start, *list, nb;
 	double o[2], s[2];  /* bucket of (u, v): ((u, v) - o) * s */
 	double *plane;      /* per triangle: normal, offset (4) */
+	double *bq;         /* per triangle in u, v: x0 y0 x1 y1 x2 y2 d */
+	double *bf;         /* in lon, lat: the same, then h0, h1-h0, h2-h0 */
 } locator;
+
+static inline double
+dmin(double a, double b)
+{
+	return b < a ? b : a;
+}
+
+static inline double
+dmax(double a, double b)
+{
+	return b > a ? b : a;
+}
 
 static int
 bucket(const locator *l, double c, int k)
@@ -286,8 +302,8 @@ fill(tr_work *w, locator *l, int pass)
 		const int *k = w->m.tri + 3 * t;
 		double lo[2] = { QM_MAX, QM_MAX }, hi[2] = { 0, 0 };
 		for (int j = 0; j < 3; j++) {
-			lo[0] = fmin(lo[0], w->u[k[j]]), hi[0] = fmax(hi[0], w->u[k[j]]);
-			lo[1] = fmin(lo[1], w->v[k[j]]), hi[1] = fmax(hi[1], w->v[k[j]]);
+			lo[0] = dmin(lo[0], w->u[k[j]]), hi[0] = dmax(hi[0], w->u[k[j]]);
+			lo[1] = dmin(lo[1], w->v[k[j]]), hi[1] = dmax(hi[1], w->v[k[j]]);
 		}
 		if (hi[0] < l->o[0] || hi[1] < l->o[1] ||
 		    lo[0] > l->o[0] + l->nb / l->s[0] ||
@@ -304,11 +320,39 @@ fill(tr_work *w, locator *l, int pass)
 	}
 }
 
+/* Triangle t's planes: ECEF (decoded), barycentric terms in u, v and in
+ * longitude, latitude. */
+static void
+planes(const tr_work *w, locator *l, int t)
+{
+	const tr_mesh *m = &w->m;
+	const int *k = m->tri + 3 * t;
+	const double *a = w->pos + 3 * k[0], *b = w->pos + 3 * k[1],
+	    *c = w->pos + 3 * k[2];
+	double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+	double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+	double *p = l->plane + 4 * t, *q = l->bq + 7 * t, *f = l->bf + 10 * t;
+
+	p[0] = u[1] * v[2] - u[2] * v[1], p[1] = u[2] * v[0] - u[0] * v[2];
+	p[2] = u[0] * v[1] - u[1] * v[0];
+	p[3] = p[0] * a[0] + p[1] * a[1] + p[2] * a[2];
+	q[0] = w->u[k[0]], q[1] = w->v[k[0]];
+	q[2] = w->u[k[1]] - q[0], q[3] = w->v[k[1]] - q[1];
+	q[4] = w->u[k[2]] - q[0], q[5] = w->v[k[2]] - q[1];
+	q[6] = q[2] * q[5] - q[4] * q[3];
+	f[0] = m->x[k[0]], f[1] = m->y[k[0]];
+	f[2] = m->x[k[1]] - f[0], f[3] = m->y[k[1]] - f[1];
+	f[4] = m->x[k[2]] - f[0], f[5] = m->y[k[2]] - f[1];
+	f[6] = f[2] * f[5] - f[4] * f[3];
+	f[7] = m->h[k[0]], f[8] = m->h[k[1]] - f[7], f[9] = m->h[k[2]] - f[7];
+}
+
 static int
 locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
 {
 	tr_mesh *m = &w->m;
 	int nb = (int)ceil(sqrt((double)m->nt)), n;
+	size_t nt = (size_t)(m->nt ? m->nt : 1);
 
 	l->nb = nb < 8 ? 8 : nb > 512 ? 512 : nb, n = l->nb * l->nb;
 	for (int k = 0; k < 2; k++) {
@@ -316,9 +360,10 @@ locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
 		l->s[k] = l->nb / (uv[k + 2] - uv[k] + 2);
 	}
 	l->start = calloc((size_t)n + 1, sizeof *l->start);
-	l->plane = malloc((size_t)(m->nt ? m->nt : 1) * 4 * sizeof *l->plane);
+	l->plane = malloc(nt * 21 * sizeof *l->plane);
 	if (!l->start || !l->plane)
 		return tl_fail(e, "tile: out of memory");
+	l->bq = l->plane + 4 * nt, l->bf = l->bq + 7 * nt;
 	fill(w, l, 0);
 	for (int i = 0; i < n; i++)
 		l->start[i + 1] += l->start[i];
@@ -329,32 +374,21 @@ locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
 	for (int i = n; i > 0; i--)
 		l->start[i] = l->start[i - 1];
 	l->start[0] = 0;
-	for (int t = 0; t < m->nt; t++) {
-		const int *k = m->tri + 3 * t;
-		const double *a = w->pos + 3 * k[0], *b = w->pos + 3 * k[1],
-		    *c = w->pos + 3 * k[2];
-		double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-		double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-		double *p = l->plane + 4 * t;
-		p[0] = u[1] * v[2] - u[2] * v[1], p[1] = u[2] * v[0] - u[0] * v[2];
-		p[2] = u[0] * v[1] - u[1] * v[0];
-		p[3] = p[0] * a[0] + p[1] * a[1] + p[2] * a[2];
-	}
+	for (int t = 0; t < m->nt; t++)
+		planes(w, l, t);
 	return 0;
 }
 
 /* The least barycentric coordinate of (su, sv) in triangle t. */
-static double
-least(const tr_work *w, int t, double su, double sv)
+static inline double
+least(const locator *l, int t, double su, double sv)
 {
-	const int *k = w->m.tri + 3 * t;
-	double x0 = w->u[k[0]], y0 = w->v[k[0]];
-	double x1 = w->u[k[1]] - x0, y1 = w->v[k[1]] - y0;
-	double x2 = w->u[k[2]] - x0, y2 = w->v[k[2]] - y0;
-	double d = x1 * y2 - x2 * y1, px = su - x0, py = sv - y0;
-	double b1 = (px * y2 - x2 * py) / d, b2 = (x1 * py - px * y1) / d;
+	const double *q = l->bq + 7 * t;
+	double px = su - q[0], py = sv - q[1];
+	double b1 = (px * q[5] - q[4] * py) / q[6];
+	double b2 = (q[2] * py - px * q[3]) / q[6];
 
-	return fmin(1 - b1 - b2, fmin(b1, b2));
+	return dmin(1 - b1 - b2, dmin(b1, b2));
 }
 
 /* The triangle over (su, sv): the one of its bucket with the largest
@@ -362,15 +396,16 @@ least(const tr_work *w, int t, double su, double sv)
  * triangle, hint, when the point is well inside it: no other triangle
  * then comes near (they do not overlap), the bucket's answer is it. */
 static int
-locate(const tr_work *w, const locator *l, double su, double sv, int hint)
+locate(const locator *l, double su, double sv, int hint)
 {
-	int b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0), best = -1;
+	int b, best = -1;
 	double bv = -INFINITY;
 
-	if (hint >= 0 && least(w, hint, su, sv) > 1e-9)
+	if (hint >= 0 && least(l, hint, su, sv) > 1e-9)
 		return hint;
+	b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0);
 	for (int i = l->start[b]; i < l->start[b + 1]; i++) {
-		double mn = least(w, l->list[i], su, sv);
+		double mn = least(l, l->list[i], su, sv);
 		if (mn > bv)
 			bv = mn, best = l->list[i];
 	}
@@ -380,17 +415,15 @@ locate(const tr_work *w, const locator *l, double su, double sv, int hint)
 /* The selection's surface at (lon, lat): the plane, in longitude,
  * latitude and height, of mesh triangle q before quantisation (a piece
  * of a selected triangle, in its plane). */
-static double
-flat(const tr_work *w, int q, double lon, double lat)
+static inline double
+flat(const locator *l, int q, double lon, double lat)
 {
-	const int *k = w->m.tri + 3 * q;
-	const double *x = w->m.x, *y = w->m.y, *h = w->m.h;
-	double x1 = x[k[1]] - x[k[0]], y1 = y[k[1]] - y[k[0]];
-	double x2 = x[k[2]] - x[k[0]], y2 = y[k[2]] - y[k[0]];
-	double d = x1 * y2 - x2 * y1, px = lon - x[k[0]], py = lat - y[k[0]];
-	double b1 = (px * y2 - x2 * py) / d, b2 = (x1 * py - px * y1) / d;
+	const double *f = l->bf + 10 * q;
+	double px = lon - f[0], py = lat - f[1];
+	double b1 = (px * f[5] - f[4] * py) / f[6];
+	double b2 = (f[2] * py - px * f[3]) / f[6];
 
-	return h[k[0]] + b1 * (h[k[1]] - h[k[0]]) + b2 * (h[k[2]] - h[k[0]]);
+	return f[7] + b1 * f[8] + b2 * f[9];
 }
 
 static int
@@ -402,6 +435,7 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
 	int hint = -1;
+	double d0 = d[0], d1 = d[1];
 
 	if (b == NULL)
 		return -1;
@@ -424,7 +458,7 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 			if (lon[k] < t[0] || lon[k] > t[2] || lat[k] < t[1] ||
 			    lat[k] > t[3])
 				continue;
-			int q = hint = locate(w, l, (lon[k] - r[0]) / wd * QM_MAX,
+			int q = hint = locate(l, (lon[k] - r[0]) / wd * QM_MAX,
 			    (lat[k] - r[1]) / wd * QM_MAX, hint);
 			if (q < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
@@ -442,11 +476,12 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
 			/* past a projected DEM's footprint, the sample itself */
-			d[0] = fmax(d[0], fabs(hs - (w->m.rim && w->m.rim[q] ?
-			    b->z[k] : flat(w, q, lon[k], lat[k]))));
-			d[1] = fmax(d[1], fabs(hs - b->z[k]));
+			d0 = dmax(d0, fabs(hs - (w->m.rim && w->m.rim[q] ?
+			    b->z[k] : flat(l, q, lon[k], lat[k]))));
+			d1 = dmax(d1, fabs(hs - b->z[k]));
 		}
 	}
+	d[0] = d0, d[1] = d1;
 	return 0;
 }
 
@@ -471,7 +506,9 @@ tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
 		(t[3] - r[1]) / (r[3] - r[1]) * QM_MAX };
 	if (locate_init(w, &l, uv, e) < 0)
 		goto done;
-	for (int k = 0; k < L0->blocks[0] * L0->blocks[1]; k++) {
+	/* last to first: the blocks the selection read last (level 0 at
+	 * the deep levels) are still in the cache */
+	for (int k = L0->blocks[0] * L0->blocks[1] - 1; k >= 0; k--) {
 		const double *o = w->g->box[0] + 4 * k;
 		if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3])
 			continue;

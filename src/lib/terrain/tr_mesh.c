@@ -43,6 +43,17 @@ tr_lattice_lat(int z, int y, int n, int k)
 	return -90 + ((double)y * n + k) * ldexp(180, -z - lg2(n));
 }
 
+void
+tr_tile_at(const tr_grid *g, int z, int nx, int ny, int i, int *x, int *y)
+{
+	double res = g->projected ? g->cell / 111320.0 : fabs(g->bx);
+	double s = BT_CELLS * res / ldexp(180, -z);
+	int sw = s < 1 ? 1 : s > nx ? nx : (int)s, k = i / (sw * ny);
+	int r = i % (sw * ny), n = nx - k * sw < sw ? nx - k * sw : sw;
+
+	*x = k * sw + r % n, *y = r / n;
+}
+
 /* --- the selection over the tile ----------------------------------- */
 
 typedef struct {

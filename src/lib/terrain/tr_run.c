@@ -30,7 +30,7 @@ typedef struct {
 	int *failed;
 	const char *tmp;
 	tr_choice c;
-	int x0, y0, nx;
+	int x0, y0, nx, ny;
 	t3t_set *t3;      /* -f 3dtiles, else NULL */
 } job;
 
@@ -77,10 +77,12 @@ run_range(void *arg, int k, int i0, int i1)
 {
 	job *j = arg;
 
-	for (int i = i0; i < i1 && !j->failed[k]; i++)
-		if (one_tile(j, &j->w[k], j->x0 + i % j->nx, j->y0 + i / j->nx,
-		    &j->err[k]) < 0)
+	for (int i = i0; i < i1 && !j->failed[k]; i++) {
+		int x, y;
+		tr_tile_at(j->w[k].g, j->c.z, j->nx, j->ny, i, &x, &y);
+		if (one_tile(j, &j->w[k], j->x0 + x, j->y0 + y, &j->err[k]) < 0)
 			j->failed[k] = 1;
+	}
 }
 
 /* The pyramid level for tolerance tau: the coarsest undisplaced one
@@ -148,6 +150,7 @@ do_level(job *j, tl_pool *pool, int nt, int z, const int av[4],
 	int n = (av[2] - av[0] + 1) * (av[3] - av[1] + 1);
 
 	j->x0 = av[0], j->y0 = av[1], j->nx = av[2] - av[0] + 1;
+	j->ny = av[3] - av[1] + 1;
 	for (int t = 0; t < TRIES; t++) {
 		double err = 0, direct = 0;
 		choose(j->w[0].ix, z, t, &j->c);
