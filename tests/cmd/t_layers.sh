@@ -34,6 +34,8 @@ headers() {
 	epoxy) echo 'epoxy/' ;;
 	glfw3) echo 'GLFW/' ;;
 	stb) echo 'stb_[a-z_]*\.h' ;;
+	libpng) echo 'png\.h|pngconf\.h' ;;
+	libwebp) echo 'webp/' ;;
 	OpenImageIO) echo 'OpenImageIO/' ;;
 	*) echo "unknown-package-$1" ;;
 	esac
