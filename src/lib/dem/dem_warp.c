@@ -179,17 +179,21 @@ dem_mwriter_open(const char *out, const dem_mgrid *g, tl_err *e)
 	dem_mwriter *w;
 	char *wkt = NULL;
 	double gt[6];
+	dem_gdal_msg m;
 	GDALDriverH drv;
 
 	dem_gdal_init();
 	if ((w = tl_alloc(1, sizeof *w, e)) == NULL)
 		return NULL;
 	drv = GDALGetDriverByName("GTiff");
+	dem_gdal_catch(&m);
 	w->ds = drv ? GDALCreate(drv, out, g->w, g->h, 1, GDT_Float32,
 	    (char **)co) : NULL;
+	dem_gdal_release();
 	if (w->ds == NULL) {
 		free(w);
-		tl_fail(e, "%s: GDAL cannot create it", out);
+		tl_fail(e, "%s: %s", out, m.msg[0] ? m.msg :
+		    "GDAL cannot create it");
 		return NULL;
 	}
 	mgrid_gt(g, gt);

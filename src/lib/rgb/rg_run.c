@@ -270,6 +270,8 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 	s = rep->maxzoom - rep->minzoom < RG_SEG ?
 	    rep->maxzoom - rep->minzoom : RG_SEG;
 	rg_grid_of(&g, rep->maxzoom, a->dim, ll, s, rep->pad);
+	if (a->dump != NULL && mkdir(a->dump, 0777) < 0 && errno != EEXIST)
+		return tl_failsys(e, "%s", a->dump);
 	if (scratch_begin(&sc, "dem2rgb", e) < 0)
 		return -1;
 	j.scratch = sc.path;
