@@ -55,7 +55,7 @@ int rg_run(const rg_args *a, rg_report *r, tl_err *e);
  * Terrarium: h = R 256 + G + B / 256 - 32768 (steps of 1/256 m, heights
  * -32768 .. 32768 - 1/256); Mapbox Terrain-RGB: h = -10000 + (R 65536 +
  * G 256 + B) / 10 (steps of 0.1 m, -10000 .. 1667721.5). A height is
- * rounded to the nearest step (halves away from zero of the code). */
+ * rounded to the nearest step (a half step up). */
 double rg_step(enum rg_encoding enc);
 const char *rg_encoding_name(enum rg_encoding enc); /* TileJSON's */
 /* The 24-bit code of h, or -1 when h is outside the encoding's range
