@@ -90,8 +90,7 @@ ld       = $(call archives,$(1)) -Wl,--as-needed \
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis2terrain vgis-job \
-           dem2rgb
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis2terrain vgis-job dem2rgb
 CMDOBJS := $(patsubst src/cmd/%.c,$(B)/cmd/%.o,$(filter-out $(PROGS:%=src/cmd/%.c),$(wildcard src/cmd/*.c)))
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.

@@ -42,7 +42,8 @@ rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
 	    "encoding", rg_encoding_name(a->enc), "tileSize", a->dim,
 	    "vertical_datum", rep->vdatum[0] ? rep->vdatum :
 	    "not declared (heights as the DEM holds them)",
-	    "method", solve_mode_name(a->mode),
+	    "method", a->mode == SOLVE_FILTERED ? "average" :
+	    solve_mode_name(a->mode),
 	    "resampling", a->cubic ? "cubic" : "bilinear",
 	    "generator", "dem2rgb " TL_VERSION, "error", errors(rep));
 	if (t == NULL)
