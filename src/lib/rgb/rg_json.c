@@ -2,7 +2,6 @@
  * what MapLibre's raster-dem source reads (tiles, zooms, bounds,
  * encoding, tileSize) and, in fields of their own, the vertical datum,
  * the method and the measured error per zoom. */
-#include <jansson.h>
 #include <stdio.h>
 
 #include "rgb/rg_impl.h"
