@@ -168,6 +168,31 @@ diff -r "$T/t1" "$T/t1c" >/dev/null; ok $? "-j 1 and -j 2: byte-identical trees"
 run "replace" dem2rgb -q "$T/srtm.tif" "$T/t1b"
 diff -r "$T/t1" "$T/t1b" >/dev/null; ok $? "an existing tree replaced"
 
+# heights: orthometric by default, the datum in tiles.json; -H
+# ellipsoid moves them by the geoid (about -20 m here); an ellipsoidal
+# DEM (-D ellipsoid) comes back to EGM96
+gdal_translate -q -a_srs EPSG:4326+5773 "$T/srtm.tif" "$T/egm.tif"
+/usr/bin/python3 "$TOP/tests/tools/ellipsoidal.py" "$T/egm.tif" "$T/ell.tif"
+dem2rgb -q -z 9 --dump "$T/dA" "$T/egm.tif" "$T/tA" &&
+    dem2rgb -q -z 9 -H ellipsoid --dump "$T/dB" "$T/egm.tif" "$T/tB" &&
+    dem2rgb -q -z 9 -D ellipsoid --dump "$T/dC" "$T/ell.tif" "$T/tC"
+ok $? "datums: three exports"
+grep -q '"vertical_datum": "EPSG:5773"' "$T/tA/tiles.json" &&
+    grep -q '"vertical_datum": "EPSG:4979"' "$T/tB/tiles.json" &&
+    grep -q '"vertical_datum": "EPSG:5773"' "$T/tC/tiles.json"
+ok $? "datums: EPSG:5773 as declared, EPSG:4979 with -H ellipsoid, EPSG:5773 from an ellipsoidal DEM"
+/usr/bin/python3 - "$T" <<'PY' >"$T/check" 2>&1
+import sys
+from osgeo import gdal
+t = sys.argv[1]
+a, b, c = (gdal.Open("%s/%s/9.tif" % (t, d)).ReadAsArray() for d in ("dA", "dB", "dC"))
+print((b - a).min(), (b - a).max(), abs(c - a).max())
+assert -22 < (b - a).min() and (b - a).max() < -19
+assert abs(c - a).max() < 0.05
+PY
+ok $? "datums: -H ellipsoid 19 to 22 m lower (EGM96 here), the ellipsoidal DEM's heights back within 5 cm"
+sed 's/^/#   /' "$T/check" | head -3
+
 # failures
 /usr/bin/python3 - "$T/srtm.tif" "$T/high.tif" "$T/low.tif" <<'PY'
 import sys

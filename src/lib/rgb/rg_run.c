@@ -94,9 +94,12 @@ segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
 	ng->z = -1;
 	if ((d = dem_open(path, o, e)) == NULL)
 		return -1;
+	/* the warped grid declares no datum: the source's (or -D) unless
+	 * converted (-H) */
 	if (k == 0)
 		snprintf(rep->vdatum, sizeof rep->vdatum, "%s",
-		    dem_georef(d)->vdatum);
+		    dem_georef(d)->vdatum[0] || o->vdatum == NULL ?
+		    dem_georef(d)->vdatum : o->vdatum);
 	for (int l = s.first; l < s.nl; l++) {
 		dem_mgrid lg = { g->z - l, g->dim, g->x0 >> l, g->y0 >> l,
 		    geo_level_size(g->w, l), geo_level_size(g->h, l) };
