@@ -57,7 +57,7 @@ dem_warp_mercator(const char *path, int has_nodata, double nodata,
 	    te[2], te[3], "-ts", ts[0], ts[1], "-r",
 	    cubic ? "cubic" : "bilinear", "-ot", "Float32", "-dstnodata",
 	    "nan", "-of", "GTiff", "-co", "TILED=YES", "-co",
-	    "COMPRESS=NONE", "-co", "BIGTIFF=IF_SAFER", "-wm", "16",
+	    "COMPRESS=NONE", "-co", "BIGTIFF=IF_SAFER", "-wm", "16", "-et", "0",
 	    "-multi", "-wo", nt, "-q",
 	    has_nodata ? "-srcnodata" : NULL, nd, NULL };
 	dem_gdal_catch(&m);
