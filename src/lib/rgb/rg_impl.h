@@ -4,6 +4,8 @@
 #ifndef TL_RG_IMPL_H
 #define TL_RG_IMPL_H
 
+#include <stdint.h>
+
 #include "rgb/rgb.h"
 #include "dem/dem_warp.h"
 #include "base/pool.h"
@@ -14,14 +16,17 @@
  * level's heights on a grid aligned anew. */
 #define RG_SEG 5
 
+#define RG_VALID 0x1000000u /* a band pixel over a valid vertex */
+
 typedef struct {
 	dem_mgrid g;              /* the zoom's vertex grid */
 	long long tx0;            /* first tile column of the band */
 	int ntx;                  /* tile columns covering the grid */
 	long long ty;             /* tile row in the band, -1: empty */
 	int rlo, rhi;             /* band rows filled: rlo .. rhi - 1 */
-	float *z;                 /* the band: dim rows of ntx dim heights */
-	unsigned char *v;         /* their validity */
+	uint32_t *c;              /* the band: dim rows of ntx dim pixels,
+	                           * each its 24-bit code | RG_VALID; freed
+	                           * after the zoom's last row */
 	int fd;                   /* scratch: decoded heights, w x h floats */
 	dem_mwriter *dz, *dv;     /* the dump's heights and validity */
 	long long tiles, bytes;
@@ -41,6 +46,7 @@ typedef struct {
 	tl_err *terr;             /* per thread: a failure */
 	int *tfail;
 	float *row;               /* a grid row of the widest zoom */
+	uint32_t *code;           /* its codes */
 	rg_zoom zoom[RG_MAXZOOM + 1];
 } rg_job;
 

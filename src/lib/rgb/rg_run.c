@@ -210,7 +210,7 @@ job_free(rg_job *j)
 	for (int k = 0; j->rgb != NULL && k < j->nt; k++)
 		free(j->rgb[k]);
 	free(j->rgb), free(j->terr), free(j->tfail);
-	free(j->img), free(j->imgn), free(j->row);
+	free(j->img), free(j->imgn), free(j->row), free(j->code);
 	if (j->pool)
 		tl_pool_free(j->pool);
 }
@@ -225,11 +225,14 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 	dem_opts o;
 	dem_mgrid g = *g0, ng;
 	dem *ref = NULL;
-	int r;
+	/* the widest grid: a later segment's is at most w / 32 + 2 wide
+	 * plus under 32 of alignment */
+	int rw = g.w > 64 ? g.w : 64, r;
 
 	snprintf(path, sizeof path, "%s/seg0.tif", j->scratch);
 	if (warp_opts(a, &o, vd, sizeof vd, e) < 0 ||
-	    (j->row = tl_alloc(g.w, sizeof *j->row, e)) == NULL ||
+	    (j->row = tl_alloc(rw, sizeof *j->row, e)) == NULL ||
+	    (j->code = tl_alloc(rw, sizeof *j->code, e)) == NULL ||
 	    dem_warp_mercator(a->dem, a->dopt.has_nodata, a->dopt.nodata,
 	    &g, a->cubic, a->jobs, path, e) < 0)
 		return -1;

@@ -34,8 +34,7 @@ rg_zoom_open(rg_job *j, int z, const dem_mgrid *g, tl_err *e)
 	zz->tx0 = floordiv(g->x0, dim);
 	zz->ntx = floordiv(g->x0 + g->w - 1, dim) - (int)zz->tx0 + 1;
 	n = (size_t)zz->ntx * dim * dim;
-	if ((zz->z = tl_alloc(n, sizeof *zz->z, e)) == NULL ||
-	    (zz->v = tl_alloc(n, 1, e)) == NULL)
+	if ((zz->c = tl_alloc(n, sizeof *zz->c, e)) == NULL)
 		return -1;
 	if (zz->ntx > j->nimg) {
 		free(j->img), free(j->imgn);
@@ -67,8 +66,8 @@ rg_zoom_close(rg_zoom *zz)
 {
 	tl_err e;
 
-	free(zz->z), free(zz->v);
-	zz->z = NULL, zz->v = NULL;
+	free(zz->c);
+	zz->c = NULL;
 	if (zz->fd >= 0)
 		close(zz->fd);
 	zz->fd = -1;
@@ -95,22 +94,19 @@ encode_tiles(void *arg, int k, int t0, int t1)
 
 	for (int t = t0; t < t1; t++) {
 		unsigned char *rgb = j->rgb[k];
-		int any = 0;
+		uint32_t any = 0;
 
 		j->img[t] = NULL;
-		for (int r = 0; r < dim && !any; r++)
-			any = memchr(zz->v + (size_t)r * bw + t * dim, 1,
-			    dim) != NULL;
-		if (!any || j->tfail[k])
-			continue;
 		for (int r = 0; r < dim; r++)
 			for (int i = 0; i < dim; i++) {
-				long c = rg_code(j->a->enc,
-				    zz->z[(size_t)r * bw + t * dim + i]);
+				uint32_t c = zz->c[(size_t)r * bw + t * dim + i];
 				unsigned char *p = rgb + ((size_t)r * dim + i) * 3;
-				assert(c >= 0); /* checked as the rows came */
-				p[0] = c >> 16, p[1] = c >> 8 & 255, p[2] = c & 255;
+				any |= c;
+				p[0] = c >> 16 & 255, p[1] = c >> 8 & 255;
+				p[2] = c & 255;
 			}
+		if (!(any & RG_VALID) || j->tfail[k])
+			continue;
 		if (rg_image(j->a->fmt, rgb, dim, &j->img[t], &j->imgn[t],
 		    &j->terr[k]) < 0)
 			j->tfail[k] = 1;
@@ -148,14 +144,12 @@ flush(rg_job *j, int z, tl_err *e)
 	char p[4300];
 	int r = 0;
 
-	for (int y = 0; y < zz->rlo; y++) {
-		memcpy(zz->z + y * bw, zz->z + zz->rlo * bw, bw * sizeof *zz->z);
-		memset(zz->v + y * bw, 0, bw);
-	}
-	for (int y = zz->rhi; y < dim; y++) {
-		memcpy(zz->z + y * bw, zz->z + (zz->rhi - 1) * bw,
-		    bw * sizeof *zz->z);
-		memset(zz->v + y * bw, 0, bw);
+	for (int y = 0; y < dim; y++) {
+		int from = y < zz->rlo ? zz->rlo : y >= zz->rhi ? zz->rhi - 1 : y;
+		if (from != y)
+			for (size_t i = 0; i < bw; i++)
+				zz->c[y * bw + i] = zz->c[from * bw + i] &
+				    ~RG_VALID;
 	}
 	memset(j->tfail, 0, j->nt * sizeof *j->tfail);
 	tl_pool_for(j->pool, zz->ntx, encode_tiles, &b);
@@ -205,8 +199,7 @@ rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
 	int dim = j->a->dim, w = g->w, off;
 	long long y = g->y0 + r;
 	size_t bw = (size_t)zz->ntx * dim;
-	float *bz;
-	unsigned char *bv;
+	uint32_t *bc;
 
 	assert(zz->on && r < g->h);
 	for (int i = 0; i < w; i++) {
@@ -214,6 +207,7 @@ rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
 
 		if (c < 0)
 			return range_fail(j, z, r, i, h[i], e);
+		j->code[i] = (uint32_t)c | (v[i] > 0 ? RG_VALID : 0);
 		j->row[i] = (float)rg_decode(j->a->enc, c);
 	}
 	if (tl_pwrite(zz->fd, j->row, (size_t)w * sizeof *j->row,
@@ -232,17 +226,21 @@ rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
 	if (zz->ty < 0)
 		zz->ty = y / dim, zz->rlo = (int)(y - zz->ty * dim);
 	zz->rhi = (int)(y - zz->ty * dim) + 1;
-	bz = zz->z + (size_t)(zz->rhi - 1) * bw;
-	bv = zz->v + (size_t)(zz->rhi - 1) * bw;
+	bc = zz->c + (size_t)(zz->rhi - 1) * bw;
 	off = (int)(g->x0 - zz->tx0 * dim);
 	/* columns past the grid: its edge heights, not valid */
 	for (size_t i = 0; i < bw; i++) {
 		long k = (long)i - off;
 		k = k < 0 ? 0 : k >= w ? w - 1 : k;
-		bz[i] = (float)h[k];
-		bv[i] = (long)i - off == k && v[k] > 0;
+		bc[i] = (long)i - off == k ? j->code[k] : j->code[k] & ~RG_VALID;
 	}
-	if (zz->rhi == dim || r == g->h - 1)
-		return flush(j, z, e);
+	if (zz->rhi < dim && r < g->h - 1)
+		return 0;
+	if (flush(j, z, e) < 0)
+		return -1;
+	if (r == g->h - 1) { /* the zoom's last row: its band is done */
+		free(zz->c);
+		zz->c = NULL;
+	}
 	return 0;
 }
