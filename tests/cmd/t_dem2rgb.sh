@@ -4,10 +4,11 @@
 # the images, the formulas are written out here): every pixel within half
 # a step of the height the chain intended (--dump), the tiles exactly
 # those whose pixels hold a valid vertex, inside the TileJSON's bounds,
-# each over a valid DEM sample; tiles.json's fields; QEM-1D's error under
-# averaging's; reruns and -j 1 / -j 2 byte-identical; heights past the
-# encoding's range, an unwritable output, an output on the input refused;
-# a killed run leaves nothing.
+# each over a valid DEM sample, pixels past the DEM within its range;
+# tiles.json's fields; the datums; QEM-1D's error under averaging's;
+# reruns and -j 1 / -j 2 byte-identical; heights past the encoding's
+# range, an unwritable output, an output on the input refused; a killed
+# run leaves nothing.
 . "$(dirname "$0")/../lib.sh"
 
 # 513 x 513 samples at 1", relief 0 - 1061 m, 961 voids
@@ -43,6 +44,7 @@ s.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)
 t.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)
 ct = osr.CoordinateTransformation(s, t)
 ll = np.array(ct.TransformPoints(np.c_[px, py]))
+lo, hi = a[jj, ii].min(), a[jj, ii].max()
 mx = ll[:, 0] * math.pi / 180 * 6378137
 my = 6378137 * np.log(np.tan(math.pi / 4 + ll[:, 1] * math.pi / 360))
 b = tj["bounds"]
@@ -97,6 +99,10 @@ for z in range(tj["minzoom"], tj["maxzoom"] + 1):
         d = np.abs(h - want_h).max()
         if d > step / 2 + 1e-6:
             bad.append("zoom %d tile %d/%d: a pixel %.5f m off" % (z, x, y, d))
+        # past the DEM and in its voids the fill's heights: at maxzoom
+        # inside the DEM's range, no wall to 0 or -10000
+        if z == tj["maxzoom"] and not (lo - 0.01 <= h.min() and h.max() <= hi + 0.01):
+            bad.append("zoom %d tile %d/%d: %.2f .. %.2f past the DEM's %.2f .. %.2f" % (z, x, y, h.min(), h.max(), lo, hi))
         ntiles += 1
 print("tiles %d" % ntiles)
 for m in bad[:10]:
