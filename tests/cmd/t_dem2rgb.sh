@@ -217,6 +217,10 @@ fails "terrarium: 40000 m refused" 1 "outside the terrarium encoding's range" \
 run "mapbox: 40000 m taken" dem2rgb -q -z 8 -e mapbox "$T/high.tif" "$T/hi"
 fails "mapbox: -12000 m refused" 1 "outside the mapbox encoding's range" \
     dem2rgb -q -z 8 -e mapbox "$T/low.tif" "$T/lo"
+gdal_translate -q -srcwin 0 0 64 64 "$DATA/N48W125.hgt" "$T/void.tif"
+fails "a DEM of voids only refused" 1 "void.tif .*no valid samples" \
+    dem2rgb -q "$T/void.tif" "$T/void"
+[ ! -e "$T/void" ]; ok $? "... and no output"
 : >"$T/file"
 fails "unwritable output" 1 "dem2rgb: .*file" dem2rgb -q -z 8 "$T/srtm.tif" "$T/file/out"
 mkdir -p "$T/in"; cp "$T/srtm.tif" "$T/in/"

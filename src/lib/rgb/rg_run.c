@@ -92,8 +92,14 @@ segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
 	int r = -1;
 
 	ng->z = -1;
-	if ((d = dem_open(path, o, e)) == NULL)
-		return -1;
+	if ((d = dem_open(path, o, e)) == NULL) {
+		/* the message names the scratch file: name the DEM */
+		char why[sizeof e->msg];
+		const char *m = strstr(e->msg, ".tif: ");
+		snprintf(why, sizeof why, "%s", m != NULL ? m + 6 : e->msg);
+		return tl_fail(e, "%s (on the zoom-%d grid): %s", j->a->dem,
+		    g->z, why);
+	}
 	/* the warped grid declares no datum: the source's (or -D) unless
 	 * converted (-H) */
 	if (k == 0)
