@@ -171,6 +171,9 @@ flush(rg_job *j, int z, tl_err *e)
 			r = write_file(p, j->img[t], j->imgn[t], e);
 			zz->tiles++, zz->bytes += (long long)j->imgn[t];
 		}
+		if (r == 0 && j->a->sink != NULL)
+			r = j->a->sink(j->a->sink_ctx, z, zz->tx0 + t, zz->ty,
+			    j->img[t], j->imgn[t], e);
 		free(j->img[t]);
 		j->img[t] = NULL;
 	}

@@ -37,6 +37,14 @@ typedef struct {
 	const char *dump;       /* a directory for the zooms' intended
 	                         * heights (z.tif, dem_warp.h's grids), or
 	                         * NULL: for tests */
+	/* Each tile written, also handed here (NULL: none), e.g. to a
+	 * PMTiles writer: the encoded bytes of tile z/x/y, the same for any
+	 * thread count and in the same order (zooms interleaved as the
+	 * chain streams; a container sorts them itself). 0, or -1 with e
+	 * filled to fail the run. */
+	int (*sink)(void *ctx, int z, long long x, long long y,
+	    const unsigned char *p, size_t n, tl_err *e);
+	void *sink_ctx;
 } rg_args;
 
 typedef struct {
