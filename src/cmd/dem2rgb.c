@@ -10,8 +10,8 @@
 
 static const char usage[] =
     "[-cq] [-e terrarium|mapbox] [-f png|webp] [-m method] [-t 512|256]\n"
-    "    [-Z minzoom] [-z maxzoom] [-j jobs] [-H datum] [-D datum] "
-    "[-N nodata] DEM OUT\n"
+    "    [-Z minzoom] [-z maxzoom] [-j jobs] [-u url] [-H datum] "
+    "[-D datum]\n    [-N nodata] DEM OUT\n"
     "  -e encoding   terrarium (default) or mapbox (Terrain-RGB)\n"
     "  -f format     png (default) or webp (lossless)\n"
     "  -m method     qem1d (default), average or subsample\n"
@@ -22,6 +22,8 @@ static const char usage[] =
     "  -c            the warp resamples cubic (default bilinear)\n"
     "  -j jobs       threads (default: the CPUs)\n"
     "  -q            no report on stderr\n"
+    "  -u url        the tree's URL: tiles.json's tile URLs absolute\n"
+    "                (TileJSON 3.0.0 asks for it; default relative)\n"
     "  -H datum      heights in this vertical datum (default: the DEM's;\n"
     "                ellipsoidal DEMs converted to EGM96, EPSG:5773)\n"
     "  -D datum      the DEM's vertical datum, when it declares none\n"
@@ -100,6 +102,9 @@ option(cli *c, rg_args *a, int ch, const char *arg, tl_err *e)
 	case 'U':
 		a->dump = arg;
 		break;
+	case 'u':
+		a->url = arg;
+		break;
 	case 'H': case 'D': case 'N':
 		if (dem_option(&a->dopt, ch, arg, e) < 0)
 			return cli_bad(c, "%s", e->msg);
@@ -123,7 +128,7 @@ main(int argc, char **argv)
 	a.jobs = cli_jobs();
 	if (a.jobs > RG_MAXJOBS)
 		a.jobs = RG_MAXJOBS;
-	while ((ch = cli_next(&c, argc, argv, "ce:f:m:t:Z:z:j:qH:D:N:",
+	while ((ch = cli_next(&c, argc, argv, "ce:f:m:t:Z:z:j:qu:H:D:N:",
 	    longopts)) != -1) {
 		if (ch == 'q')
 			quiet = 1;

@@ -3,6 +3,7 @@
  * encoding, tileSize) and, in fields of their own, the vertical datum,
  * the method and the measured error per zoom. */
 #include <stdio.h>
+#include <string.h>
 
 #include "rgb/rg_impl.h"
 #include "base/json.h"
@@ -25,12 +26,18 @@ rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
     tl_err *e)
 {
 	const rg_args *a = j->a;
-	char tiles[64], path[4200];
+	char tiles[4200], path[4200];
 	int cz = rep->minzoom + (rep->maxzoom - rep->minzoom) / 2;
 	json_t *t;
 	int r;
 
-	snprintf(tiles, sizeof tiles, "{z}/{x}/{y}.%s", rg_format_ext(a->fmt));
+	/* TileJSON 3.0.0 wants absolute URLs: MapLibre resolves a relative
+	 * one against the page, not against tiles.json */
+	if (a->url != NULL && strlen(a->url) > 4000)
+		return tl_fail(e, "-u: a URL of over 4000 bytes");
+	snprintf(tiles, sizeof tiles, "%s%s{z}/{x}/{y}.%s", a->url ? a->url :
+	    "", a->url && *a->url && a->url[strlen(a->url) - 1] != '/' ? "/" :
+	    "", rg_format_ext(a->fmt));
 	snprintf(path, sizeof path, "%s/tiles.json", j->tree);
 	t = json_pack("{s:s,s:[s],s:s,s:i,s:i,s:[f,f,f,f],s:[f,f,i],"
 	    "s:s,s:i,s:s,s:s,s:s,s:s,s:o}",

@@ -34,6 +34,8 @@ typedef struct {
 	enum solve_mode mode;   /* QEM1D, FILTERED (-m average), SUBSAMPLE */
 	int cubic;              /* the warp's resampling: 0 bilinear */
 	int jobs;
+	const char *url;        /* -u: the tree's URL, for absolute tile
+	                         * URLs in tiles.json (NULL: relative) */
 	const char *dump;       /* a directory for the zooms' intended
 	                         * heights (z.tif, dem_warp.h's grids), or
 	                         * NULL: for tests */
