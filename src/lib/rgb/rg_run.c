@@ -243,14 +243,15 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 	    &g, a->cubic, a->jobs, path, e) < 0)
 		return -1;
 	r = segment(j, 0, &g, path, &o, &ng, &ref, rep, e);
+	rep->segments = 1;
 	/* the later segments' heights are converted already */
 	o.heights = NULL, o.vdatum = rep->vdatum[0] ? rep->vdatum : NULL;
 	for (int k = 1; r == 0 && ng.z >= 0; k++) {
 		g = ng;
 		snprintf(path, sizeof path, "%s/seg%d.tif", j->scratch, k);
 		r = segment(j, k, &g, path, &o, &ng, &ref, rep, e);
+		rep->segments++;
 	}
-	rep->segments = 0;
 	if (r == 0)
 		r = rg_error(j, ref, g0, rep, e);
 	if (ref != NULL)

@@ -54,8 +54,9 @@ typedef struct {
 	long long tiles[RG_MAXZOOM + 1], bytes[RG_MAXZOOM + 1];
 	long long n[RG_MAXZOOM + 1];    /* valid DEM samples measured */
 	double max[RG_MAXZOOM + 1], rms[RG_MAXZOOM + 1]; /* metres */
-	long long pad[2];               /* level-0 vertices of alignment */
-	int segments;
+	long long pad[2];               /* vertices of alignment added
+	                                 * (columns, rows), all segments */
+	int segments;                   /* of the chain */
 	char vdatum[256];
 } rg_report;
 
