@@ -27,7 +27,7 @@ WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 # (directly; what those use comes with them); pkgs_L: its packages.
 # Link lines, test rules and tests/cmd/t_layers.sh (make print-layers)
 # all derive from it.
-LAYERS := base geo raster dem qem pyramid pack verify play tiles3d terrain jobs
+LAYERS := base geo raster dem qem pyramid pack verify play tiles3d terrain rgb jobs
 uses_base    :=
 uses_geo     := base
 uses_raster  := base geo
@@ -39,6 +39,7 @@ uses_verify  := base geo raster dem pyramid
 uses_play    := base geo raster pyramid
 uses_tiles3d := base geo pyramid
 uses_terrain := base geo pyramid
+uses_rgb     := base geo raster dem qem pyramid
 uses_jobs    := base raster qem
 pkgs_base    := jansson zlib
 pkgs_geo     := proj geographiclib
@@ -47,6 +48,7 @@ libs_raster  := -lOpenEXRCore-3_1
 pkgs_dem     := gdal
 pkgs_play    := egl epoxy glfw3 stb
 pkgs_terrain := glu
+pkgs_rgb     := libpng libwebp
 # the programs: the layers each uses (cli.c, their shared start-up, uses
 # uses_cli; the other files of src/cmd, the work the programs share, are
 # build/libcmd.a, of which each links what it calls)
@@ -60,6 +62,7 @@ uses_tileplay   := play verify
 uses_dem2vgis   := jobs
 uses_vgis2tiles := tiles3d
 uses_vgis2terrain := terrain
+uses_dem2rgb    := rgb
 uses_vgis-job   := jobs pack
 # what a layer's tests use beside it: the packer's results are checked by
 # the independent checker
@@ -88,7 +91,7 @@ ld       = $(call archives,$(1)) -Wl,--as-needed \
 objs     = $(patsubst src/lib/%.c,$(B)/lib/%.o,$(wildcard src/lib/$(1)/*.c)) \
            $(patsubst src/lib/%.cpp,$(B)/lib/%.o,$(filter-out %/oiio_plugin.cpp,$(wildcard src/lib/$(1)/*.cpp)))
 
-PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis2terrain vgis-job
+PROGS   := dem2fqm fqmfilter fqmsolve tilepack tileplay tilecheck dem2vgis vgis2tiles vgis2terrain vgis-job dem2rgb
 CMDOBJS := $(patsubst src/cmd/%.c,$(B)/cmd/%.o,$(filter-out $(PROGS:%=src/cmd/%.c),$(wildcard src/cmd/*.c)))
 # OpenImageIO costs 130 MB of RSS just by being linked (260 shared libraries):
 # it lives in a plugin loaded only for EXR input and PNG output.

@@ -35,6 +35,8 @@ headers() {
 	glfw3) echo 'GLFW/' ;;
 	glu) echo 'GL/glu\.h' ;;
 	stb) echo 'stb_[a-z_]*\.h' ;;
+	libpng) echo 'png\.h|pngconf\.h' ;;
+	libwebp) echo 'webp/' ;;
 	OpenImageIO) echo 'OpenImageIO/' ;;
 	*) echo "unknown-package-$1" ;;
 	esac

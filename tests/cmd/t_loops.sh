@@ -110,8 +110,8 @@ loops=$(grep -c '^loop ' "$T/loops")
 
 # The DEM reader reaches GDAL through its adapter's table of methods
 # (dem_impl.h): in libdem.a only the GDAL side (dem_gdal.h) calls GDAL,
-# and only its files include GDAL's headers.
-gdal_side="dem_gdal.o dem_gdal_env.o dem_pam.o dem_vrt.o dem_mosaic.o dem_mosaic_overlap.o dem_mosaic_tile.o"
+# and only its files include GDAL's headers (dem_warp.c: dem2rgb's warp).
+gdal_side="dem_gdal.o dem_gdal_env.o dem_pam.o dem_vrt.o dem_mosaic.o dem_mosaic_overlap.o dem_mosaic_tile.o dem_warp.o"
 bad=$(awk '$1 ~ /libdem\.a:/ && $2 == "U" &&
     $3 ~ /^(GDAL|CPL|CSL|OGR|OSR|VSI)/ {
 	split($1, p, ":"); print p[2] }' "$T/nm" | sort -u |
@@ -123,7 +123,7 @@ awk '$1 ~ /libdem\.a:dem_gdal\.o:/ && $2 == "U" && $3 ~ /^GDAL/' "$T/nm" |
     grep -q .
 ok $? "libdem.a: dem_gdal.o calls GDAL (the check above reads GDAL's symbols)"
 inc=$(cd "$TOP/src" && grep -lE '^#include <(gdal|cpl_|ogr_)' lib/*/* cmd/* |
-    grep -vE '^lib/dem/(dem_gdal(_env)?\.[ch]|dem_pam\.cpp|dem_vrt\.c|dem_mosaic(_overlap|_tile)?\.[ch])$' |
+    grep -vE '^lib/dem/(dem_gdal(_env)?\.[ch]|dem_pam\.cpp|dem_vrt\.c|dem_mosaic(_overlap|_tile)?\.[ch]|dem_warp\.c)$' |
     tr '\n' ' ')
 [ -z "$inc" ]; ok $? "GDAL's headers included by the GDAL adapter's files only ($inc)"
 done_testing

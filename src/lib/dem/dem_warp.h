@@ -1,0 +1,51 @@
+/* dem_warp.h - a DEM put on a Web Mercator grid by GDAL's warper, and a
+ * Web Mercator grid of heights written row by row: the GDAL side of
+ * dem2rgb(1) (the rgb layer reaches GDAL only through these).
+ *
+ * A grid is vertex-centred on the global Web Mercator pixel-corner grid of
+ * a zoom: vertex (i, j) stands at global vertex (x0 + i, y0 + j) of zoom
+ * z, i.e. at EPSG:3857 x = -PI R + (x0 + i) res, y = PI R - (y0 + j) res,
+ * res = 2 PI R / (dim 2^z), R = 6378137 m. The files are float32
+ * GeoTIFFs in EPSG:3857 whose pixel centres are those vertices, voids
+ * NaN (their nodata). */
+#ifndef TL_DEM_WARP_H
+#define TL_DEM_WARP_H
+
+#include "base/util.h"
+
+typedef struct {
+	int z, dim;        /* zoom and tile size: res = 2 PI R / (dim 2^z) */
+	long long x0, y0;  /* global vertex of grid vertex (0, 0) */
+	int w, h;          /* vertices */
+} dem_mgrid;
+
+#define DEM_MERC_HALF 20037508.342789244 /* PI R, metres */
+
+/* The grid's pixel size in metres of EPSG:3857. */
+double dem_mgrid_res(const dem_mgrid *g);
+
+/* The DEM path (any dataset GDAL opens; a source nodata, when
+ * has_nodata, overriding the file's) warped by GDAL onto g, bilinear
+ * (cubic: 1), its validity kept (nodata and mask: GDAL's warper weights
+ * only valid samples; a vertex with none is NaN), into the GeoTIFF out,
+ * on `threads` threads (the result is the same for any count). */
+int dem_warp_mercator(const char *path, int has_nodata, double nodata,
+    const dem_mgrid *g, int cubic, int threads, const char *out,
+    tl_err *e);
+
+/* The DEM's bounds in degrees of WGS84 (west, south, east, north), its
+ * centre latitude and its cell in ground metres there (the smaller of
+ * the two steps), from its header: for the zoom rule. */
+int dem_extent_wgs84(const char *path, double ll[4], double *cell,
+    tl_err *e);
+
+/* A grid written a row at a time (north first) as a GeoTIFF. */
+typedef struct dem_mwriter dem_mwriter;
+dem_mwriter *dem_mwriter_open(const char *out, const dem_mgrid *g,
+    tl_err *e);
+/* Row j (in order); NaN for a void. */
+int dem_mwriter_row(dem_mwriter *w, int j, const float *z, tl_err *e);
+/* Closes; 0, or -1 when a write failed (the file is then incomplete). */
+int dem_mwriter_close(dem_mwriter *w, tl_err *e);
+
+#endif

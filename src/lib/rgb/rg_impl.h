@@ -1,0 +1,85 @@
+/* rg_impl.h - inside the rgb layer: a zoom's grid, its band of tile rows
+ * and its scratch of encoded heights (rg_tiles.c), the quadric chain of
+ * a segment of zooms (rg_chain.c), the error pass (rg_error.c). */
+#ifndef TL_RG_IMPL_H
+#define TL_RG_IMPL_H
+
+#include <stdint.h>
+
+#include "rgb/rgb.h"
+#include "dem/dem_warp.h"
+#include "base/pool.h"
+
+/* A segment of the chain spans at most RG_SEG + 1 zooms: its level-0
+ * origin is aligned to 2^RG_SEG vertices, so the padding it costs is
+ * under 2^RG_SEG vertices a side; the zooms above restart from its top
+ * level's heights on a grid aligned anew. */
+#define RG_SEG 5
+
+#define RG_VALID 0x1000000u /* a band pixel over a valid vertex */
+
+typedef struct {
+	dem_mgrid g;              /* the zoom's vertex grid */
+	long long tx0;            /* first tile column of the band */
+	int ntx;                  /* tile columns covering the grid */
+	long long ty;             /* tile row in the band, -1: empty */
+	int rlo, rhi;             /* band rows filled: rlo .. rhi - 1 */
+	uint32_t *c;              /* the band: dim rows of ntx dim pixels,
+	                           * each its 24-bit code | RG_VALID; freed
+	                           * after the zoom's last row */
+	int fd;                   /* scratch: decoded heights, w x h floats */
+	dem_mwriter *dz, *dv;     /* the dump's heights and validity */
+	long long tiles, bytes;
+	int on;                   /* the zoom is made */
+} rg_zoom;
+
+typedef struct {
+	const rg_args *a;
+	const char *tree;         /* the tree being built (its temporary) */
+	const char *scratch;      /* the run's scratch directory */
+	tl_pool *pool;
+	int nt;
+	unsigned char **rgb;      /* per thread: dim x dim x 3 */
+	unsigned char **img;      /* per tile of a band: the encoded file */
+	size_t *imgn;
+	int nimg;
+	tl_err *terr;             /* per thread: a failure */
+	int *tfail;
+	float *row;               /* a grid row of the widest zoom */
+	uint32_t *code;           /* its codes */
+	rg_zoom zoom[RG_MAXZOOM + 1];
+} rg_job;
+
+/* rg_tiles.c: zoom z made on grid g (its band, scratch, dump opened). */
+int rg_zoom_open(rg_job *j, int z, const dem_mgrid *g, tl_err *e);
+/* Row r of the zoom's grid: heights h (filled) and validity v (> 0). */
+int rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
+    tl_err *e);
+void rg_zoom_close(rg_zoom *zz);
+
+/* rg_chain.c: the chain on the DEM d (a segment's level 0, g its grid):
+ * levels 0 .. nl - 1, each row handed to emit as it is solved. */
+typedef int (*rg_emit)(void *ctx, int level, int r, const double *h,
+    const double *v, int w, tl_err *e);
+int rg_chain(dem *d, int nl, enum solve_mode mode, rg_emit emit,
+    void *ctx, tl_err *e);
+
+/* rg_error.c: per zoom, the largest and RMS vertical distance between
+ * the bilinear surface of its decoded heights and every valid sample of
+ * ref (the DEM on the grid of zoom maxz, g). */
+int rg_error(rg_job *j, dem *ref, const dem_mgrid *g, rg_report *rep,
+    tl_err *e);
+
+/* rg_grid.c: g covering the WGS84 bounds ll at zoom z, its origin
+ * aligned down to a multiple of 2^s (pad: the columns, rows added); the
+ * next segment's grid, level s of g aligned anew to 2^s2. */
+void rg_grid_of(dem_mgrid *g, int z, int dim, const double ll[4], int s,
+    long long pad[2]);
+void rg_grid_next(dem_mgrid *n, const dem_mgrid *g, int s, int s2,
+    long long pad[2]);
+
+/* rg_json.c: OUT/tiles.json. */
+int rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
+    tl_err *e);
+
+#endif

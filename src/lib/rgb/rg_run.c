@@ -1,0 +1,302 @@
+/* rg_run.c - dem2rgb's work (rgb.h): the DEM warped onto the deepest
+ * zoom's grid, the chain run segment by segment (each restarting from the
+ * previous one's top level, aligned anew), the tiles of every zoom, the
+ * error pass, tiles.json, the tree committed at once. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "rgb/rg_impl.h"
+#include "base/outfile.h"
+#include "base/paths.h"
+#include "base/scratch.h"
+#include "geo/levels.h"
+#include "geo/vdatum.h"
+
+/* One segment: zooms zt .. zt - (nl - 1); its top level written, padded,
+ * as the next segment's DEM when next is not NULL. */
+typedef struct {
+	rg_job *j;
+	int zt, nl, first, minz;
+	dem_mwriter *next;
+	dem_mgrid ng;
+	long long pad[2];
+	int rows;        /* rows of the next grid written */
+	float *nrow;
+} seg;
+
+static int
+next_row(seg *s, const double *h, const double *v, int w, tl_err *e)
+{
+	int k;
+
+	for (; s->rows < s->pad[1]; s->rows++) {
+		for (k = 0; k < s->ng.w; k++)
+			s->nrow[k] = NAN;
+		if (dem_mwriter_row(s->next, s->rows, s->nrow, e) < 0)
+			return -1;
+	}
+	for (k = 0; k < s->ng.w; k++) {
+		long i = k - (long)s->pad[0];
+		s->nrow[k] = i >= 0 && i < w && v[i] > 0 ? (float)h[i] : NAN;
+	}
+	return dem_mwriter_row(s->next, s->rows++, s->nrow, e);
+}
+
+static int
+emit(void *ctx, int l, int r, const double *h, const double *v, int w,
+    tl_err *e)
+{
+	seg *s = ctx;
+	int z = s->zt - l;
+
+	if (l >= s->first && z >= s->minz &&
+	    rg_zoom_row(s->j, z, r, h, v, e) < 0)
+		return -1;
+	if (s->next != NULL && l == s->nl - 1)
+		return next_row(s, h, v, w, e);
+	return 0;
+}
+
+/* The rows of the next grid past the last level row: voids. */
+static int
+next_close(seg *s, tl_err *e)
+{
+	int r = 0;
+
+	for (int k = 0; k < s->ng.w; k++)
+		s->nrow[k] = NAN;
+	while (r == 0 && s->rows < s->ng.h)
+		r = dem_mwriter_row(s->next, s->rows++, s->nrow, e);
+	if (dem_mwriter_close(s->next, r < 0 ? &(tl_err){ 0 } : e) < 0)
+		r = -1;
+	s->next = NULL;
+	return r;
+}
+
+/* Segment k on grid g from the DEM file path (opened with o): its zooms
+ * made; the next grid in *ng, or ng->z < 0 after the last. *keep gets the
+ * open DEM of segment 0 (the error pass's reference). */
+static int
+segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
+    const dem_opts *o, dem_mgrid *ng, dem **keep, rg_report *rep, tl_err *e)
+{
+	int minz = j->a->minzoom;
+	int s1 = g->z - minz < RG_SEG ? g->z - minz : RG_SEG;
+	seg s = { j, g->z, s1 + 1, k > 0, minz, NULL, { 0 }, { 0 }, 0, NULL };
+	char p[4200];
+	dem *d;
+	int r = -1;
+
+	ng->z = -1;
+	if ((d = dem_open(path, o, e)) == NULL) {
+		/* the message names the scratch file: name the DEM */
+		char why[sizeof e->msg];
+		const char *m = strstr(e->msg, ".tif: ");
+		snprintf(why, sizeof why, "%s", m != NULL ? m + 6 : e->msg);
+		return tl_fail(e, "%s (on the zoom-%d grid): %s", j->a->dem,
+		    g->z, why);
+	}
+	/* the warped grid declares no datum: the source's (or -D) unless
+	 * converted (-H) */
+	if (k == 0)
+		snprintf(rep->vdatum, sizeof rep->vdatum, "%s",
+		    dem_georef(d)->vdatum[0] || o->vdatum == NULL ?
+		    dem_georef(d)->vdatum : o->vdatum);
+	for (int l = s.first; l < s.nl; l++) {
+		dem_mgrid lg = { g->z - l, g->dim, g->x0 >> l, g->y0 >> l,
+		    geo_level_size(g->w, l), geo_level_size(g->h, l) };
+		if (rg_zoom_open(j, g->z - l, &lg, e) < 0)
+			goto done;
+	}
+	if (g->z - s1 > minz) {
+		int s2 = g->z - s1 - minz < RG_SEG ? g->z - s1 - minz : RG_SEG;
+		rg_grid_next(&s.ng, g, s1, s2, s.pad);
+		rep->pad[0] += s.pad[0], rep->pad[1] += s.pad[1];
+		snprintf(p, sizeof p, "%s/seg%d.tif", j->scratch, k + 1);
+		if ((s.nrow = tl_alloc(s.ng.w, sizeof *s.nrow, e)) == NULL ||
+		    (s.next = dem_mwriter_open(p, &s.ng, e)) == NULL)
+			goto done;
+	}
+	r = rg_chain(d, s.nl, j->a->mode, emit, &s, e);
+	if (s.next != NULL && next_close(&s, r < 0 ? &(tl_err){ 0 } : e) < 0)
+		r = -1;
+	if (r == 0 && s.ng.w > 0)
+		*ng = s.ng;
+done:
+	if (s.next != NULL)
+		dem_mwriter_close(s.next, &(tl_err){ 0 });
+	free(s.nrow);
+	for (int l = s.first; l < s.nl; l++)
+		if (g->z - l >= minz) {
+			rep->tiles[g->z - l] = j->zoom[g->z - l].tiles;
+			rep->bytes[g->z - l] = j->zoom[g->z - l].bytes;
+		}
+	if (r == 0 && k == 0)
+		*keep = d;
+	else
+		dem_close(d);
+	return r;
+}
+
+/* An existing OUT is replaced only when it is a raster-dem tree. */
+static int
+check_out(const rg_args *a, tl_err *e)
+{
+	char p[4200];
+	struct stat st;
+	tl_paths s = { 0 };
+	int r;
+
+	r = dem_paths(&s, a->dem, e);
+	if (r == 0)
+		r = tl_paths_check(&s, a->out, e);
+	tl_paths_free(&s);
+	if (r < 0)
+		return -1;
+	if (stat(a->out, &st) < 0)
+		return errno == ENOENT ? 0 : tl_failsys(e, "%s", a->out);
+	snprintf(p, sizeof p, "%s/tiles.json", a->out);
+	if (!S_ISDIR(st.st_mode) || stat(p, &st) < 0)
+		return tl_fail(e, "%s: exists and is not a raster-dem tree "
+		    "(no tiles.json): not replaced", a->out);
+	return 0;
+}
+
+/* The options the warped DEM is opened with: the source's vertical
+ * datum (the warp drops it), heights orthometric unless -H says. */
+static int
+warp_opts(const rg_args *a, dem_opts *o, char *vd, size_t n, tl_err *e)
+{
+	dem_opts io = a->dopt;
+	dem *d;
+
+	io.heights = NULL;
+	if ((d = dem_open_info(a->dem, &io, e)) == NULL)
+		return -1;
+	snprintf(vd, n, "%s", dem_georef(d)->vdatum);
+	dem_close(d);
+	*o = a->dopt;
+	o->has_nodata = 0; /* the warp's voids are NaN */
+	if (o->vdatum == NULL && vd[0] != '\0')
+		o->vdatum = vd;
+	if (o->heights == NULL && o->vdatum != NULL &&
+	    vdatum_is_ellipsoid(o->vdatum))
+		o->heights = "EPSG:5773"; /* MapLibre's heights: above MSL */
+	return 0;
+}
+
+static int
+job_init(rg_job *j, const rg_args *a, tl_err *e)
+{
+	j->a = a;
+	if ((j->pool = tl_pool_new(a->jobs, e)) == NULL)
+		return -1;
+	j->nt = tl_pool_threads(j->pool);
+	if ((j->rgb = tl_alloc(j->nt, sizeof *j->rgb, e)) == NULL ||
+	    (j->terr = tl_alloc(j->nt, sizeof *j->terr, e)) == NULL ||
+	    (j->tfail = tl_alloc(j->nt, sizeof *j->tfail, e)) == NULL)
+		return -1;
+	for (int k = 0; k < j->nt; k++)
+		if ((j->rgb[k] = tl_alloc((size_t)a->dim * a->dim, 3, e)) ==
+		    NULL)
+			return -1;
+	return 0;
+}
+
+static void
+job_free(rg_job *j)
+{
+	for (int z = 0; z <= RG_MAXZOOM; z++)
+		if (j->zoom[z].on)
+			rg_zoom_close(&j->zoom[z]);
+	for (int k = 0; j->rgb != NULL && k < j->nt; k++)
+		free(j->rgb[k]);
+	free(j->rgb), free(j->terr), free(j->tfail);
+	free(j->img), free(j->imgn), free(j->row), free(j->code);
+	if (j->pool)
+		tl_pool_free(j->pool);
+}
+
+/* The segments, the error pass, tiles.json, all in the tree j->tree. */
+static int
+build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
+    tl_err *e)
+{
+	const rg_args *a = j->a;
+	char path[4200], vd[256];
+	dem_opts o;
+	dem_mgrid g = *g0, ng;
+	dem *ref = NULL;
+	/* the widest grid: a later segment's is at most w / 32 + 2 wide
+	 * plus under 32 of alignment */
+	int rw = g.w > 64 ? g.w : 64, r;
+
+	snprintf(path, sizeof path, "%s/seg0.tif", j->scratch);
+	if (warp_opts(a, &o, vd, sizeof vd, e) < 0 ||
+	    (j->row = tl_alloc(rw, sizeof *j->row, e)) == NULL ||
+	    (j->code = tl_alloc(rw, sizeof *j->code, e)) == NULL ||
+	    dem_warp_mercator(a->dem, a->dopt.has_nodata, a->dopt.nodata,
+	    &g, a->cubic, a->jobs, path, e) < 0)
+		return -1;
+	r = segment(j, 0, &g, path, &o, &ng, &ref, rep, e);
+	rep->segments = 1;
+	/* the later segments' heights are converted already */
+	o.heights = NULL, o.vdatum = rep->vdatum[0] ? rep->vdatum : NULL;
+	for (int k = 1; r == 0 && ng.z >= 0; k++) {
+		g = ng;
+		snprintf(path, sizeof path, "%s/seg%d.tif", j->scratch, k);
+		r = segment(j, k, &g, path, &o, &ng, &ref, rep, e);
+		rep->segments++;
+	}
+	if (r == 0)
+		r = rg_error(j, ref, g0, rep, e);
+	if (ref != NULL)
+		dem_close(ref);
+	if (r == 0)
+		r = rg_tilejson(j, rep, ll, e);
+	return r;
+}
+
+int
+rg_run(const rg_args *a, rg_report *rep, tl_err *e)
+{
+	rg_job j = { 0 };
+	tl_outfile od = { 0 };
+	scratch sc = { .lock = -1 };
+	double ll[4], cell;
+	dem_mgrid g;
+	int r = -1, s;
+
+	memset(rep, 0, sizeof *rep);
+	if (check_out(a, e) < 0 || dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
+		return -1;
+	rep->maxzoom = a->maxzoom >= 0 ? a->maxzoom :
+	    rg_maxzoom((ll[1] + ll[3]) / 2, cell, a->dim);
+	rep->minzoom = a->minzoom;
+	if (rep->minzoom > rep->maxzoom)
+		return tl_fail(e, "-Z %d: above the maxzoom %d", a->minzoom,
+		    rep->maxzoom);
+	s = rep->maxzoom - rep->minzoom < RG_SEG ?
+	    rep->maxzoom - rep->minzoom : RG_SEG;
+	rg_grid_of(&g, rep->maxzoom, a->dim, ll, s, rep->pad);
+	if (a->dump != NULL && mkdir(a->dump, 0777) < 0 && errno != EEXIST)
+		return tl_failsys(e, "%s", a->dump);
+	if (scratch_begin(&sc, "dem2rgb", e) < 0)
+		return -1;
+	j.scratch = sc.path;
+	if (job_init(&j, a, e) == 0 && tl_outdir_begin(&od, a->out, e) == 0) {
+		j.tree = od.tmp;
+		r = build(&j, &g, ll, rep, e);
+		if (r == 0)
+			r = tl_outdir_commit(&od, e);
+		if (r < 0)
+			tl_outdir_abort(&od);
+	}
+	job_free(&j);
+	scratch_end(&sc);
+	return r;
+}

@@ -1,0 +1,249 @@
+/* rg_tiles.c - a zoom's rows into its tiles: a band of dim rows of the
+ * tile columns covering the zoom's grid, cut into tiles when its last
+ * row comes (the tiles of a band encoded on the pool's threads, written
+ * in order), the decoded heights kept in a scratch file for the error
+ * pass, the intended heights dumped for the tests (rg_impl.h). */
+#include <assert.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "rgb/rg_impl.h"
+
+static int
+floordiv(long long a, int b)
+{
+	return (int)(a >= 0 ? a / b : -((-a + b - 1) / b));
+}
+
+int
+rg_zoom_open(rg_job *j, int z, const dem_mgrid *g, tl_err *e)
+{
+	rg_zoom *zz = &j->zoom[z];
+	int dim = j->a->dim;
+	char p[4200];
+	size_t n;
+
+	memset(zz, 0, sizeof *zz);
+	zz->g = *g, zz->ty = -1, zz->fd = -1, zz->on = 1;
+	zz->tx0 = floordiv(g->x0, dim);
+	zz->ntx = floordiv(g->x0 + g->w - 1, dim) - (int)zz->tx0 + 1;
+	n = (size_t)zz->ntx * dim * dim;
+	if ((zz->c = tl_alloc(n, sizeof *zz->c, e)) == NULL)
+		return -1;
+	if (zz->ntx > j->nimg) {
+		free(j->img), free(j->imgn);
+		j->nimg = zz->ntx;
+		if ((j->img = tl_alloc(j->nimg, sizeof *j->img, e)) == NULL ||
+		    (j->imgn = tl_alloc(j->nimg, sizeof *j->imgn, e)) == NULL)
+			return -1;
+	}
+	snprintf(p, sizeof p, "%s/z%d.f32", j->scratch, z);
+	if ((zz->fd = open(p, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC,
+	    0600)) < 0)
+		return tl_failsys(e, "%s", p);
+	if (j->a->dump != NULL) {
+		snprintf(p, sizeof p, "%s/%d.tif", j->a->dump, z);
+		if ((zz->dz = dem_mwriter_open(p, g, e)) == NULL)
+			return -1;
+		snprintf(p, sizeof p, "%s/%d.valid.tif", j->a->dump, z);
+		if ((zz->dv = dem_mwriter_open(p, g, e)) == NULL)
+			return -1;
+	}
+	snprintf(p, sizeof p, "%s/%d", j->tree, z);
+	if (mkdir(p, 0777) < 0 && errno != EEXIST)
+		return tl_failsys(e, "%s", p);
+	return 0;
+}
+
+void
+rg_zoom_close(rg_zoom *zz)
+{
+	tl_err e;
+
+	free(zz->c);
+	zz->c = NULL;
+	if (zz->fd >= 0)
+		close(zz->fd);
+	zz->fd = -1;
+	dem_mwriter_close(zz->dz, &e);
+	dem_mwriter_close(zz->dv, &e);
+	zz->dz = zz->dv = NULL;
+}
+
+typedef struct {
+	rg_job *j;
+	rg_zoom *zz;
+	int z;
+} band;
+
+/* Tile t of the band into j->img[t] (NULL when it holds no valid
+ * vertex): its pixels the band's codes. */
+static void
+encode_tiles(void *arg, int k, int t0, int t1)
+{
+	band *b = arg;
+	rg_job *j = b->j;
+	rg_zoom *zz = b->zz;
+	int dim = j->a->dim, bw = zz->ntx * dim;
+
+	for (int t = t0; t < t1; t++) {
+		unsigned char *rgb = j->rgb[k];
+		uint32_t any = 0;
+
+		j->img[t] = NULL;
+		for (int r = 0; r < dim; r++)
+			for (int i = 0; i < dim; i++) {
+				uint32_t c = zz->c[(size_t)r * bw + t * dim + i];
+				unsigned char *p = rgb + ((size_t)r * dim + i) * 3;
+				any |= c;
+				p[0] = c >> 16 & 255, p[1] = c >> 8 & 255;
+				p[2] = c & 255;
+			}
+		if (!(any & RG_VALID) || j->tfail[k])
+			continue;
+		if (rg_image(j->a->fmt, rgb, dim, &j->img[t], &j->imgn[t],
+		    &j->terr[k]) < 0)
+			j->tfail[k] = 1;
+	}
+}
+
+static int
+write_file(const char *path, const unsigned char *p, size_t n, tl_err *e)
+{
+	int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+	ssize_t k = 0;
+
+	if (fd < 0)
+		return tl_failsys(e, "%s", path);
+	while (n > 0 && (k = write(fd, p, n)) > 0)
+		p += k, n -= (size_t)k;
+	if (k < 0 || close(fd) < 0) {
+		int er = errno;
+		close(fd);
+		errno = er;
+		return tl_failsys(e, "%s", path);
+	}
+	return 0;
+}
+
+/* The band's rows outside the grid copy its nearest row, then its tiles
+ * are encoded and written. */
+static int
+flush(rg_job *j, int z, tl_err *e)
+{
+	rg_zoom *zz = &j->zoom[z];
+	int dim = j->a->dim;
+	size_t bw = (size_t)zz->ntx * dim;
+	band b = { j, zz, z };
+	char p[4300];
+	int r = 0;
+
+	for (int y = 0; y < dim; y++) {
+		int from = y < zz->rlo ? zz->rlo : y >= zz->rhi ? zz->rhi - 1 : y;
+		if (from != y)
+			for (size_t i = 0; i < bw; i++)
+				zz->c[y * bw + i] = zz->c[from * bw + i] &
+				    ~RG_VALID;
+	}
+	memset(j->tfail, 0, j->nt * sizeof *j->tfail);
+	tl_pool_for(j->pool, zz->ntx, encode_tiles, &b);
+	for (int k = 0; k < j->nt; k++)
+		if (j->tfail[k] && r == 0)
+			*e = j->terr[k], r = -1;
+	for (int t = 0; t < zz->ntx; t++) {
+		if (j->img[t] == NULL)
+			continue;
+		if (r == 0) {
+			snprintf(p, sizeof p, "%s/%d/%lld", j->tree, z,
+			    zz->tx0 + t);
+			if (mkdir(p, 0777) < 0 && errno != EEXIST)
+				r = tl_failsys(e, "%s", p);
+		}
+		if (r == 0) {
+			snprintf(p, sizeof p, "%s/%d/%lld/%lld.%s", j->tree, z,
+			    zz->tx0 + t, zz->ty, rg_format_ext(j->a->fmt));
+			r = write_file(p, j->img[t], j->imgn[t], e);
+			zz->tiles++, zz->bytes += (long long)j->imgn[t];
+		}
+		if (r == 0 && j->a->sink != NULL)
+			r = j->a->sink(j->a->sink_ctx, z, zz->tx0 + t, zz->ty,
+			    j->img[t], j->imgn[t], e);
+		free(j->img[t]);
+		j->img[t] = NULL;
+	}
+	zz->ty = -1;
+	return r;
+}
+
+static int
+range_fail(const rg_job *j, int z, int r, int i, double h, tl_err *e)
+{
+	double lo, hi;
+
+	rg_range(j->a->enc, &lo, &hi);
+	return tl_fail(e, "height %.3f m at zoom %d, vertex (%lld, %lld): "
+	    "outside the %s encoding's range %.4f .. %.4f m", h, z,
+	    j->zoom[z].g.x0 + i, j->zoom[z].g.y0 + r,
+	    rg_encoding_name(j->a->enc), lo, hi);
+}
+
+int
+rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
+    tl_err *e)
+{
+	rg_zoom *zz = &j->zoom[z];
+	const dem_mgrid *g = &zz->g;
+	int dim = j->a->dim, w = g->w, off;
+	long long y = g->y0 + r;
+	size_t bw = (size_t)zz->ntx * dim;
+	uint32_t *bc;
+
+	assert(zz->on && r < g->h);
+	for (int i = 0; i < w; i++) {
+		long c = rg_code(j->a->enc, (float)h[i]);
+
+		if (c < 0)
+			return range_fail(j, z, r, i, h[i], e);
+		j->code[i] = (uint32_t)c | (v[i] > 0 ? RG_VALID : 0);
+		j->row[i] = (float)rg_decode(j->a->enc, c);
+	}
+	if (tl_pwrite(zz->fd, j->row, (size_t)w * sizeof *j->row,
+	    (long long)r * w * (long long)sizeof *j->row, "scratch", e) < 0)
+		return -1;
+	if (zz->dz != NULL) {
+		for (int i = 0; i < w; i++)
+			j->row[i] = (float)h[i];
+		if (dem_mwriter_row(zz->dz, r, j->row, e) < 0)
+			return -1;
+		for (int i = 0; i < w; i++)
+			j->row[i] = v[i] > 0;
+		if (dem_mwriter_row(zz->dv, r, j->row, e) < 0)
+			return -1;
+	}
+	if (zz->ty < 0)
+		zz->ty = y / dim, zz->rlo = (int)(y - zz->ty * dim);
+	zz->rhi = (int)(y - zz->ty * dim) + 1;
+	bc = zz->c + (size_t)(zz->rhi - 1) * bw;
+	off = (int)(g->x0 - zz->tx0 * dim);
+	/* columns past the grid: its edge heights, not valid */
+	for (size_t i = 0; i < bw; i++) {
+		long k = (long)i - off;
+		k = k < 0 ? 0 : k >= w ? w - 1 : k;
+		bc[i] = (long)i - off == k ? j->code[k] : j->code[k] & ~RG_VALID;
+	}
+	if (zz->rhi < dim && r < g->h - 1)
+		return 0;
+	if (flush(j, z, e) < 0)
+		return -1;
+	if (r == g->h - 1) { /* the zoom's last row: its band is done */
+		free(zz->c);
+		zz->c = NULL;
+	}
+	return 0;
+}

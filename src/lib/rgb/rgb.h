@@ -1,0 +1,92 @@
+/* rgb.h - MapLibre / Mapbox raster-dem tiles from a DEM (dem2rgb(1)):
+ * the DEM warped onto the deepest zoom's Web Mercator vertex grid, every
+ * coarser zoom from the quadric chain on that grid (QEM-1D by default),
+ * each zoom cut into tiles whose pixels encode heights (Terrarium or
+ * Mapbox Terrain-RGB, PNG or lossless WebP), written as a z/x/y tree with
+ * a TileJSON 3.0.0 (raster-dem(5)), atomically; the error of the surface
+ * MapLibre draws from them measured per zoom.
+ *
+ * The grid: pixel i of a tile is a vertex, at tile coordinate i/dim
+ * (MapLibre's Terrain.getDEMElevation interpolates bilinearly between
+ * dem.get(floor(x dim)) and its +1 neighbour, DEMData backfills its
+ * border from the neighbour tiles), so tile (x, y)'s pixel (i, j) is
+ * global vertex (x dim + i, y dim + j) of its zoom, and vertex k of zoom
+ * z-1 is vertex 2k of zoom z: the project's level rule. */
+#ifndef TL_RGB_H
+#define TL_RGB_H
+
+#include "dem/dem.h"
+#include "qem/solve.h"
+
+#define RG_MAXZOOM 22
+#define RG_MAXJOBS 256
+
+enum rg_encoding { RG_TERRARIUM, RG_MAPBOX };
+enum rg_format { RG_PNG, RG_WEBP };
+
+typedef struct {
+	const char *dem, *out, *prog;
+	dem_opts dopt;          /* -N -s -H -D (-e is ours) */
+	int dim;                /* 512 or 256 */
+	int minzoom, maxzoom;   /* maxzoom -1: the rule (rg_maxzoom) */
+	enum rg_encoding enc;
+	enum rg_format fmt;
+	enum solve_mode mode;   /* QEM1D, FILTERED (-m average), SUBSAMPLE */
+	int cubic;              /* the warp's resampling: 0 bilinear */
+	int jobs;
+	const char *url;        /* -u: the tree's URL, for absolute tile
+	                         * URLs in tiles.json (NULL: relative) */
+	const char *dump;       /* a directory for the zooms' intended
+	                         * heights (z.tif, dem_warp.h's grids), or
+	                         * NULL: for tests */
+	/* Each tile written, also handed here (NULL: none), e.g. to a
+	 * PMTiles writer: the encoded bytes of tile z/x/y, the same for any
+	 * thread count and in the same order (zooms interleaved as the
+	 * chain streams; a container sorts them itself). 0, or -1 with e
+	 * filled to fail the run. */
+	int (*sink)(void *ctx, int z, long long x, long long y,
+	    const unsigned char *p, size_t n, tl_err *e);
+	void *sink_ctx;
+} rg_args;
+
+typedef struct {
+	int minzoom, maxzoom;
+	long long tiles[RG_MAXZOOM + 1], bytes[RG_MAXZOOM + 1];
+	long long n[RG_MAXZOOM + 1];    /* valid DEM samples measured */
+	double max[RG_MAXZOOM + 1], rms[RG_MAXZOOM + 1]; /* metres */
+	long long pad[2];               /* vertices of alignment added
+	                                 * (columns, rows), all segments */
+	int segments;                   /* of the chain */
+	char vdatum[256];
+} rg_report;
+
+int rg_run(const rg_args *a, rg_report *r, tl_err *e);
+
+/* --- the encodings (rg_encode.c) ---------------------------------------
+ * Terrarium: h = R 256 + G + B / 256 - 32768 (steps of 1/256 m, heights
+ * -32768 .. 32768 - 1/256); Mapbox Terrain-RGB: h = -10000 + (R 65536 +
+ * G 256 + B) / 10 (steps of 0.1 m, -10000 .. 1667721.5). A height is
+ * rounded to the nearest step (a half step up). */
+double rg_step(enum rg_encoding enc);
+const char *rg_encoding_name(enum rg_encoding enc); /* TileJSON's */
+/* The 24-bit code of h, or -1 when h is outside the encoding's range
+ * (or not finite). */
+long rg_code(enum rg_encoding enc, double h);
+double rg_decode(enum rg_encoding enc, long code);
+/* The range, for messages. */
+void rg_range(enum rg_encoding enc, double *lo, double *hi);
+
+/* --- the images (rg_image.c) -------------------------------------------
+ * A dim x dim RGB image (rows from the north, 3 bytes a pixel) as PNG or
+ * lossless WebP in memory: *buf malloc'd, *n its bytes. The same pixels
+ * give the same bytes. */
+int rg_image(enum rg_format f, const unsigned char *rgb, int dim,
+    unsigned char **buf, size_t *n, tl_err *e);
+const char *rg_format_ext(enum rg_format f);
+
+/* --- the zoom rule (rg_grid.c) ------------------------------------------
+ * The first zoom whose pixel at latitude lat (its ground size, Web
+ * Mercator's 2 PI R cos(lat) / (dim 2^z)) is finer than cell metres. */
+int rg_maxzoom(double lat, double cell, int dim);
+
+#endif
