@@ -27,7 +27,7 @@ WARN    := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wno-unused-parameter
 # (directly; what those use comes with them); pkgs_L: its packages.
 # Link lines, test rules and tests/cmd/t_layers.sh (make print-layers)
 # all derive from it.
-LAYERS := base geo raster dem qem pyramid pack verify play tiles3d terrain jobs
+LAYERS := base geo raster dem qem pyramid pack verify play tiles3d terrain rgb jobs
 uses_base    :=
 uses_geo     := base
 uses_raster  := base geo
@@ -39,6 +39,7 @@ uses_verify  := base geo raster dem pyramid
 uses_play    := base geo raster pyramid
 uses_tiles3d := base geo pyramid
 uses_terrain := base geo pyramid
+uses_rgb     := base geo raster dem qem pyramid
 uses_jobs    := base raster qem
 pkgs_base    := jansson zlib
 pkgs_geo     := proj geographiclib
