@@ -11,8 +11,10 @@
  *   directory does.
  * - pm_add copies a tile's bytes to the spool and keeps 24 bytes of it
  *   in memory (tile id, spool offset, length, hash): tiles come in any
- *   order, from any number of threads at once (pm_add locks). After a
- *   pm_add that failed only pm_abort remains.
+ *   order, from any number of threads at once (pm_add locks; the bytes
+ *   are copied before it returns). After a pm_add that failed only
+ *   pm_abort remains. Disk: the spool holds every tile given until
+ *   pm_close has copied each distinct content into the archive.
  * - pm_close sorts the tiles by tile id, stores each distinct content
  *   once (equal hash and length, then equal bytes), merges a run of
  *   consecutive tile ids of one content into one entry, and writes the
