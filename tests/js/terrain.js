@@ -1,10 +1,13 @@
-// terrain.js [--3dtiles] [--noskirts] [--imagery] [--lit] [--sse N]
-//     [--size WxH] [--shot OUT.png] [--samples FILE] TERRAIN W,S,E,N VIEW...:
+// terrain.js [--3dtiles] [--noskirts] [--imagery] [--lit] [--drape IMAGE]
+//     [--sse N] [--size WxH] [--shot OUT.png] [--samples FILE]
+//     TERRAIN W,S,E,N VIEW...:
 // the quantized-mesh terrain directory TERRAIN (layer.json and
 // {z}/{x}/{y}.terrain, served as plain files, no special headers) as
 // CesiumJS's globe terrain (CesiumTerrainProvider.fromUrl) in headless
 // Chromium, with a checkerboard draped on the rectangle W,S,E,N (degrees)
-// through SingleTileImageryProvider (terrain.html). Each VIEW
+// through SingleTileImageryProvider (terrain.html); --drape: the image
+// file IMAGE (PNG or JPEG, north up, covering W,S,E,N, e.g. gdaldem's
+// hillshade or color-relief of the DEM) instead, for pictures. Each VIEW
 // (lon,lat,height,heading,pitch[,levels]: degrees, metres above the
 // ellipsoid, degrees; least count of distinct levels drawn, default 1)
 // is drawn once every tile it wants is loaded and checked: no background
@@ -34,15 +37,16 @@ const fs = require('fs');
 const path = require('path');
 const { chromium } = require('playwright-core');
 
-const usage = 'usage: terrain.js [--3dtiles] [--noskirts] [--imagery] [--lit] [--sse N] [--size WxH] [--shot OUT.png] [--samples FILE] TERRAIN W,S,E,N VIEW...';
+const usage = 'usage: terrain.js [--3dtiles] [--noskirts] [--imagery] [--lit] [--drape IMAGE] [--sse N] [--size WxH] [--shot OUT.png] [--samples FILE] TERRAIN W,S,E,N VIEW...';
 const a = process.argv.slice(2);
-const opt = { t3: false, noskirts: false, imagery: false, lit: false, sse: 2, shot: null, samples: null, size: [480, 270] };
+const opt = { t3: false, noskirts: false, imagery: false, lit: false, drape: null, sse: 2, shot: null, samples: null, size: [480, 270] };
 while (a.length && a[0].startsWith('--')) {
 	const o = a.shift();
 	if (o === '--3dtiles') opt.t3 = true;
 	else if (o === '--noskirts') opt.noskirts = true;
 	else if (o === '--imagery') opt.imagery = true;
 	else if (o === '--lit') opt.lit = true;
+	else if (o === '--drape' && a.length) opt.drape = path.resolve(a.shift());
 	else if (o === '--sse' && a.length) opt.sse = Number(a.shift());
 	else if (o === '--shot' && a.length) opt.shot = a.shift();
 	else if (o === '--samples' && a.length) opt.samples = a.shift();
@@ -72,11 +76,12 @@ const roots = { '/terrain/': terrainDir,
     '/cesium/': path.join(__dirname, 'node_modules/cesium/Build/Cesium') };
 const types = { '.html': 'text/html', '.js': 'text/javascript',
     '.json': 'application/json', '.css': 'text/css',
-    '.wasm': 'application/wasm', '.png': 'image/png',
+    '.wasm': 'application/wasm', '.png': 'image/png', '.jpg': 'image/jpeg',
     '.svg': 'image/svg+xml', '.xml': 'text/xml' };
 const server = http.createServer((req, res) => {
 	const u = decodeURIComponent(new URL(req.url, 'http://x').pathname);
-	let f = u === '/' ? path.join(__dirname, 'terrain.html') : null;
+	let f = u === '/' ? path.join(__dirname, 'terrain.html') :
+	    u === '/drape' && opt.drape ? opt.drape : null;
 	for (const r in roots)
 		if (u.startsWith(r)) {
 			f = path.join(roots[r], path.normalize(u.slice(r.length)));
@@ -215,7 +220,8 @@ function fetched(got, maxzoom) {
 async function run(page, errors, got) {
 	await page.goto(`http://127.0.0.1:${server.address().port}/` +
 	    `?rect=${rect.join(',')}&sse=${opt.sse}${opt.t3 ? '&t3=1' : ''}` +
-	    `${opt.noskirts ? '&noskirts=1' : ''}${opt.lit ? '&lit=1' : ''}`);
+	    `${opt.noskirts ? '&noskirts=1' : ''}${opt.lit ? '&lit=1' : ''}` +
+	    `${opt.drape ? '&drape=1' : ''}`);
 	await page.evaluate(() => window.ready);
 	const maxzoom = await page.evaluate(() => window.maxzoom);
 	let failed = 0;
