@@ -90,8 +90,9 @@ step_check_stamp(cli *c, int argc, char **argv)
 		return st;
 	if (stamp_check(argv[optind], &e) == 0)
 		return CLI_OK;
-	cli_warn(c, "%s: a plan's jobs must all read the DEM it was made "
-	    "from; write the plan again (dem2vgis -f --plan)", e.msg);
+	cli_warn(c, "%s: a plan's jobs must all read the DEM (or, for "
+	    "vgis2terrain --plan, the pyramid) it was made from; write the "
+	    "plan again (dem2vgis -f --plan, vgis2terrain --plan)", e.msg);
 	return CLI_FAIL;
 }
 

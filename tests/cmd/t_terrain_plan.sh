@@ -8,7 +8,7 @@
 # spike's, as one process does. Killed while its jobs run, then run
 # again: it finishes, identical, no temporary left. The Slurm script
 # parses and submits round 1, round 2 after it, the gather after that
-# (sbatch faked).
+# (sbatch faked). A pyramid changed since the plan was written is refused.
 . "$(dirname "$0")/../lib.sh"
 PY=/usr/bin/python3
 
@@ -97,6 +97,15 @@ SBATCH_OPTS='' PATH=$T/bin:$PATH sh "$P/slurm.sh" >/dev/null 2>&1 &&
     END { exit !(NR == 3 && j[1] == "round1 - " n && j[2] == "round2 1 " n &&
         j[3] == "gather 2 -") }' "$T/bin/jobs" && [ ! -s "$T/bin/failed" ]
 ok $? "slurm.sh: round 1 (array 1-$n), round 2 (afterok), gather (afterok)"
+
+# the pyramid changed after the plan was written: every job refuses it
+cp -R "$T/pyr" "$T/pyr2" &&
+    vgis2terrain -q --plan "$T/plan-c" "$T/pyr2" "$T/out-c" &&
+    touch "$T/pyr2/index.json"
+! make -s -C "$T/plan-c" >"$T/make3.log" 2>&1 &&
+    grep -q 'index.json.*write the plan again' "$T/make3.log" &&
+    [ ! -e "$T/out-c" ] && [ ! -e "$T/plan-c/work.ranges" ]
+ok $? "the pyramid changed since the plan: its jobs refuse it, say to write the plan again"
 
 fails "--plan onto an existing directory: refused" 1 "exists" \
     vgis2terrain --plan "$P" "$T/pyr" "$T/out-x"
