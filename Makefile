@@ -61,9 +61,9 @@ uses_tilecheck  := verify
 uses_tileplay   := play verify
 uses_dem2vgis   := jobs
 uses_vgis2tiles := tiles3d
-uses_vgis2terrain := terrain
+uses_vgis2terrain := terrain jobs
 uses_dem2rgb    := rgb
-uses_vgis-job   := jobs pack
+uses_vgis-job   := jobs pack terrain
 # what a layer's tests use beside it: the packer's results are checked by
 # the independent checker
 tests_pack      := verify

@@ -2,7 +2,8 @@
  * place, so that the filters a person scripts (dem2fqm, fqmfilter,
  * fqmsolve, tilepack) carry none of a plan's internals: the DEM's stamp,
  * the guard of the outputs, the fill in row bands, a band's window and
- * columns, the chain, the pieces and the gather. Each step is a thin call
+ * columns, the chain, the pieces and the gather; and the terrain's
+ * (vgis2terrain --plan: terrain_cli.c). Each step is a thin call
  * of the library's work (stage.h, dem.h, stamp.h, pipeline.h, pack.h);
  * its messages say "vgis-job STEP: ...". Internal: the plans write these
  * command lines, vgis-job(1) lists them. */
@@ -13,6 +14,7 @@
 
 #include "cli.h"
 #include "stage.h"
+#include "terrain_cli.h"
 #include "base/stamp.h"
 #include "jobs/pipeline.h"
 
@@ -41,6 +43,10 @@ static const char usage[] =
     "work\n"
     "                level0 ...\n"
     "       vgis-job gather [-f] [DEM options] work dem dir level0 ...\n"
+    "       vgis-job terrain-part [-qz] [-f format] [-j jobs] [--settle] "
+    "z:i0:i1 dir work\n"
+    "       vgis-job terrain-gather [-qz] [-f format] [-j jobs] dir work "
+    "outdir\n"
     "  the steps of a plan (dem2vgis(1), PLANS; vgis-job(1)); "
     "vgis-job STEP --help\n"
     "  says a step's options\n";
@@ -84,8 +90,9 @@ step_check_stamp(cli *c, int argc, char **argv)
 		return st;
 	if (stamp_check(argv[optind], &e) == 0)
 		return CLI_OK;
-	cli_warn(c, "%s: a plan's jobs must all read the DEM it was made "
-	    "from; write the plan again (dem2vgis -f --plan)", e.msg);
+	cli_warn(c, "%s: a plan's jobs must all read the DEM (or, for "
+	    "vgis2terrain --plan, the pyramid) it was made from; write the "
+	    "plan again (dem2vgis -f --plan, vgis2terrain --plan)", e.msg);
 	return CLI_FAIL;
 }
 
@@ -493,6 +500,8 @@ static const struct {
 	{ "gather", step_gather, CLI_DEM, "[-f] [DEM options] work dem dir "
 	    "level0 ...\n"
 	    "  the pieces in work become the pyramid dir, as tilepack -q -g\n" },
+	{ "terrain-part", tr_step_part, 0, tr_step_part_usage },
+	{ "terrain-gather", tr_step_gather, 0, tr_step_gather_usage },
 };
 
 int

@@ -31,6 +31,14 @@ void plan_mkpieces(FILE *, const plan_ctx *);  /* make: the pieces' rules */
 void plan_job(FILE *, const plan_ctx *);       /* every job's wrapper */
 void plan_parallel(FILE *, const plan_ctx *);  /* GNU parallel */
 void plan_slurm(FILE *, const plan_ctx *);     /* Slurm */
+/* Slurm's shell functions job and array (plan_slurm.c), for every plan. */
+void plan_slurm_funcs(FILE *);
+
+/* GNU parallel running make targets of the plan "$P". -q: parallel runs
+ * its command through a shell, which would split "$P" at blanks and run
+ * what it holds; quoted, it is one word whatever it holds (the targets,
+ * from ::: and ::::, are always quoted). */
+#define PLAN_PAR "parallel -q --will-cite --halt now,fail=1 make -C \"$P\" "
 
 /* A word for the shell, single-quoted; make: also as make reads a
  * variable's value. plan_words: n of them, each after a blank. */

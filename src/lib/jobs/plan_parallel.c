@@ -2,10 +2,7 @@
  * Makefile's targets stage by stage. */
 #include "jobs/plan_impl.h"
 
-/* -q: parallel runs its command through a shell, which would split "$P"
- * at blanks and run what it holds; quoted, it is one word whatever it
- * holds (the targets, from ::: and ::::, are always quoted). */
-#define PAR "parallel -q --will-cite --halt now,fail=1 make -C \"$P\" "
+#define PAR PLAN_PAR
 
 void
 plan_parallel(FILE *f, const plan_ctx *c)

@@ -2,6 +2,33 @@
  * submitted as jobs and arrays chained by dependencies. */
 #include "jobs/plan_impl.h"
 
+/* The script's shell functions job and array, for every plan's Slurm
+ * script (the pyramid's here, the terrain's: plan_terrain.c). */
+void
+plan_slurm_funcs(FILE *f)
+{
+	fputs(
+	    "# job NAME DEP CMD [OPTION...]: a job running CMD (a line of sh) in the\n"
+	    "# plan after the jobs DEP (ids a:b:..., or none); prints its id\n"
+	    "job() {\n"
+	    "\tj=$1 d=$2 c=$3; shift 3\n"
+	    "\tsbatch --parsable $SBATCH_OPTS -J \"$j\" -D \"$P\" \"$@\" \\\n"
+	    "\t    ${d:+--dependency=afterok:$d --kill-on-invalid-dep=yes} --wrap \"$c\"\n"
+	    "}\n"
+	    "# array NAME DEP LIST: the make targets of LIST (a line each) as job\n"
+	    "# arrays after the jobs DEP; prints their ids joined by ':'\n"
+	    "array() {\n"
+	    "\tn=$(wc -l <\"$P/$3\") m=${TL_SLURM_ARRAY:-1000} o=0 ids=\n"
+	    "\twhile [ \"$o\" -lt \"$n\" ]; do\n"
+	    "\t\tk=$((n - o < m ? n - o : m))\n"
+	    "\t\tw=\"make \\\"\\$(sed -n \\$((SLURM_ARRAY_TASK_ID + $o))p $3)\\\"\"\n"
+	    "\t\tid=$(job \"$1\" \"$2\" \"$w\" --array=1-$k)\n"
+	    "\t\tids=${ids:+$ids:}$id o=$((o + k))\n"
+	    "\tdone\n"
+	    "\techo \"$ids\"\n"
+	    "}\n", f);
+}
+
 void
 plan_slurm(FILE *f, const plan_ctx *c)
 {
@@ -23,27 +50,9 @@ plan_slurm(FILE *f, const plan_ctx *c)
 	    "set -e\n", f);
 	fputs("P=", f);
 	plan_word(f, c->dir, 0);
-	fputs("\n"
-	    "# job NAME DEP CMD [OPTION...]: a job running CMD (a line of sh) in the\n"
-	    "# plan after the jobs DEP (ids a:b:..., or none); prints its id\n"
-	    "job() {\n"
-	    "\tj=$1 d=$2 c=$3; shift 3\n"
-	    "\tsbatch --parsable $SBATCH_OPTS -J \"$j\" -D \"$P\" \"$@\" \\\n"
-	    "\t    ${d:+--dependency=afterok:$d --kill-on-invalid-dep=yes} --wrap \"$c\"\n"
-	    "}\n"
-	    "# array NAME DEP LIST: the make targets of LIST (a line each) as job\n"
-	    "# arrays after the jobs DEP; prints their ids joined by ':'\n"
-	    "array() {\n"
-	    "\tn=$(wc -l <\"$P/$3\") m=${TL_SLURM_ARRAY:-1000} o=0 ids=\n"
-	    "\twhile [ \"$o\" -lt \"$n\" ]; do\n"
-	    "\t\tk=$((n - o < m ? n - o : m))\n"
-	    "\t\tw=\"make \\\"\\$(sed -n \\$((SLURM_ARRAY_TASK_ID + $o))p $3)\\\"\"\n"
-	    "\t\tid=$(job \"$1\" \"$2\" \"$w\" --array=1-$k)\n"
-	    "\t\tids=${ids:+$ids:}$id o=$((o + k))\n"
-	    "\tdone\n"
-	    "\techo \"$ids\"\n"
-	    "}\n"
-	    "if [ \"${1:-}\" != --pieces ]; then\n", f);
+	fputs("\n", f);
+	plan_slurm_funcs(f);
+	fputs("if [ \"${1:-}\" != --pieces ]; then\n", f);
 	if (o->nfill > 0)
 		fputs("\tf=$(array fill1 \"\" bands/fill1)\n"
 		    "\tf=$(job join \"$f\" 'make done/fill-join')\n"

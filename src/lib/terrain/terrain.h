@@ -9,7 +9,9 @@
  * distance between the drawn surface and the selection is measured at
  * every sample; a level that cannot be held is refined, never written
  * over its error. Geographic and projected DEMs
- * (PROJ), heights ellipsoidal. */
+ * (PROJ), heights ellipsoidal. The same export as a plan's jobs
+ * (vgis2terrain --plan): ranges of a level's tiles, then the gather,
+ * byte for byte the files of tr_run. */
 #ifndef TL_TERRAIN_H
 #define TL_TERRAIN_H
 
@@ -47,5 +49,33 @@ typedef struct {
 } tr_report;
 
 int tr_run(const tr_args *a, tr_report *rep, tl_err *e);
+
+/* --- the export as a plan's jobs (tr_plan.c) ----------------------- */
+
+/* Tiles i0 .. i1-1 of level z, numbered row by row from the level's
+ * south-west tile. */
+typedef struct {
+	int z, i0, i1;
+} tr_range;
+
+/* The plan's ranges of a->dir into *r (malloc'd), *n of them: each level
+ * cut into equal ranges, as many as its DEM samples (each level covers
+ * all of them) hold `samples`, at most one a tile. a->out is checked
+ * against the pyramid as tr_run does. */
+int tr_plan_ranges(const tr_args *a, long long samples, tr_range **r,
+    int *n, tl_err *e);
+/* A job: range r made into the directory work (a->out: work), with its
+ * record. Round 1 tries 0, 1, ... until the range holds; round 2 (once
+ * every round 1 of the level is done) starts from the largest try of
+ * the level's round-1 records, and does nothing when its range is
+ * already there. */
+int tr_plan_part(const tr_args *a, const char *work, const tr_range *r,
+    int round, tl_err *e);
+/* The gather: every range's record in work; a level whose ranges are at
+ * different tries has those behind made again from the largest, until
+ * all agree (then at the try tr_run takes); layer.json or the 3D Tiles
+ * subtrees written, and work renamed to a->out. */
+int tr_plan_gather(const tr_args *a, const char *work, tr_report *rep,
+    tl_err *e);
 
 #endif

@@ -1,11 +1,13 @@
-/* tr_run.c - vgis2terrain's work (terrain.h): the levels of the global
- * quadtree one after the other, the tiles of a level on a pool of
- * threads (each tile's bytes depend on its level's choice alone, so any
- * thread count writes the same files), into a tree built under a
+/* tr_run.c - vgis2terrain's work (terrain.h, tr_export.h): the export's
+ * unit, a range of one level's tiles at one try, on a pool of threads
+ * (each tile's bytes depend on its level's choice alone, so any thread
+ * count writes the same files), and the run in one process: the levels
+ * one after the other, each as one range, into a tree built under a
  * temporary name and renamed when complete (outfile.h). A level whose
  * bound (the selection's max(tau, base) plus the largest measured
  * distance of the drawn surface from the selection) passes E_L is made
- * again with a tighter choice. */
+ * again with a tighter choice. A plan's jobs make the same units
+ * (tr_plan.c). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -15,24 +17,10 @@
 
 #include "base/outfile.h"
 #include "base/paths.h"
-#include "base/pool.h"
 #include "geo/vdatum.h"
-#include "terrain/t3t.h"
-#include "terrain/tr_impl.h"
+#include "terrain/tr_export.h"
 
-#define TRIES 8
 #define RMIN 6335439.0 /* m: WGS 84's least radius of curvature */
-
-typedef struct {
-	const tr_args *a;
-	tr_work *w;
-	tl_err *err;
-	int *failed;
-	const char *tmp;
-	tr_choice c;
-	int x0, y0, nx, ny;
-	t3t_set *t3;      /* -f 3dtiles, else NULL */
-} job;
 
 static int
 write_file(const char *path, const tr_work *w, tl_err *e)
@@ -51,7 +39,7 @@ write_file(const char *path, const tr_work *w, tl_err *e)
 }
 
 static int
-one_tile(job *j, tr_work *w, int x, int y, tl_err *e)
+one_tile(tr_export *j, tr_work *w, int x, int y, tl_err *e)
 {
 	char path[4096];
 	float lo, hi;
@@ -75,11 +63,16 @@ one_tile(job *j, tr_work *w, int x, int y, tl_err *e)
 static void
 run_range(void *arg, int k, int i0, int i1)
 {
-	job *j = arg;
+	tr_export *j = arg;
 
 	for (int i = i0; i < i1 && !j->failed[k]; i++) {
 		int x, y;
-		tr_tile_at(j->w[k].g, j->c.z, j->nx, j->ny, i, &x, &y);
+		/* whole rows: in strips (tr_tile_at), else row by row */
+		if (j->ny > 0) {
+			tr_tile_at(j->w[k].g, j->c.z, j->nx, j->ny, i, &x, &y);
+			y += j->i0 / j->nx;
+		} else
+			x = (j->i0 + i) % j->nx, y = (j->i0 + i) / j->nx;
 		if (one_tile(j, &j->w[k], j->x0 + x, j->y0 + y, &j->err[k]) < 0)
 			j->failed[k] = 1;
 	}
@@ -110,8 +103,8 @@ pick_level(const pyramid_index *ix, double tau, double *base)
 /* Attempt t's choice for level z: tolerance E_L / 2^(t+1), cells small
  * enough that a flat chord across one sags E_L / 8 at most, halved
  * every second attempt; the last, the whole of level 0. */
-static void
-choose(const pyramid_index *ix, int z, int t, tr_choice *c)
+void
+tr_choose(const pyramid_index *ix, int z, int t, tr_choice *c)
 {
 	double el = ldexp(TR_E0, -z), wm = ldexp(180, -z) * 111320.0;
 	int n = 1;
@@ -123,66 +116,104 @@ choose(const pyramid_index *ix, int z, int t, tr_choice *c)
 	c->p = pick_level(ix, c->tau, &c->base);
 	/* the last try: every vertex of level 0, so that no sample the
 	 * saturated errors leave out (voids the pyramid filled) is missed */
-	if (t == TRIES - 1)
+	if (t == TR_TRIES - 1)
 		c->tau = -1, c->p = 0, c->base = 0;
 }
 
 static int
-level_dirs(const char *tmp, int z, const int av[4], tl_err *e)
+mk(const char *p, tl_err *e)
 {
+	if (mkdir(p, 0777) < 0 && errno != EEXIST)
+		return tl_failsys(e, "%s", p);
+	return 0;
+}
+
+int
+tr_dirs(const tr_export *x, const char *tmp, int z, tl_err *e)
+{
+	const int *av = x->av[z];
 	char p[4096];
 
+	if (x->t3)
+		return t3t_dirs(tmp, z, av, e);
 	snprintf(p, sizeof p, "%s/%d", tmp, z);
-	if (mkdir(p, 0777) < 0)
-		return tl_failsys(e, "%s", p);
-	for (int x = av[0]; x <= av[2]; x++) {
-		snprintf(p, sizeof p, "%s/%d/%d", tmp, z, x);
-		if (mkdir(p, 0777) < 0)
-			return tl_failsys(e, "%s", p);
+	if (mk(p, e) < 0)
+		return -1;
+	for (int i = av[0]; i <= av[2]; i++) {
+		snprintf(p, sizeof p, "%s/%d/%d", tmp, z, i);
+		if (mk(p, e) < 0)
+			return -1;
 	}
 	return 0;
 }
 
-static int
-do_level(job *j, tl_pool *pool, int nt, int z, const int av[4],
-    tr_report *rep, tl_err *e)
+long long
+tr_count(const tr_export *x, int z)
 {
-	int n = (av[2] - av[0] + 1) * (av[3] - av[1] + 1);
+	const int *av = x->av[z];
 
-	j->x0 = av[0], j->y0 = av[1], j->nx = av[2] - av[0] + 1;
-	j->ny = av[3] - av[1] + 1;
-	for (int t = 0; t < TRIES; t++) {
-		double err = 0, direct = 0;
-		choose(j->w[0].ix, z, t, &j->c);
-		for (int k = 0; k < nt; k++)
-			j->w[k].err = j->w[k].direct = 0,
-			j->w[k].tiles = j->w[k].tris =
-			    j->w[k].bytes = 0;
-		tl_pool_for(pool, n, run_range, j);
-		for (int k = 0; k < nt; k++)
-			if (j->failed[k]) {
-				*e = j->err[k];
-				return -1;
-			}
-		rep->tiles[z] = rep->tris[z] = rep->bytes[z] = 0;
-		for (int k = 0; k < nt; k++) {
-			err = fmax(err, j->w[k].err);
-			direct = fmax(direct, j->w[k].direct);
-			rep->tiles[z] += j->w[k].tiles;
-			rep->tris[z] += j->w[k].tris;
-			rep->bytes[z] += j->w[k].bytes;
+	return (long long)(av[2] - av[0] + 1) * (av[3] - av[1] + 1);
+}
+
+int
+tr_try(tr_export *x, const char *tmp, int z, int i0, int i1, int t,
+    tr_part *p, tl_err *e)
+{
+	memset(p, 0, sizeof *p);
+	tr_choose(&x->ix, z, t, &x->c);
+	x->tmp = tmp, x->i0 = i0;
+	x->x0 = x->av[z][0], x->y0 = x->av[z][1];
+	x->nx = x->av[z][2] - x->av[z][0] + 1;
+	x->ny = i0 % x->nx == 0 && i1 % x->nx == 0 ? (i1 - i0) / x->nx : 0;
+	for (int k = 0; k < x->nt; k++)
+		x->w[k].err = x->w[k].direct = 0,
+		x->w[k].tiles = x->w[k].tris = x->w[k].bytes = 0;
+	tl_pool_for(x->pool, i1 - i0, run_range, x);
+	for (int k = 0; k < x->nt; k++)
+		if (x->failed[k]) {
+			*e = x->err[k];
+			return -1;
 		}
-		/* the selection within max(tau, base) of the valid samples
-		 * (vgis(5)), the drawn surface within err of the selection */
-		rep->err[z] = fmax(j->c.tau, j->c.base) + err;
-		rep->direct[z] = direct, rep->plevel[z] = j->c.p;
-		rep->tau[z] = j->c.tau, rep->tries[z] = t + 1;
-		if (rep->err[z] <= j->c.el)
-			return 0;
+	for (int k = 0; k < x->nt; k++) {
+		p->err = fmax(p->err, x->w[k].err);
+		p->direct = fmax(p->direct, x->w[k].direct);
+		p->tiles += x->w[k].tiles;
+		p->tris += x->w[k].tris;
+		p->bytes += x->w[k].bytes;
 	}
+	/* the selection within max(tau, base) of the valid samples
+	 * (vgis(5)), the drawn surface within err of the selection */
+	p->t = t;
+	p->held = fmax(x->c.tau, x->c.base) + p->err <= x->c.el;
+	return 0;
+}
+
+int
+tr_settle(tr_export *x, const char *tmp, int z, int i0, int i1, int from,
+    tr_part *p, tl_err *e)
+{
+	for (int t = from; t < TR_TRIES; t++)
+		if (tr_try(x, tmp, z, i0, i1, t, p, e) < 0)
+			return -1;
+		else if (p->held)
+			return 0;
 	return tl_fail(e, "level %d: the bound %.3f m passes E_L = %.3f m "
-	    "after %d refinements: not written", z, rep->err[z], j->c.el,
-	    TRIES);
+	    "after %d refinements: not written", z, fmax(x->c.tau,
+	    x->c.base) + p->err, x->c.el, TR_TRIES);
+}
+
+void
+tr_report_level(const tr_export *x, int z, const tr_part *p,
+    tr_report *rep)
+{
+	tr_choice c;
+
+	tr_choose(&x->ix, z, p->t, &c);
+	rep->tiles[z] = p->tiles, rep->tris[z] = p->tris;
+	rep->bytes[z] = p->bytes;
+	rep->err[z] = fmax(c.tau, c.base) + p->err;
+	rep->direct[z] = p->direct, rep->plevel[z] = c.p;
+	rep->tau[z] = c.tau, rep->tries[z] = p->t + 1;
 }
 
 /* Refuses what cannot go on the globe as ellipsoidal heights, as
@@ -249,8 +280,8 @@ plan(const tr_grid *g, int *maxz, int (*av)[4])
 }
 
 /* An existing OUTDIR is replaced only when it is a terrain tileset. */
-static int
-check_out(const char *out, tl_err *e)
+int
+tr_check_out(const char *out, tl_err *e)
 {
 	char p[4096];
 	struct stat st;
@@ -266,42 +297,46 @@ check_out(const char *out, tl_err *e)
 	return 0;
 }
 
-static int
-export(job *j, const pyramid_index *ix, int nt, tr_report *rep, tl_err *e)
+int
+tr_finish(tr_export *x, const char *dir, tl_err *e)
 {
-	int av[TR_MAXZ + 1][4];
-	tl_outfile od = { 0 };
-	tl_pool *pool = NULL;
-	const char *datum = ix->geo.vdatum[0] ? ix->geo.vdatum :
+	const char *datum = x->ix.geo.vdatum[0] ? x->ix.geo.vdatum :
 	    "vertical datum not declared, taken as ellipsoidal";
+
+	return x->t3 ? t3t_finish(x->t3, dir, x->a, datum, e) :
+	    tr_layer_write(dir, x->a, x->maxz, (const int (*)[4])x->av,
+	    datum, e);
+}
+
+/* The run in one process: each level one range, from try 0 (the rule of
+ * a plan's jobs, with one job a level: tr_plan.c). */
+static int
+export(tr_export *x, tr_report *rep, tl_err *e)
+{
+	tl_outfile od = { 0 };
+	tr_part p;
 	int r = -1;
 
-	plan(j->w[0].g, &rep->maxzoom, av);
-	if (check_out(j->a->out, e) < 0 || tl_outdir_begin(&od, j->a->out,
+	if (tr_check_out(x->a->out, e) < 0 || tl_outdir_begin(&od, x->a->out,
 	    e) < 0)
 		return -1;
-	j->tmp = od.tmp;
-	if (j->a->format && (j->t3 = t3t_new(rep->maxzoom,
-	    (const int (*)[4])av, e)) == NULL)
+	if (x->a->format && (x->t3 = t3t_new(x->maxz,
+	    (const int (*)[4])x->av, e)) == NULL)
 		goto done;
-	if ((pool = tl_pool_new(nt, e)) == NULL)
-		goto done;
-	for (int z = 0; z <= rep->maxzoom; z++)
-		if ((j->t3 ? t3t_dirs(od.tmp, z, av[z], e) :
-		    level_dirs(od.tmp, z, av[z], e)) < 0 ||
-		    do_level(j, pool, nt, z, av[z], rep, e) < 0)
+	for (int z = 0; z <= x->maxz; z++) {
+		if (tr_dirs(x, od.tmp, z, e) < 0 || tr_settle(x, od.tmp, z, 0,
+		    (int)tr_count(x, z), 0, &p, e) < 0)
 			goto done;
-	if (j->t3 ? t3t_finish(j->t3, od.tmp, j->a, datum, e) < 0 :
-	    tr_layer_write(od.tmp, j->a, rep->maxzoom,
-	    (const int (*)[4])av, datum, e) < 0)
+		tr_report_level(x, z, &p, rep);
+	}
+	if (tr_finish(x, od.tmp, e) < 0)
 		goto done;
 	r = tl_outdir_commit(&od, e);
 done:
 	if (r < 0)
 		tl_outdir_abort(&od);
-	if (pool)
-		tl_pool_free(pool);
-	t3t_free(j->t3);
+	t3t_free(x->t3);
+	x->t3 = NULL;
 	return r;
 }
 
@@ -320,49 +355,91 @@ work_free(tr_work *w)
 	free(w->order), free(w->tmp), free(w->buf);
 }
 
+/* The threads' state, each with its PROJ for a projected DEM. */
+static int
+workers(tr_export *x, tl_err *e)
+{
+	int ready = 0;
+
+	x->w = tl_alloc(x->nt, sizeof *x->w, e);
+	x->err = x->w ? tl_alloc(x->nt, sizeof *x->err, e) : NULL;
+	x->failed = x->err ? tl_alloc(x->nt, sizeof *x->failed, e) : NULL;
+	for (; x->failed && ready < x->nt; ready++) {
+		x->w[ready].ix = &x->ix, x->w[ready].dir = x->a->dir;
+		x->w[ready].g = &x->g;
+		if (x->g.projected && geo_proj_open(&x->w[ready].proj,
+		    &x->ix.geo, e) < 0)
+			break;
+	}
+	if (x->failed == NULL || ready < x->nt) {
+		for (int k = 0; k < ready; k++)
+			work_free(&x->w[k]);
+		free(x->w), free(x->err), free(x->failed);
+		x->w = NULL, x->err = NULL, x->failed = NULL;
+		return -1;
+	}
+	return (x->pool = tl_pool_new(x->nt, e)) == NULL ? -1 : 0;
+}
+
+int
+tr_open(tr_export *x, const tr_args *a, tl_err *e)
+{
+	geo_proj p0 = { 0 };
+	int ok;
+
+	memset(x, 0, sizeof *x);
+	x->a = a;
+	x->nt = a->jobs < 1 ? 1 : a->jobs > TR_MAXJOBS ? TR_MAXJOBS : a->jobs;
+	/* OUTDIR kept off the pyramid before any work (paths.h) */
+	if (tl_path_check(a->out, a->dir, "pyramid", TL_PATH_TREE, e) < 0 ||
+	    pyramid_index_read(a->dir, &x->ix, e) < 0)
+		return -1;
+	if (pyramid_levels_probe(a->dir, &x->ix, e) < 0 ||
+	    check_pyramid(a, &x->ix, e) < 0) {
+		pyramid_index_free(&x->ix);
+		return -1;
+	}
+	x->g.projected = x->ix.geo.model != GEO_GEOGRAPHIC;
+	if ((x->g.projected && geo_proj_open(&p0, &x->ix.geo, e) < 0)) {
+		pyramid_index_free(&x->ix);
+		return -1;
+	}
+	ok = tr_grid_init(&x->g, &x->ix, &p0, e) == 0;
+	if (x->g.projected)
+		geo_proj_close(&p0);
+	if (ok && workers(x, e) == 0) {
+		plan(&x->g, &x->maxz, x->av);
+		return 0;
+	}
+	tr_close(x);
+	return -1;
+}
+
+void
+tr_close(tr_export *x)
+{
+	if (x->pool)
+		tl_pool_free(x->pool);
+	for (int k = 0; x->w != NULL && k < x->nt; k++)
+		work_free(&x->w[k]);
+	free(x->w), free(x->err), free(x->failed);
+	t3t_free(x->t3);
+	tr_grid_free(&x->g, x->ix.nlevels);
+	pyramid_index_free(&x->ix);
+	memset(x, 0, sizeof *x);
+}
+
 int
 tr_run(const tr_args *a, tr_report *rep, tl_err *e)
 {
-	pyramid_index ix = { 0 };
-	tr_grid g = { 0 };
-	geo_proj p0 = { 0 };
-	job j = { .a = a };
-	int nt = a->jobs < 1 ? 1 : a->jobs > TR_MAXJOBS ? TR_MAXJOBS : a->jobs;
-	int r = -1;
+	tr_export x;
+	int r;
 
 	memset(rep, 0, sizeof *rep);
-	/* OUTDIR kept off the pyramid before any work (paths.h) */
-	if (tl_path_check(a->out, a->dir, "pyramid", TL_PATH_TREE, e) < 0 ||
-	    pyramid_index_read(a->dir, &ix, e) < 0)
+	if (tr_open(&x, a, e) < 0)
 		return -1;
-	if (pyramid_levels_probe(a->dir, &ix, e) < 0 ||
-	    check_pyramid(a, &ix, e) < 0) {
-		pyramid_index_free(&ix);
-		return -1;
-	}
-	g.projected = ix.geo.model != GEO_GEOGRAPHIC;
-	if ((g.projected && geo_proj_open(&p0, &ix.geo, e) < 0)) {
-		pyramid_index_free(&ix);
-		return -1;
-	}
-	int ok = tr_grid_init(&g, &ix, &p0, e) == 0, ready = 0;
-	if (g.projected)
-		geo_proj_close(&p0);
-	j.w = ok ? tl_alloc(nt, sizeof *j.w, e) : NULL;
-	j.err = j.w ? tl_alloc(nt, sizeof *j.err, e) : NULL;
-	j.failed = j.err ? tl_alloc(nt, sizeof *j.failed, e) : NULL;
-	for (; j.failed && ready < nt; ready++) {
-		j.w[ready].ix = &ix, j.w[ready].dir = a->dir, j.w[ready].g = &g;
-		if (g.projected && geo_proj_open(&j.w[ready].proj, &ix.geo,
-		    e) < 0)
-			break;
-	}
-	if (j.failed && ready == nt)
-		r = export(&j, &ix, nt, rep, e);
-	for (int k = 0; k < ready; k++)
-		work_free(&j.w[k]);
-	free(j.w), free(j.err), free(j.failed);
-	tr_grid_free(&g, ix.nlevels);
-	pyramid_index_free(&ix);
+	rep->maxzoom = x.maxz;
+	r = export(&x, rep, e);
+	tr_close(&x);
 	return r;
 }
