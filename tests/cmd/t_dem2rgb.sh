@@ -171,17 +171,21 @@ PY
 ok $? "tiles.json: tilejson fields, maxzoom 12 by the rule, bounds, datum, an error per zoom"
 sed 's/^/#   /' "$T/check" | head -5
 
-# QEM-1D against averaging: lower RMS at the zooms of the first segment
+# QEM-1D against averaging: lower RMS at every zoom from 2 (all three
+# segments)
 run "-m average" dem2rgb -q -m average --dump "$T/da" "$T/srtm.tif" "$T/ta"
 /usr/bin/python3 - "$T/t1/tiles.json" "$T/ta/tiles.json" <<'PY' >"$T/check" 2>&1
 import json, sys
 q, a = ({x["zoom"]: x["rms"] for x in json.load(open(f))["error"]} for f in sys.argv[1:3])
 for z in range(0, 12):
     print("zoom %d: qem1d %.3f average %.3f" % (z, q[z], a[z]))
-for z in range(7, 12):
+# (not at zooms 0 and 1, pixels of 78 and 39 km at the equator over a
+# DEM of 10 km: QEM-1D extrapolates its few planes, 428 m RMS against
+# 143 m; dem2rgb(1), CAVEATS)
+for z in range(2, 12):
     assert q[z] < a[z], z
 PY
-ok $? "qem1d's RMS under average's at zooms 7 .. 11"
+ok $? "qem1d's RMS under average's at zooms 2 .. 11"
 sed 's/^/#   /' "$T/check" | tail -6
 /usr/bin/python3 - "$T/da" <<'PY' >"$T/check" 2>&1
 import os, sys

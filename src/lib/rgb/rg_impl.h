@@ -12,15 +12,16 @@
 #include "qem/fqm.h"
 
 /* A segment of the chain spans at most RG_SEG + 1 zooms: its level-0
- * origin is aligned to 2^RG_SEG vertices, so the padding it costs is
- * under 2^RG_SEG vertices a side; the zooms above restart from its top
- * level's heights on a grid aligned anew. */
+ * origin is aligned to 2^RG_SEG pixels (with a margin of half of that),
+ * so the padding it costs is under 1.5 2^RG_SEG pixels a side; the zooms
+ * above restart from its top level's vertex heights on a grid aligned
+ * anew. */
 #define RG_SEG 5
 
-#define RG_VALID 0x1000000u /* a band pixel over a valid vertex */
+#define RG_VALID 0x1000000u /* a band pixel over valid samples */
 
 typedef struct {
-	dem_mgrid g;              /* the zoom's vertex grid */
+	dem_mgrid g;              /* the zoom's pixel grid */
 	long long tx0;            /* first tile column of the band */
 	int ntx;                  /* tile columns covering the grid */
 	long long ty;             /* tile row in the band, -1: empty */
