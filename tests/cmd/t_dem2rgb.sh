@@ -6,7 +6,8 @@
 # on each zoom's pixel grid), the tiles exactly those whose pixels are
 # over valid samples, inside the TileJSON's bounds,
 # each over a valid DEM sample, pixels past the DEM within its range;
-# tiles.json's fields, the error measured at every valid DEM sample; the
+# tiles.json's fields, the error measured at every valid DEM sample (for
+# the UTM DEM measured again by the decoder); the
 # datums; QEM-1D's error under averaging's; -m average's zoom the 2 x 2
 # mean of the one below;
 # reruns and -j 1 / -j 2 byte-identical; heights past the encoding's
@@ -134,6 +135,41 @@ run "UTM DEM, terrarium WebP" dem2rgb -q -f webp --dump "$T/d3" \
     "$T/utm.tif" "$T/t3"
 check "$T/t3" "$T/d3" "$T/utm.tif" terrarium webp 512
 ok $? "UTM terrarium WebP: every pixel within half a step, tiles exactly the covered ones"
+# the error declared for the UTM DEM, measured again here: its samples
+# placed by GDAL/OSR, the tiles decoded and drawn as MapLibre draws them
+# (tests/tools/rgbdecode.py: bilinear between pixel centres)
+/usr/bin/python3 - "$T/t3" "$T/utm.tif" "$(dirname "$0")/../tools" <<'PY' >"$T/check" 2>&1
+import math, sys
+import numpy as np
+from osgeo import gdal, osr
+sys.path.insert(0, sys.argv[3])
+import rgbdecode as R
+tj, tiles = R.read_tree(sys.argv[1])
+d = gdal.Open(sys.argv[2]); b = d.GetRasterBand(1)
+z = b.ReadAsArray().astype(float); nd = b.GetNoDataValue()
+ok = np.isfinite(z) if nd is None else np.isfinite(z) & (z != nd)
+jj, ii = np.nonzero(ok); g = d.GetGeoTransform()
+s = osr.SpatialReference(); s.ImportFromWkt(d.GetProjection())
+t = osr.SpatialReference(); t.ImportFromEPSG(4326)
+for r in (s, t):
+    r.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)
+ll = np.array(osr.CoordinateTransformation(s, t).TransformPoints(
+    np.c_[g[0] + (ii + .5) * g[1], g[3] + (jj + .5) * g[5]]))
+wx, wy = R.merc(ll[:, 0], ll[:, 1])
+dec = {x["zoom"]: x for x in tj["error"]}
+bad = 0
+for zz, zm in sorted(R.zooms(tj, tiles).items()):
+    e = zm.surface_many(wx, wy) - z[jj, ii]
+    mx, rms = np.abs(e).max(), math.sqrt((e * e).mean())
+    x = dec[zz]
+    good = (x["samples"] == len(e) and abs(x["max"] - mx) <= 0.01 * mx + 0.01
+        and abs(x["rms"] - rms) <= 0.01 * rms + 0.01)
+    bad += not good
+    print("zoom %d: measured %.3f / %.3f, declared %.3f / %.3f%s" % (zz, mx, rms, x["max"], x["rms"], "" if good else " DIFFERENT"))
+sys.exit(bad > 0)
+PY
+ok $? "UTM: the error tiles.json declares is the surface's, measured again at every valid sample"
+sed 's/^/#   /' "$T/check" | tail -3
 run "UTM DEM, mapbox PNG 256, -Z 5" dem2rgb -q -e mapbox -t 256 -Z 5 -u http://h/t \
     --dump "$T/d4" "$T/utm.tif" "$T/t4"
 check "$T/t4" "$T/d4" "$T/utm.tif" mapbox png 256
