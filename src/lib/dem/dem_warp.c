@@ -1,5 +1,5 @@
 /* dem_warp.c - the GDAL side of dem2rgb(1) (dem_warp.h): a DEM warped
- * onto a Web Mercator zoom's vertex grid, its extent in WGS84, and a grid
+ * onto a Web Mercator zoom's pixel grid (the pixel centres), its extent in WGS84, and a grid
  * of heights written as a GeoTIFF a row at a time. */
 #include <math.h>
 #include <stdio.h>
@@ -20,15 +20,16 @@ dem_mgrid_res(const dem_mgrid *g)
 	return 2 * DEM_MERC_HALF / ((double)g->dim * ldexp(1, g->z));
 }
 
-/* The geotransform whose pixel centres are g's vertices. */
+/* The geotransform whose pixels are g's: zoom z's own pixels, so a
+ * file's pixel centres are the tiles' pixel centres (MapLibre's). */
 static void
 mgrid_gt(const dem_mgrid *g, double gt[6])
 {
 	double r = dem_mgrid_res(g);
 
-	gt[0] = -DEM_MERC_HALF + ((double)g->x0 - 0.5) * r;
+	gt[0] = -DEM_MERC_HALF + (double)g->x0 * r;
 	gt[1] = r, gt[2] = 0;
-	gt[3] = DEM_MERC_HALF - ((double)g->y0 - 0.5) * r;
+	gt[3] = DEM_MERC_HALF - (double)g->y0 * r;
 	gt[4] = 0, gt[5] = -r;
 }
 

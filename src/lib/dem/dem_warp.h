@@ -2,12 +2,12 @@
  * Web Mercator grid of heights written row by row: the GDAL side of
  * dem2rgb(1) (the rgb layer reaches GDAL only through these).
  *
- * A grid is vertex-centred on the global Web Mercator pixel-corner grid of
- * a zoom: vertex (i, j) stands at global vertex (x0 + i, y0 + j) of zoom
- * z, i.e. at EPSG:3857 x = -PI R + (x0 + i) res, y = PI R - (y0 + j) res,
- * res = 2 PI R / (dim 2^z), R = 6378137 m. The files are float32
- * GeoTIFFs in EPSG:3857 whose pixel centres are those vertices, voids
- * NaN (their nodata). */
+ * A grid is a window of the global Web Mercator pixel grid of a zoom:
+ * its point (i, j) is the centre of global pixel (x0 + i, y0 + j) of zoom
+ * z, i.e. EPSG:3857 x = -PI R + (x0 + i + 0.5) res, y = PI R - (y0 + j +
+ * 0.5) res, res = 2 PI R / (dim 2^z), R = 6378137 m (where MapLibre
+ * places a raster-dem pixel's height). The files are float32 GeoTIFFs in
+ * EPSG:3857 whose pixel centres are those points, voids NaN. */
 #ifndef TL_DEM_WARP_H
 #define TL_DEM_WARP_H
 
@@ -15,8 +15,8 @@
 
 typedef struct {
 	int z, dim;        /* zoom and tile size: res = 2 PI R / (dim 2^z) */
-	long long x0, y0;  /* global vertex of grid vertex (0, 0) */
-	int w, h;          /* vertices */
+	long long x0, y0;  /* global pixel of grid point (0, 0) */
+	int w, h;          /* points */
 } dem_mgrid;
 
 #define DEM_MERC_HALF 20037508.342789244 /* PI R, metres */

@@ -2,9 +2,12 @@
  * over its level-0 rows: each level-0 FQM row is solved and pushed into
  * level 1's filter, each row that filter gives is solved and pushed into
  * level 2's, and so on, so that every level streams (a window of rows
- * each, never a level) and every row reaches emit once. */
+ * each, never a level) and every row reaches emit once; with each level
+ * row after the first, the zoom's row of pixel centres above it
+ * (rg_centre.c: a level holds two rows more). */
 #include <assert.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "rgb/rg_impl.h"
 #include "qem/fqm0.h"
@@ -12,28 +15,58 @@
 #include "qem/solve.h"
 
 typedef struct {
-	int nl;
+	int nl, l0;
+	enum solve_mode mode;
+	const geo_ground *m;
 	filter_state f[RG_SEG + 1];  /* f[l]: level l-1 into level l */
 	solve_state s[RG_SEG + 1];
 	fqm_vertex *row[RG_SEG + 1];
-	solve_vertex *sv;
+	fqm_vertex *prev[RG_SEG + 1]; /* the level's previous row */
+	solve_vertex *sv, *sprev[RG_SEG + 1];
 	double *h, *v;
 	int next[RG_SEG + 1];        /* the next row of each level */
-	int w[RG_SEG + 1];
+	int w[RG_SEG + 1], hl[RG_SEG + 1];
 	rg_emit emit;
 	void *ctx;
 } chain;
 
+/* The centre row between level l's rows j (held) and jb (its current
+ * row: j + 1, or j itself at the last row). */
+static int
+centres(chain *c, int l, int j, int jb, const fqm_vertex *a,
+    const fqm_vertex *b, const solve_vertex *sa, const solve_vertex *sb,
+    tl_err *e)
+{
+	rg_centre_in in = { c->m, c->mode, l, j, jb, c->w[l],
+	    rg_centre_frac(c->l0 + l), a, b, sa, sb };
+
+	rg_centre_row(&in, c->h, c->v);
+	return c->emit(c->ctx, l, j, c->h, c->v, c->w[l], 1, e);
+}
+
 static int
 push(chain *c, int l, tl_err *e)
 {
-	int r = c->next[l]++;
+	int r = c->next[l]++, w = c->w[l];
 
 	solve_row(&c->s[l], c->row[l], c->sv);
-	for (int i = 0; i < c->w[l]; i++)
+	for (int i = 0; i < w; i++)
 		c->h[i] = c->sv[i].z, c->v[i] = c->sv[i].v;
-	if (c->emit(c->ctx, l, r, c->h, c->v, c->w[l], e) < 0)
+	if (c->emit(c->ctx, l, r, c->h, c->v, w, 0, e) < 0)
 		return -1;
+	if (c->l0 + l == 0) { /* the deepest zoom: its centres */
+		if (c->emit(c->ctx, l, r, c->h, c->v, w, 1, e) < 0)
+			return -1;
+	} else {
+		if (r > 0 && centres(c, l, r - 1, r, c->prev[l], c->row[l],
+		    c->sprev[l], c->sv, e) < 0)
+			return -1;
+		if (r == c->hl[l] - 1 && centres(c, l, r, r, c->row[l],
+		    c->row[l], c->sv, c->sv, e) < 0)
+			return -1;
+		memcpy(c->prev[l], c->row[l], (size_t)w * sizeof *c->row[l]);
+		memcpy(c->sprev[l], c->sv, (size_t)w * sizeof *c->sv);
+	}
 	if (l + 1 >= c->nl)
 		return 0;
 	filter_push(&c->f[l + 1], c->row[l]);
@@ -54,13 +87,15 @@ setup(chain *c, const georef *g, const geo_ground *m, enum solve_mode mode,
 
 	for (int l = 0; l < c->nl; l++) {
 		int w = geo_level_size(w0, l), h = geo_level_size(h0, l);
-		c->w[l] = w;
+		c->w[l] = w, c->hl[l] = h;
 		if (l > 0 && filter_init(&c->f[l], k, l - 1,
 		    geo_level_size(w0, l - 1), geo_level_size(h0, l - 1), w0,
 		    h0, m, e) < 0)
 			return -1;
 		if (solve_init(&c->s[l], mode, l, w, h, m, e) < 0 ||
-		    (c->row[l] = tl_alloc(w, sizeof *c->row[l], e)) == NULL)
+		    (c->row[l] = tl_alloc(w, sizeof *c->row[l], e)) == NULL ||
+		    (c->prev[l] = tl_alloc(w, sizeof *c->prev[l], e)) == NULL ||
+		    (c->sprev[l] = tl_alloc(w, sizeof *c->sprev[l], e)) == NULL)
 			return -1;
 	}
 	if ((c->sv = tl_alloc(w0, sizeof *c->sv, e)) == NULL ||
@@ -71,13 +106,14 @@ setup(chain *c, const georef *g, const geo_ground *m, enum solve_mode mode,
 }
 
 int
-rg_chain(dem *d, int nl, enum solve_mode mode, rg_emit emit, void *ctx,
-    tl_err *e)
+rg_chain(dem *d, int nl, int l0, enum solve_mode mode, rg_emit emit,
+    void *ctx, tl_err *e)
 {
 	const georef *g = dem_georef(d);
 	geo_ground m = { 0 };
 	fqm0_state f0 = { 0 };
-	chain c = { .nl = nl, .emit = emit, .ctx = ctx };
+	chain c = { .nl = nl, .l0 = l0, .mode = mode, .m = &m, .emit = emit,
+	    .ctx = ctx };
 	int r = -1;
 
 	assert(nl >= 1 && nl <= RG_SEG + 1);
@@ -93,7 +129,7 @@ rg_chain(dem *d, int nl, enum solve_mode mode, rg_emit emit, void *ctx,
 		if (l > 0)
 			filter_free(&c.f[l]);
 		solve_free(&c.s[l]);
-		free(c.row[l]);
+		free(c.row[l]), free(c.prev[l]), free(c.sprev[l]);
 	}
 	free(c.sv), free(c.h), free(c.v);
 	fqm0_free(&f0);

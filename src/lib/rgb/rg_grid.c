@@ -1,5 +1,5 @@
 /* rg_grid.c - the Web Mercator grids: the zoom rule, the deepest zoom's
- * grid around a DEM's bounds (its origin aligned for a segment of the
+ * pixel grid around a DEM's bounds (its origin aligned for a segment of the
  * chain), and the grid of the next segment (rgb.h, rg_impl.h). */
 #include <math.h>
 
@@ -19,15 +19,16 @@ rg_maxzoom(double lat, double cell, int dim)
 	return RG_MAXZOOM;
 }
 
-/* Global vertex coordinate (fractional) of longitude / latitude. */
-static double
-gx(double lon, double res)
+/* Global pixel-corner coordinate (fractional) of longitude / latitude:
+ * pixel k's centre is at k + 0.5. */
+double
+rg_merc_x(double lon, double res)
 {
 	return (lon * M_PI / 180 * 6378137.0 + DEM_MERC_HALF) / res;
 }
 
-static double
-gy(double lat, double res)
+double
+rg_merc_y(double lat, double res)
 {
 	double p = fmax(-LAT_MAX, fmin(LAT_MAX, lat)) * M_PI / 180;
 
@@ -42,37 +43,46 @@ align_down(long long v, int s)
 	return v >= 0 ? v / a * a : -((-v + a - 1) / a) * a;
 }
 
-/* g covers the bounds ll at zoom z, its origin a multiple of 2^s, at
- * least 3 x 3 vertices; pad gets the alignment's columns and rows. */
+/* g's pixel centres enclose the bounds ll at zoom z, with a margin of
+ * half a pixel of zoom z - s before them (the first centre of zoom z - l,
+ * at 2^(l-1) - 1/2 pixels from the origin, lies before the first sample
+ * for every l <= s), its origin a multiple of 2^s, at least 3 x 3
+ * pixels; pad gets the columns and rows added before the bounds. */
 void
 rg_grid_of(dem_mgrid *g, int z, int dim, const double ll[4], int s,
     long long pad[2])
 {
 	double res;
-	long long x1, y1, xa, ya;
+	long long x1, y1, xa, ya, m = s > 0 ? 1LL << (s - 1) : 0;
 
 	g->z = z, g->dim = dim;
 	res = dem_mgrid_res(g);
-	xa = (long long)floor(gx(ll[0], res));
-	x1 = (long long)ceil(gx(ll[2], res));
-	ya = (long long)floor(gy(ll[3], res));
-	y1 = (long long)ceil(gy(ll[1], res));
-	g->x0 = align_down(xa, s), g->y0 = align_down(ya, s);
+	xa = (long long)floor(rg_merc_x(ll[0], res) - 0.5);
+	x1 = (long long)ceil(rg_merc_x(ll[2], res) - 0.5);
+	ya = (long long)floor(rg_merc_y(ll[3], res) - 0.5);
+	y1 = (long long)ceil(rg_merc_y(ll[1], res) - 0.5);
+	/* never west of the world's first pixel (nor north) */
+	g->x0 = xa - m > 0 ? align_down(xa - m, s) : 0;
+	g->y0 = ya - m > 0 ? align_down(ya - m, s) : 0;
 	pad[0] = xa - g->x0, pad[1] = ya - g->y0;
 	g->w = (int)(x1 - g->x0 + 1), g->h = (int)(y1 - g->y0 + 1);
 	g->w = g->w < 3 ? 3 : g->w, g->h = g->h < 3 ? 3 : g->h;
 }
 
-/* The next segment's grid: level s of g, its origin aligned down to a
- * multiple of 2^s2; pad gets the columns and rows added before it. */
+/* The next segment's grid: level s of g (its vertices, the deepest
+ * zoom's centres i 2^s), its origin aligned down to a multiple of 2^s2
+ * with the same margin as rg_grid_of's; pad gets the columns and rows
+ * added before it. */
 void
 rg_grid_next(dem_mgrid *n, const dem_mgrid *g, int s, int s2,
     long long pad[2])
 {
 	long long x = g->x0 >> s, y = g->y0 >> s;
+	long long m = s2 > 0 ? 1LL << (s2 - 1) : 0;
 
 	n->z = g->z - s, n->dim = g->dim;
-	n->x0 = align_down(x, s2), n->y0 = align_down(y, s2);
+	n->x0 = x - m > 0 ? align_down(x - m, s2) : 0;
+	n->y0 = y - m > 0 ? align_down(y - m, s2) : 0;
 	pad[0] = x - n->x0, pad[1] = y - n->y0;
 	n->w = geo_level_size(g->w, s) + (int)pad[0];
 	n->h = geo_level_size(g->h, s) + (int)pad[1];

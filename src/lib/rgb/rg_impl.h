@@ -9,17 +9,19 @@
 #include "rgb/rgb.h"
 #include "dem/dem_warp.h"
 #include "base/pool.h"
+#include "qem/fqm.h"
 
 /* A segment of the chain spans at most RG_SEG + 1 zooms: its level-0
- * origin is aligned to 2^RG_SEG vertices, so the padding it costs is
- * under 2^RG_SEG vertices a side; the zooms above restart from its top
- * level's heights on a grid aligned anew. */
+ * origin is aligned to 2^RG_SEG pixels (with a margin of half of that),
+ * so the padding it costs is under 1.5 2^RG_SEG pixels a side; the zooms
+ * above restart from its top level's vertex heights on a grid aligned
+ * anew. */
 #define RG_SEG 5
 
-#define RG_VALID 0x1000000u /* a band pixel over a valid vertex */
+#define RG_VALID 0x1000000u /* a band pixel over valid samples */
 
 typedef struct {
-	dem_mgrid g;              /* the zoom's vertex grid */
+	dem_mgrid g;              /* the zoom's pixel grid */
 	long long tx0;            /* first tile column of the band */
 	int ntx;                  /* tile columns covering the grid */
 	long long ty;             /* tile row in the band, -1: empty */
@@ -57,18 +59,49 @@ int rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
     tl_err *e);
 void rg_zoom_close(rg_zoom *zz);
 
-/* rg_chain.c: the chain on the DEM d (a segment's level 0, g its grid):
- * levels 0 .. nl - 1, each row handed to emit as it is solved. */
+/* rg_chain.c: the chain on the DEM d (a segment's level 0, g its grid;
+ * global level l0 of the chain, whose level 0 is the deepest zoom's pixel
+ * centres): levels 0 .. nl - 1, each row handed to emit as it is solved
+ * (centre 0: the level's vertices, row r), and each row of the zoom's
+ * pixel centres between vertex rows r and r + 1 (centre 1: rg_centre.c;
+ * at global level 0 the vertices themselves). */
 typedef int (*rg_emit)(void *ctx, int level, int r, const double *h,
-    const double *v, int w, tl_err *e);
-int rg_chain(dem *d, int nl, enum solve_mode mode, rg_emit emit,
+    const double *v, int w, int centre, tl_err *e);
+int rg_chain(dem *d, int nl, int l0, enum solve_mode mode, rg_emit emit,
     void *ctx, tl_err *e);
 
-/* rg_error.c: per zoom, the largest and RMS vertical distance between
- * the bilinear surface of its decoded heights and every valid sample of
- * ref (the DEM on the grid of zoom maxz, g). */
-int rg_error(rg_job *j, dem *ref, const dem_mgrid *g, rg_report *rep,
+/* rg_centre.c: the row of zoom maxz - (l0 + l)'s pixel centres between
+ * vertex rows j (a, sa: filtered and solved) and jb = j + 1 (b, sb; on
+ * the last row jb = j, b = a), w of each; f = rg_centre_frac(l0 + l). */
+typedef struct {
+	const geo_ground *m;      /* the segment's level-0 metric */
+	enum solve_mode mode;
+	int l, j, jb, w;          /* l: the segment's level */
+	double f;
+	const fqm_vertex *a, *b;
+	const solve_vertex *sa, *sb;
+} rg_centre_in;
+double rg_centre_frac(int l);
+void rg_centre_row(const rg_centre_in *c, double *h, double *v);
+
+/* rg_box.c: -m average, zooms z .. minz as 2 x 2 means of the zoom
+ * below, from zoom g->z's rows (rg_box_row(b, g->z, ...)); opens them. */
+typedef struct {
+	rg_job *j;
+	int minz;
+	double *acc[RG_MAXZOOM + 1]; /* per zoom: 6 rows of its width */
+} rg_box;
+int rg_box_open(rg_box *b, rg_job *j, const dem_mgrid *g, int minz,
     tl_err *e);
+int rg_box_row(rg_box *b, int z, int r, const double *h, const double *v,
+    tl_err *e);
+void rg_box_free(rg_box *b);
+
+/* rg_error.c: per zoom, the largest and RMS vertical distance between
+ * the surface MapLibre draws from its decoded heights (bilinear between
+ * pixel centres, clamped at the grid's edges) and every valid sample of
+ * src (the DEM, opened as the warp read it, heights as the tiles'). */
+int rg_error(rg_job *j, dem *src, rg_report *rep, tl_err *e);
 
 /* rg_grid.c: g covering the WGS84 bounds ll at zoom z, its origin
  * aligned down to a multiple of 2^s (pad: the columns, rows added); the
@@ -77,6 +110,10 @@ void rg_grid_of(dem_mgrid *g, int z, int dim, const double ll[4], int s,
     long long pad[2]);
 void rg_grid_next(dem_mgrid *n, const dem_mgrid *g, int s, int s2,
     long long pad[2]);
+/* Global pixel-corner coordinates (pixel k's centre at k + 0.5, res
+ * metres a pixel) of longitude, latitude (degrees). */
+double rg_merc_x(double lon, double res);
+double rg_merc_y(double lat, double res);
 
 /* rg_json.c: OUT/tiles.json. */
 int rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],

@@ -1,7 +1,9 @@
 /* rg_run.c - dem2rgb's work (rgb.h): the DEM warped onto the deepest
- * zoom's grid, the chain run segment by segment (each restarting from the
- * previous one's top level, aligned anew), the tiles of every zoom, the
- * error pass, tiles.json, the tree committed at once. */
+ * zoom's pixel centres, the chain run segment by segment (each restarting
+ * from the previous one's top level of vertices, aligned anew; -m
+ * average: 2 x 2 means instead, rg_box.c), the tiles of every zoom (the
+ * centres of each level, rg_centre.c), the error pass, tiles.json, the
+ * tree committed at once. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -22,6 +24,7 @@ typedef struct {
 	rg_job *j;
 	int zt, nl, first, minz;
 	dem_mwriter *next;
+	rg_box *box;     /* -m average: the zooms from the deepest's rows */
 	dem_mgrid ng;
 	long long pad[2];
 	int rows;        /* rows of the next grid written */
@@ -46,18 +49,22 @@ next_row(seg *s, const double *h, const double *v, int w, tl_err *e)
 	return dem_mwriter_row(s->next, s->rows++, s->nrow, e);
 }
 
+/* A level's centres are its zoom's rows; the top level's vertices, the
+ * next segment's DEM. */
 static int
 emit(void *ctx, int l, int r, const double *h, const double *v, int w,
-    tl_err *e)
+    int centre, tl_err *e)
 {
 	seg *s = ctx;
 	int z = s->zt - l;
 
-	if (l >= s->first && z >= s->minz &&
-	    rg_zoom_row(s->j, z, r, h, v, e) < 0)
-		return -1;
-	if (s->next != NULL && l == s->nl - 1)
-		return next_row(s, h, v, w, e);
+	if (!centre)
+		return s->next != NULL && l == s->nl - 1 ?
+		    next_row(s, h, v, w, e) : 0;
+	if (s->box != NULL)
+		return rg_box_row(s->box, z, r, h, v, e);
+	if (l >= s->first && z >= s->minz)
+		return rg_zoom_row(s->j, z, r, h, v, e);
 	return 0;
 }
 
@@ -84,9 +91,12 @@ static int
 segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
     const dem_opts *o, dem_mgrid *ng, dem **keep, rg_report *rep, tl_err *e)
 {
-	int minz = j->a->minzoom;
-	int s1 = g->z - minz < RG_SEG ? g->z - minz : RG_SEG;
-	seg s = { j, g->z, s1 + 1, k > 0, minz, NULL, { 0 }, { 0 }, 0, NULL };
+	int minz = j->a->minzoom, box = j->a->mode == SOLVE_FILTERED;
+	int s1 = box ? 0 : g->z - minz < RG_SEG ? g->z - minz : RG_SEG;
+	int zlo = box ? minz : g->z - s1;
+	rg_box bx = { 0 };
+	seg s = { j, g->z, s1 + 1, k > 0, minz, NULL, box ? &bx : NULL,
+	    { 0 }, { 0 }, 0, NULL };
 	char p[4200];
 	dem *d;
 	int r = -1;
@@ -106,13 +116,15 @@ segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
 		snprintf(rep->vdatum, sizeof rep->vdatum, "%s",
 		    dem_georef(d)->vdatum[0] || o->vdatum == NULL ?
 		    dem_georef(d)->vdatum : o->vdatum);
-	for (int l = s.first; l < s.nl; l++) {
+	for (int l = s.first; !box && l < s.nl; l++) {
 		dem_mgrid lg = { g->z - l, g->dim, g->x0 >> l, g->y0 >> l,
 		    geo_level_size(g->w, l), geo_level_size(g->h, l) };
 		if (rg_zoom_open(j, g->z - l, &lg, e) < 0)
 			goto done;
 	}
-	if (g->z - s1 > minz) {
+	if (box && rg_box_open(&bx, j, g, minz, e) < 0)
+		goto done;
+	if (zlo > minz) {
 		int s2 = g->z - s1 - minz < RG_SEG ? g->z - s1 - minz : RG_SEG;
 		rg_grid_next(&s.ng, g, s1, s2, s.pad);
 		rep->pad[0] += s.pad[0], rep->pad[1] += s.pad[1];
@@ -121,7 +133,7 @@ segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
 		    (s.next = dem_mwriter_open(p, &s.ng, e)) == NULL)
 			goto done;
 	}
-	r = rg_chain(d, s.nl, j->a->mode, emit, &s, e);
+	r = rg_chain(d, s.nl, rep->maxzoom - g->z, j->a->mode, emit, &s, e);
 	if (s.next != NULL && next_close(&s, r < 0 ? &(tl_err){ 0 } : e) < 0)
 		r = -1;
 	if (r == 0 && s.ng.w > 0)
@@ -130,11 +142,11 @@ done:
 	if (s.next != NULL)
 		dem_mwriter_close(s.next, &(tl_err){ 0 });
 	free(s.nrow);
-	for (int l = s.first; l < s.nl; l++)
-		if (g->z - l >= minz) {
-			rep->tiles[g->z - l] = j->zoom[g->z - l].tiles;
-			rep->bytes[g->z - l] = j->zoom[g->z - l].bytes;
-		}
+	rg_box_free(&bx);
+	for (int z = g->z - s.first; z >= zlo; z--) {
+		rep->tiles[z] = j->zoom[z].tiles;
+		rep->bytes[z] = j->zoom[z].bytes;
+	}
 	if (r == 0 && k == 0)
 		*keep = d;
 	else
@@ -228,7 +240,7 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 {
 	const rg_args *a = j->a;
 	char path[4200], vd[256];
-	dem_opts o;
+	dem_opts o, so;
 	dem_mgrid g = *g0, ng;
 	dem *ref = NULL;
 	/* the widest grid: a later segment's is at most w / 32 + 2 wide
@@ -244,6 +256,12 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 		return -1;
 	r = segment(j, 0, &g, path, &o, &ng, &ref, rep, e);
 	rep->segments = 1;
+	/* the error's reference: the DEM itself, read as the warp read it,
+	 * its heights converted as the tiles' are */
+	so = o, so.has_nodata = a->dopt.has_nodata, so.nodata = a->dopt.nodata;
+	if (ref != NULL)
+		dem_close(ref);
+	ref = NULL;
 	/* the later segments' heights are converted already */
 	o.heights = NULL, o.vdatum = rep->vdatum[0] ? rep->vdatum : NULL;
 	for (int k = 1; r == 0 && ng.z >= 0; k++) {
@@ -252,8 +270,10 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 		r = segment(j, k, &g, path, &o, &ng, &ref, rep, e);
 		rep->segments++;
 	}
+	if (r == 0 && (ref = dem_open(a->dem, &so, e)) == NULL)
+		r = -1;
 	if (r == 0)
-		r = rg_error(j, ref, g0, rep, e);
+		r = rg_error(j, ref, rep, e);
 	if (ref != NULL)
 		dem_close(ref);
 	if (r == 0)

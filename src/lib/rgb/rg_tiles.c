@@ -83,7 +83,7 @@ typedef struct {
 } band;
 
 /* Tile t of the band into j->img[t] (NULL when it holds no valid
- * vertex): its pixels the band's codes. */
+ * pixel): its pixels the band's codes. */
 static void
 encode_tiles(void *arg, int k, int t0, int t1)
 {
@@ -187,7 +187,7 @@ range_fail(const rg_job *j, int z, int r, int i, double h, tl_err *e)
 	double lo, hi;
 
 	rg_range(j->a->enc, &lo, &hi);
-	return tl_fail(e, "height %.3f m at zoom %d, vertex (%lld, %lld): "
+	return tl_fail(e, "height %.3f m at zoom %d, pixel (%lld, %lld): "
 	    "outside the %s encoding's range %.4f .. %.4f m", h, z,
 	    j->zoom[z].g.x0 + i, j->zoom[z].g.y0 + r,
 	    rg_encoding_name(j->a->enc), lo, hi);

@@ -1,17 +1,20 @@
 /* rgb.h - MapLibre / Mapbox raster-dem tiles from a DEM (dem2rgb(1)):
- * the DEM warped onto the deepest zoom's Web Mercator vertex grid, every
- * coarser zoom from the quadric chain on that grid (QEM-1D by default),
- * each zoom cut into tiles whose pixels encode heights (Terrarium or
- * Mapbox Terrain-RGB, PNG or lossless WebP), written as a z/x/y tree with
- * a TileJSON 3.0.0 (raster-dem(5)), atomically; the error of the surface
- * MapLibre draws from them measured per zoom.
+ * the DEM warped onto the deepest zoom's Web Mercator pixel centres,
+ * every coarser zoom's pixel centres from the quadric chain on that grid
+ * (QEM-1D by default), each zoom cut into tiles whose pixels encode
+ * heights (Terrarium or Mapbox Terrain-RGB, PNG or lossless WebP),
+ * written as a z/x/y tree with a TileJSON 3.0.0 (raster-dem(5)),
+ * atomically; the error of the surface MapLibre draws from them measured
+ * per zoom at every valid DEM sample.
  *
- * The grid: pixel i of a tile is a vertex, at tile coordinate i/dim
- * (MapLibre's Terrain.getDEMElevation interpolates bilinearly between
- * dem.get(floor(x dim)) and its +1 neighbour, DEMData backfills its
- * border from the neighbour tiles), so tile (x, y)'s pixel (i, j) is
- * global vertex (x dim + i, y dim + j) of its zoom, and vertex k of zoom
- * z-1 is vertex 2k of zoom z: the project's level rule. */
+ * The grid: pixel i of a tile is its height at tile coordinate
+ * (i + 0.5)/dim (MapLibre GL JS 6.17, terrain_coverage.ts
+ * _createElevationSampler, DEM_CELL_CENTER_OFFSET = -0.5, pull request
+ * 8420; bilinear between pixel centres, DEMData backfilling its border
+ * from the neighbour tiles), so tile (x, y)'s pixel (i, j) is the centre
+ * of global pixel (x dim + i, y dim + j) of its zoom; zoom z-1's centre
+ * k lies between zoom z's centres 2k and 2k+1 (rg_centre.c places it on
+ * the chain's vertex levels). */
 #ifndef TL_RGB_H
 #define TL_RGB_H
 
@@ -37,8 +40,8 @@ typedef struct {
 	const char *url;        /* -u: the tree's URL, for absolute tile
 	                         * URLs in tiles.json (NULL: relative) */
 	const char *dump;       /* a directory for the zooms' intended
-	                         * heights (z.tif, dem_warp.h's grids), or
-	                         * NULL: for tests */
+	                         * heights at their pixel centres (z.tif,
+	                         * dem_warp.h's grids), or NULL: for tests */
 	/* Each tile written, also handed here (NULL: none), e.g. to a
 	 * PMTiles writer: the encoded bytes of tile z/x/y, the same for any
 	 * thread count and in the same order (zooms interleaved as the
@@ -54,7 +57,7 @@ typedef struct {
 	long long tiles[RG_MAXZOOM + 1], bytes[RG_MAXZOOM + 1];
 	long long n[RG_MAXZOOM + 1];    /* valid DEM samples measured */
 	double max[RG_MAXZOOM + 1], rms[RG_MAXZOOM + 1]; /* metres */
-	long long pad[2];               /* vertices of alignment added
+	long long pad[2];               /* pixels of alignment added
 	                                 * (columns, rows), all segments */
 	int segments;                   /* of the chain */
 	char vdatum[256];
