@@ -1,6 +1,7 @@
 /* dem2rgb - a DEM as MapLibre / Mapbox raster-dem tiles (Terrarium or
  * Terrain-RGB, PNG or lossless WebP) on the Web Mercator quadtree, every
- * zoom's heights from the quadric chain: a z/x/y tree and tiles.json.
+ * zoom's heights from the quadric chain: a z/x/y tree and tiles.json, or
+ * one PMTiles archive (-o).
  * The work is rg_run (rgb/rgb.h). */
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@ static const char usage[] =
     "[-cq] [-e terrarium|mapbox] [-f png|webp] [-m method] [-t 512|256]\n"
     "    [-Z minzoom] [-z maxzoom] [-j jobs] [-u url] [-H datum] "
     "[-D datum]\n    [-N nodata] DEM OUT\n"
+    "    or, with those options but -u: -o archive DEM\n"
     "  -e encoding   terrarium (default) or mapbox (Terrain-RGB)\n"
     "  -f format     png (default) or webp (lossless)\n"
     "  -m method     qem1d (default), average or subsample\n"
@@ -32,7 +34,10 @@ static const char usage[] =
     "                Z.valid.tif (for tests)\n"
     "  DEM           any raster GDAL opens, in any CRS\n"
     "  OUT           the tree to make (or replace): OUT/tiles.json,\n"
-    "                OUT/{z}/{x}/{y}.png\n";
+    "                OUT/{z}/{x}/{y}.png\n"
+    "  -o archive    instead of a tree, one PMTiles v3 file (or replace\n"
+    "                one) holding the tree's tiles, tiles.json's fields as\n"
+    "                its metadata\n";
 
 static const struct option longopts[] = {
 	{ "dump", required_argument, NULL, 'U' },
@@ -105,6 +110,9 @@ option(cli *c, rg_args *a, int ch, const char *arg, tl_err *e)
 	case 'u':
 		a->url = arg;
 		break;
+	case 'o':
+		a->out = arg, a->pmtiles = 1;
+		break;
 	case 'H': case 'D': case 'N':
 		if (dem_option(&a->dopt, ch, arg, e) < 0)
 			return cli_bad(c, "%s", e->msg);
@@ -128,7 +136,7 @@ main(int argc, char **argv)
 	a.jobs = cli_jobs();
 	if (a.jobs > RG_MAXJOBS)
 		a.jobs = RG_MAXJOBS;
-	while ((ch = cli_next(&c, argc, argv, "ce:f:m:t:Z:z:j:qu:H:D:N:",
+	while ((ch = cli_next(&c, argc, argv, "ce:f:m:t:Z:z:j:qu:o:H:D:N:",
 	    longopts)) != -1) {
 		if (ch == 'q')
 			quiet = 1;
@@ -137,11 +145,15 @@ main(int argc, char **argv)
 	}
 	if (c.status >= 0)
 		return c.status;
-	if (argc - optind != 2)
+	if (argc - optind != (a.pmtiles ? 1 : 2))
 		return cli_usage_error(&c);
+	if (a.pmtiles && a.url != NULL)
+		return cli_bad(&c, "-u: no tile URLs in an archive (-o)");
 	if (a.maxzoom >= 0 && a.minzoom > a.maxzoom)
 		return cli_bad(&c, "-Z %d: above -z %d", a.minzoom, a.maxzoom);
-	a.dem = argv[optind], a.out = argv[optind + 1], a.prog = c.prog;
+	a.dem = argv[optind], a.prog = c.prog;
+	if (!a.pmtiles)
+		a.out = argv[optind + 1];
 	r = rg_run(&a, &rep, &e);
 	if (r == 0 && !quiet)
 		report(&c, &rep);

@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "rgb/rgb.h"
+#include "rgb/pmtiles.h"
 #include "dem/dem_warp.h"
 #include "base/pool.h"
 #include "qem/fqm.h"
@@ -37,7 +38,9 @@ typedef struct {
 
 typedef struct {
 	const rg_args *a;
-	const char *tree;         /* the tree being built (its temporary) */
+	const char *tree;         /* the tree being built (its temporary),
+	                           * or NULL: the tiles go to the sink
+	                           * only (-o, an archive) */
 	const char *scratch;      /* the run's scratch directory */
 	tl_pool *pool;
 	int nt;
@@ -115,8 +118,12 @@ void rg_grid_next(dem_mgrid *n, const dem_mgrid *g, int s, int s2,
 double rg_merc_x(double lon, double res);
 double rg_merc_y(double lat, double res);
 
-/* rg_json.c: OUT/tiles.json. */
+/* rg_json.c: OUT/tiles.json; the archive w closed with the same
+ * fields (but tilejson and tiles) as its metadata, the same zooms,
+ * bounds and centre in its header (pm_close: w freed either way). */
 int rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
     tl_err *e);
+int rg_pmtiles_close(pm_writer *w, const rg_job *j, const rg_report *rep,
+    const double ll[4], tl_err *e);
 
 #endif

@@ -1,8 +1,11 @@
-/* rg_json.c - the tree's TileJSON 3.0.0, OUT/tiles.json (raster-dem(5)):
- * what MapLibre's raster-dem source reads (tiles, zooms, bounds,
- * encoding, tileSize) and, in fields of their own, the vertical datum,
- * the method and the measured error per zoom. */
+/* rg_json.c - what the containers say besides the tiles (raster-dem(5)):
+ * the tree's TileJSON 3.0.0, OUT/tiles.json (what MapLibre's raster-dem
+ * source reads: tiles, zooms, bounds, encoding, tileSize; in fields of
+ * their own the vertical datum, the method and the measured error per
+ * zoom), and the PMTiles archive's header and metadata: the same fields
+ * but the TileJSON version and the tile URLs, built by the same code. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "rgb/rg_impl.h"
@@ -21,14 +24,41 @@ errors(const rg_report *rep)
 	return a;
 }
 
+static int
+centre_zoom(const rg_report *rep)
+{
+	return rep->minzoom + (rep->maxzoom - rep->minzoom) / 2;
+}
+
+/* The fields after "tiles", in tiles.json's order; NULL: no memory. */
+static json_t *
+fields(const rg_job *j, const rg_report *rep, const double ll[4])
+{
+	const rg_args *a = j->a;
+
+	return json_pack("{s:s,s:i,s:i,s:[f,f,f,f],s:[f,f,i],"
+	    "s:s,s:i,s:s,s:s,s:s,s:s,s:o}",
+	    "scheme", "xyz",
+	    "minzoom", rep->minzoom, "maxzoom", rep->maxzoom,
+	    "bounds", ll[0], ll[1], ll[2], ll[3],
+	    "center", (ll[0] + ll[2]) / 2, (ll[1] + ll[3]) / 2,
+	    centre_zoom(rep),
+	    "encoding", rg_encoding_name(a->enc), "tileSize", a->dim,
+	    "vertical_datum", rep->vdatum[0] ? rep->vdatum :
+	    "not declared (heights as the DEM holds them)",
+	    "method", a->mode == SOLVE_FILTERED ? "average" :
+	    solve_mode_name(a->mode),
+	    "resampling", a->cubic ? "cubic" : "bilinear",
+	    "generator", "dem2rgb " TL_VERSION, "error", errors(rep));
+}
+
 int
 rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
     tl_err *e)
 {
 	const rg_args *a = j->a;
 	char tiles[4200], path[4200];
-	int cz = rep->minzoom + (rep->maxzoom - rep->minzoom) / 2;
-	json_t *t;
+	json_t *t, *f;
 	int r;
 
 	/* TileJSON 3.0.0 wants absolute URLs: MapLibre resolves a relative
@@ -39,22 +69,38 @@ rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
 	    "", a->url && *a->url && a->url[strlen(a->url) - 1] != '/' ? "/" :
 	    "", rg_format_ext(a->fmt));
 	snprintf(path, sizeof path, "%s/tiles.json", j->tree);
-	t = json_pack("{s:s,s:[s],s:s,s:i,s:i,s:[f,f,f,f],s:[f,f,i],"
-	    "s:s,s:i,s:s,s:s,s:s,s:s,s:o}",
-	    "tilejson", "3.0.0", "tiles", tiles, "scheme", "xyz",
-	    "minzoom", rep->minzoom, "maxzoom", rep->maxzoom,
-	    "bounds", ll[0], ll[1], ll[2], ll[3],
-	    "center", (ll[0] + ll[2]) / 2, (ll[1] + ll[3]) / 2, cz,
-	    "encoding", rg_encoding_name(a->enc), "tileSize", a->dim,
-	    "vertical_datum", rep->vdatum[0] ? rep->vdatum :
-	    "not declared (heights as the DEM holds them)",
-	    "method", a->mode == SOLVE_FILTERED ? "average" :
-	    solve_mode_name(a->mode),
-	    "resampling", a->cubic ? "cubic" : "bilinear",
-	    "generator", "dem2rgb " TL_VERSION, "error", errors(rep));
-	if (t == NULL)
+	t = json_pack("{s:s,s:[s]}", "tilejson", "3.0.0", "tiles", tiles);
+	f = fields(j, rep, ll);
+	if (t == NULL || f == NULL || json_object_update(t, f) < 0) {
+		json_decref(t), json_decref(f);
 		return tl_fail(e, "%s: out of memory", path);
+	}
+	json_decref(f);
 	r = tl_json_write(t, JSON_INDENT(1) | JSON_PRESERVE_ORDER, path, e);
 	json_decref(t);
+	return r;
+}
+
+int
+rg_pmtiles_close(pm_writer *w, const rg_job *j, const rg_report *rep,
+    const double ll[4], tl_err *e)
+{
+	pm_meta m = { j->a->fmt == RG_WEBP ? PM_WEBP : PM_PNG,
+	    rep->minzoom, rep->maxzoom, { ll[0], ll[1], ll[2], ll[3] },
+	    { (ll[0] + ll[2]) / 2, (ll[1] + ll[3]) / 2 }, centre_zoom(rep),
+	    NULL };
+	json_t *f = fields(j, rep, ll);
+	char *s = f != NULL ? json_dumps(f, JSON_COMPACT |
+	    JSON_PRESERVE_ORDER) : NULL;
+	int r;
+
+	json_decref(f);
+	if (s == NULL) {
+		pm_abort(w);
+		return tl_fail(e, "%s: out of memory", j->a->out);
+	}
+	m.json = s;
+	r = pm_close(w, &m, e);
+	free(s);
 	return r;
 }

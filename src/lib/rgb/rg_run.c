@@ -3,13 +3,16 @@
  * from the previous one's top level of vertices, aligned anew; -m
  * average: 2 x 2 means instead, rg_box.c), the tiles of every zoom (the
  * centres of each level, rg_centre.c), the error pass, tiles.json, the
- * tree committed at once. */
+ * tree committed at once; or (-o) the tiles handed to a PMTiles writer
+ * and the archive renamed into place at the end. */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "rgb/rg_impl.h"
 #include "base/outfile.h"
@@ -154,7 +157,28 @@ done:
 	return r;
 }
 
-/* An existing OUT is replaced only when it is a raster-dem tree. */
+/* An existing archive is replaced only when it is a PMTiles file. */
+static int
+check_archive(const char *out, const struct stat *st, tl_err *e)
+{
+	char magic[7];
+	int fd = -1;
+
+	if (S_ISREG(st->st_mode))
+		fd = open(out, O_RDONLY | O_CLOEXEC);
+	if (fd < 0 || read(fd, magic, sizeof magic) != sizeof magic ||
+	    memcmp(magic, "PMTiles", sizeof magic) != 0) {
+		if (fd >= 0)
+			close(fd);
+		return tl_fail(e, "%s: exists and is not a PMTiles archive: "
+		    "not replaced", out);
+	}
+	close(fd);
+	return 0;
+}
+
+/* An existing OUT is replaced only when it is a raster-dem tree (-o: a
+ * PMTiles archive). */
 static int
 check_out(const rg_args *a, tl_err *e)
 {
@@ -171,6 +195,8 @@ check_out(const rg_args *a, tl_err *e)
 		return -1;
 	if (stat(a->out, &st) < 0)
 		return errno == ENOENT ? 0 : tl_failsys(e, "%s", a->out);
+	if (a->pmtiles)
+		return check_archive(a->out, &st, e);
 	snprintf(p, sizeof p, "%s/tiles.json", a->out);
 	if (!S_ISDIR(st.st_mode) || stat(p, &st) < 0)
 		return tl_fail(e, "%s: exists and is not a raster-dem tree "
@@ -233,7 +259,8 @@ job_free(rg_job *j)
 		tl_pool_free(j->pool);
 }
 
-/* The segments, the error pass, tiles.json, all in the tree j->tree. */
+/* The segments, the error pass, tiles.json, all in the tree j->tree
+ * (NULL: the tiles to the sink only, no tiles.json). */
 static int
 build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
     tl_err *e)
@@ -276,9 +303,50 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 		r = rg_error(j, ref, rep, e);
 	if (ref != NULL)
 		dem_close(ref);
-	if (r == 0)
+	if (r == 0 && j->tree != NULL)
 		r = rg_tilejson(j, rep, ll, e);
 	return r;
+}
+
+/* -o: each tile to the archive, then to the caller's sink. */
+typedef struct {
+	pm_writer *w;
+	const rg_args *a;
+} pm_sink;
+
+static int
+to_archive(void *ctx, int z, long long x, long long y,
+    const unsigned char *p, size_t n, tl_err *e)
+{
+	pm_sink *s = ctx;
+
+	if (pm_add(s->w, z, (unsigned)x, (unsigned)y, p, n, e) < 0)
+		return -1;
+	return s->a->sink != NULL ?
+	    s->a->sink(s->a->sink_ctx, z, x, y, p, n, e) : 0;
+}
+
+/* The tiles as one archive, a->out (built like the tree, j->tree
+ * NULL). */
+static int
+archive(rg_job *j, const dem_mgrid *g, const double ll[4], rg_report *rep,
+    tl_err *e)
+{
+	const rg_args *a = j->a;
+	rg_args b = *a;
+	pm_sink s = { NULL, a };
+
+	if ((s.w = pm_open(a->out, e)) == NULL)
+		return -1;
+	b.sink = to_archive, b.sink_ctx = &s;
+	j->a = &b;
+	if (build(j, g, ll, rep, e) < 0) {
+		pm_abort(s.w);
+		j->a = a;
+		return -1;
+	}
+	j->a = a;
+	return rg_pmtiles_close(s.w, j, rep, ll, e);
 }
 
 int
@@ -308,7 +376,11 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 	if (scratch_begin(&sc, "dem2rgb", e) < 0)
 		return -1;
 	j.scratch = sc.path;
-	if (job_init(&j, a, e) == 0 && tl_outdir_begin(&od, a->out, e) == 0) {
+	if (a->pmtiles) {
+		if (job_init(&j, a, e) == 0)
+			r = archive(&j, &g, ll, rep, e);
+	} else if (job_init(&j, a, e) == 0 &&
+	    tl_outdir_begin(&od, a->out, e) == 0) {
 		j.tree = od.tmp;
 		r = build(&j, &g, ll, rep, e);
 		if (r == 0)

@@ -55,6 +55,8 @@ rg_zoom_open(rg_job *j, int z, const dem_mgrid *g, tl_err *e)
 		if ((zz->dv = dem_mwriter_open(p, g, e)) == NULL)
 			return -1;
 	}
+	if (j->tree == NULL)
+		return 0;
 	snprintf(p, sizeof p, "%s/%d", j->tree, z);
 	if (mkdir(p, 0777) < 0 && errno != EEXIST)
 		return tl_failsys(e, "%s", p);
@@ -159,18 +161,19 @@ flush(rg_job *j, int z, tl_err *e)
 	for (int t = 0; t < zz->ntx; t++) {
 		if (j->img[t] == NULL)
 			continue;
-		if (r == 0) {
+		if (r == 0 && j->tree != NULL) {
 			snprintf(p, sizeof p, "%s/%d/%lld", j->tree, z,
 			    zz->tx0 + t);
 			if (mkdir(p, 0777) < 0 && errno != EEXIST)
 				r = tl_failsys(e, "%s", p);
 		}
-		if (r == 0) {
+		if (r == 0 && j->tree != NULL) {
 			snprintf(p, sizeof p, "%s/%d/%lld/%lld.%s", j->tree, z,
 			    zz->tx0 + t, zz->ty, rg_format_ext(j->a->fmt));
 			r = write_file(p, j->img[t], j->imgn[t], e);
-			zz->tiles++, zz->bytes += (long long)j->imgn[t];
 		}
+		if (r == 0)
+			zz->tiles++, zz->bytes += (long long)j->imgn[t];
 		if (r == 0 && j->a->sink != NULL)
 			r = j->a->sink(j->a->sink_ctx, z, zz->tx0 + t, zz->ty,
 			    j->img[t], j->imgn[t], e);

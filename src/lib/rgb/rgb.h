@@ -3,8 +3,8 @@
  * every coarser zoom's pixel centres from the quadric chain on that grid
  * (QEM-1D by default), each zoom cut into tiles whose pixels encode
  * heights (Terrarium or Mapbox Terrain-RGB, PNG or lossless WebP),
- * written as a z/x/y tree with a TileJSON 3.0.0 (raster-dem(5)),
- * atomically; the error of the surface MapLibre draws from them measured
+ * written as a z/x/y tree with a TileJSON 3.0.0 (raster-dem(5)) or as
+ * one PMTiles v3 archive (pmtiles.h, pmtiles(5)), atomically; the error of the surface MapLibre draws from them measured
  * per zoom at every valid DEM sample.
  *
  * The grid: pixel i of a tile is its height at tile coordinate
@@ -29,6 +29,9 @@ enum rg_format { RG_PNG, RG_WEBP };
 
 typedef struct {
 	const char *dem, *out, *prog;
+	int pmtiles;            /* -o: out is one PMTiles archive holding
+	                         * the tree's tiles, byte-identical, and
+	                         * tiles.json's fields as its metadata */
 	dem_opts dopt;          /* -N -s -H -D (-e is ours) */
 	int dim;                /* 512 or 256 */
 	int minzoom, maxzoom;   /* maxzoom -1: the rule (rg_maxzoom) */
