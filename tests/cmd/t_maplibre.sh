@@ -19,7 +19,8 @@
 # same tiles shifted half a pixel fail the error check (the check can
 # fail). TL_MAPLIBRE_PMTILES=FILE.pmtiles (the same tiles as one PMTiles
 # archive, npm pmtiles in tests/js): the same style through the pmtiles
-# protocol, the same heights. OUT_SHOT=FILE.png: a picture of it there.
+# protocol, the same heights; by default dem2rgb -o's archive of the same
+# DEM where dem2rgb made the tree. OUT_SHOT=FILE.png: a picture of it there.
 # TL_MAPLIBRE_TREE=DIR: that tree instead (made of the same cut:
 # gdal_translate -srcwin 2944 2816 513 513 N48W125.hgt).
 . "$(dirname "$0")/../lib.sh"
@@ -110,6 +111,11 @@ if [ -n "${TL_MAPLIBRE_TREE:-}" ]; then
 elif [ -x "$B/dem2rgb" ] && [ -z "${TL_RGB_FIXTURE:-}" ]; then
 	under=dem2rgb
 	run "dem2rgb exports the DEM" dem2rgb -q -Z 8 "$T/srtm.tif" "$T/tree"
+	if [ -z "${TL_MAPLIBRE_PMTILES:-}" ]; then	# the PMTiles route too
+		run "dem2rgb -o: the same tiles as one PMTiles archive" \
+		    dem2rgb -q -Z 8 -o "$T/tree.pmtiles" "$T/srtm.tif" &&
+		    TL_MAPLIBRE_PMTILES=$T/tree.pmtiles
+	fi
 else
 	under=fixture
 	cp -R "$T/ref" "$T/tree"
