@@ -12,17 +12,26 @@
 
 /* A geographic grid line the DEM means to lie on a line of the tiles
  * (a tile's edge, a lattice line: multiples of 180 / 2^24 degrees from
- * -180, -90) but reaches a few ulps off it by the affine map's rounding
- * is put on it: off, it is a vertex just inside one tile and missing
- * from its neighbour, a sliver that quantisation folds (a crack). Within
- * 1e-12 degrees: no line of a real DEM's grid is that near one it is not
- * on. */
+ * -180, -90) but reaches off it by rounding is put on it: off, it is a
+ * vertex just inside one tile and missing from its neighbour, a sliver
+ * that quantisation folds (a crack). v is the affine map's value, whose
+ * step b = (a + step) - a carries the rounding of a (up to 1.4e-14
+ * degrees for |a| in 64 .. 128) times the place I: 4e-12 at I = 5400
+ * (the 8193x8193 mosaic's column at -67.5, holes); t is the same place from
+ * the georeference directly (origin + (I + c) step), a few ulps of 180
+ * off whatever I. Snapped: v within 1e-12 of a line (as ever), or t
+ * within 1e-10 (a grid of whole 1/36000 degrees off a line is at least
+ * 2e-10 from it, 1" at least 1e-9: no real grid line is that near one
+ * it is not on). */
 static double
-snap(double v, double o)
+snap(double v, double t, double o)
 {
 	double s = ldexp(180, -24), l = o + rint((v - o) / s) * s;
 
-	return fabs(v - l) < 1e-12 ? l : v;
+	if (fabs(v - l) < 1e-12)
+		return l;
+	l = o + rint((t - o) / s) * s;
+	return fabs(t - l) < 1e-10 ? l : v;
 }
 
 int
@@ -33,9 +42,12 @@ tr_lonlat(const tr_grid *g, geo_proj *p, const georef *geo, double *x,
 	int r;
 
 	if (!g->projected) {
-		for (int i = 0; i < n; i++)
-			x[i] = snap(g->ax + g->bx * x[i], -180),
-			y[i] = snap(g->ay + g->by * y[i], -90);
+		for (int i = 0; i < n; i++) {
+			double tx, ty;
+			geo_vertex_crs(geo, 0, x[i], y[i], &tx, &ty);
+			x[i] = snap(g->ax + g->bx * x[i], tx, -180);
+			y[i] = snap(g->ay + g->by * y[i], ty, -90);
+		}
 		return 0;
 	}
 	if ((z = calloc((size_t)n, sizeof *z)) == NULL)
