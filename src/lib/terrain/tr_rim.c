@@ -296,7 +296,8 @@ pieces(rim *R, int t0, int t1, const double c[4], he **bd, int *nbd)
 				return -1;
 	}
 	n0 = R->ne;
-	qsort(R->ed, (size_t)n0, sizeof *R->ed, cmp_he);
+	if (n0 > 1)
+		qsort(R->ed, (size_t)n0, sizeof *R->ed, cmp_he);
 	for (int i = 0; i < n0; i++)
 		if (!has(R->ed, n0, R->ed[i].b, R->ed[i].a)) {
 			if (edge(R, R->ed[i].a, R->ed[i].b) < 0)
@@ -376,7 +377,8 @@ tessellate(rim *R, GLUtesselator *tess)
 	int n = R->ne, nl = 0;
 	char *used;
 
-	qsort(R->ed, (size_t)n, sizeof *R->ed, cmp_he);
+	if (n > 1)
+		qsort(R->ed, (size_t)n, sizeof *R->ed, cmp_he);
 	if ((used = calloc((size_t)n + 1, 1)) == NULL ||
 	    grow((void **)&R->co, &R->cco, 3 * (n + 1), sizeof *R->co) < 0) {
 		free(used);
@@ -541,7 +543,8 @@ rim_row(rim *R, GLUtesselator *tess, int j)
 	    on_lines(R, j, 1, j) < 0 || on_lines(R, j, 1, j + 1) < 0 ||
 	    on_lines(R, j + 1, 1, j + 1) < 0)
 		return -1;
-	qsort(R->lst, (size_t)R->nl, sizeof *R->lst, cmp_lv);
+	if (R->nl > 1) /* lst is NULL while nothing was listed */
+		qsort(R->lst, (size_t)R->nl, sizeof *R->lst, cmp_lv);
 	for (int i = 0; i < R->n; i++)
 		if (rim_cell(R, tess, i, j, R->st[j & 1]) < 0)
 			return -1;
