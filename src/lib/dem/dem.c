@@ -74,8 +74,8 @@ static const dem_adapter *const adapters[] = {
 /* A named file: refuse what cannot be a raster before GDAL guesses, and
  * tell by the first bytes an EXR, a format GDAL reads that we know by
  * its magic (so that GDAL's refusal means damage), or nothing. */
-static int
-check_file(const char *path, enum dem_input *kind, tl_err *e)
+int
+dem_check_file(const char *path, enum dem_input *kind, tl_err *e)
 {
 	unsigned char m[8];
 	struct stat st;
@@ -132,7 +132,7 @@ read_any(dem_load *L, georef *g, const char *path, const char *base,
 	int r;
 
 	/* GDAL's virtual file systems (/vsizip/...): GDAL's alone */
-	if (strncmp(path, "/vsi", 4) != 0 && check_file(path, &kind, e) < 0)
+	if (strncmp(path, "/vsi", 4) != 0 && dem_check_file(path, &kind, e) < 0)
 		return -1;
 	for (size_t k = 0; k < sizeof adapters / sizeof adapters[0]; k++)
 		if ((adapters[k]->takes & 1u << kind) &&

@@ -120,6 +120,11 @@ int dem_load_put(dem_load *L, const void *p, int t, int stride, int x0,
  * say nothing, say EXR, or say a format GDAL reads. */
 enum dem_input { DEM_IN_VSI, DEM_IN_NONE, DEM_IN_EXR, DEM_IN_KNOWN };
 
+/* Refuses at once what is not a regular file (a FIFO is not waited on)
+ * and tells an EXR, a GDAL format known by its magic, or nothing, by the
+ * first bytes (dem.c); every way into a DEM file starts here. */
+int dem_check_file(const char *path, enum dem_input *kind, tl_err *e);
+
 /* A format adapter: its methods. The reader tries them in its table's
  * order (dem.c) on the inputs they take. */
 typedef struct {

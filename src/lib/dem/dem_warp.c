@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <cpl_conv.h>
 #include <cpl_string.h>
@@ -12,6 +13,7 @@
 #include <ogr_srs_api.h>
 
 #include "dem/dem_gdal.h"
+#include "dem/dem_impl.h"
 #include "dem/dem_warp.h"
 
 double
@@ -117,8 +119,12 @@ dem_extent_wgs84(const char *path, double ll[4], double *cell, tl_err *e)
 	double gt[6], x[N * 4 + 3], y[N * 4 + 3], w, h;
 	dem_gdal_msg m;
 	GDALDatasetH ds;
+	enum dem_input kind;
 	int k = 0, r;
 
+	/* a FIFO or a device refused at once, as the reader does */
+	if (strncmp(path, "/vsi", 4) != 0 && dem_check_file(path, &kind, e) < 0)
+		return -1;
 	dem_gdal_init();
 	dem_gdal_catch(&m);
 	if ((ds = dem_gdal_open(path)) == NULL) {

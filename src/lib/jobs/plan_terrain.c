@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "base/outfile.h"
+#include "base/paths.h"
 #include "base/stamp.h"
 #include "jobs/plan_impl.h"
 
@@ -229,6 +230,9 @@ plan_terrain_write(const plan_terrain_opts *o, const char *dir, tl_err *e)
 		if (strchr(o->opt[k], '\n') != NULL)
 			return tl_fail(e, "an option holds a newline: it "
 			    "cannot go into a plan");
+	/* the plan kept off the pyramid, as OUTDIR is (paths.h) */
+	if (tl_path_check(dir, o->pyr, "pyramid", TL_PATH_TREE, e) < 0)
+		return -1;
 	if (stat(dir, &st) == 0)
 		return tl_fail(e, "%s: exists: remove it first", dir);
 	snprintf(index, sizeof index, "%s/index.json", c.pyr);
