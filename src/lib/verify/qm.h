@@ -138,6 +138,30 @@ void qm_issue_add(qm_report *r, int kind, int z, int x, int y,
 double qm_horizon_magnitude(const double p[3], const double d[3],
     const double rad[3]);
 
+/* Whether the surface a tile's triangles draw is closed (qm_closed.c):
+ * vertices with equal keys (bit for bit) are one place; an edge inside
+ * the tile (not along u or v = 0 or QM_MAXQ at both ends) of one
+ * triangle is a crack (open), one of three or more or of two running the
+ * same way an overlap (over); each counted, the first named by the
+ * vertices of its places. Corners out of range and edges from a skip'd
+ * vertex are left out. -1: out of memory. */
+typedef struct {
+	uint32_t n;                /* vertices */
+	const double *key;         /* 3 n: the place of each vertex */
+	const double *uv;          /* 2 n: u, v in 0 .. QM_MAXQ */
+	size_t ncorner;            /* 3 triangles */
+	const int64_t *corner;     /* the vertex of each corner, or NULL: */
+	const uint32_t *corner32;  /* these */
+	const unsigned char *skip; /* n, or NULL */
+} qm_closure_in;
+
+typedef struct {
+	size_t open, over;
+	uint32_t open_edge[2], over_edge[2];
+} qm_closure;
+
+int qm_closed(const qm_closure_in *in, qm_closure *out);
+
 /* Everything a tile says about itself: u, v, heights in 0..32767;
  * header finite, the minimum and maximum heights the vertices' extremes,
  * the bounding sphere holding every vertex (1 mm), the horizon occlusion

@@ -257,118 +257,41 @@ check_edges(const qm_tile *t, int z, int x, int y, qm_report *r)
 	free(mark);
 }
 
-static const qm_tile *sort_tile; /* qsort has no context argument */
-
-static int
-cmpplace(const void *a, const void *b)
-{
-	const qm_tile *t = sort_tile;
-	uint32_t i = *(const uint32_t *)a, j = *(const uint32_t *)b;
-
-	if (t->u[i] != t->u[j])
-		return t->u[i] < t->u[j] ? -1 : 1;
-	if (t->v[i] != t->v[j])
-		return t->v[i] < t->v[j] ? -1 : 1;
-	if (t->h[i] != t->h[j])
-		return t->h[i] < t->h[j] ? -1 : 1;
-	return i < j ? -1 : i > j;
-}
-
-typedef struct {
-	uint32_t a, b; /* a < b: the edge's ends, vertices of one place one */
-	int dir;       /* 1 when the triangle runs a to b */
-} edge;
-
-static int
-cmpedge(const void *x, const void *y)
-{
-	const edge *p = x, *q = y;
-
-	if (p->a != q->a)
-		return p->a < q->a ? -1 : 1;
-	return p->b < q->b ? -1 : p->b > q->b;
-}
-
-/* Per vertex the first vertex at its place and height: vertices that
- * coincide are one point of the surface drawn. */
-static uint32_t *
-places(const qm_tile *t)
-{
-	uint32_t *o = malloc(((size_t)t->n + 1) * sizeof *o);
-	uint32_t *c = malloc(((size_t)t->n + 1) * sizeof *c);
-
-	if (o == NULL || c == NULL) {
-		free(o), free(c);
-		return NULL;
-	}
-	for (uint32_t i = 0; i < t->n; i++)
-		o[i] = i;
-	sort_tile = t;
-	qsort(o, t->n, sizeof *o, cmpplace);
-	for (uint32_t k = 0; k < t->n; k++)
-		c[o[k]] = k > 0 && t->u[o[k]] == t->u[o[k - 1]] &&
-		    t->v[o[k]] == t->v[o[k - 1]] &&
-		    t->h[o[k]] == t->h[o[k - 1]] ? c[o[k - 1]] : o[k];
-	free(o);
-	return c;
-}
-
-static int
-border(const qm_tile *t, uint32_t a, uint32_t b)
-{
-	return (t->u[a] == 0 && t->u[b] == 0) ||
-	    (t->u[a] == QM_MAXQ && t->u[b] == QM_MAXQ) ||
-	    (t->v[a] == 0 && t->v[b] == 0) ||
-	    (t->v[a] == QM_MAXQ && t->v[b] == QM_MAXQ);
-}
-
-/* The surface drawn is closed: every edge inside the tile belongs to two
- * triangles, running opposite ways; one on the tile's border to one. An
- * edge of one triangle inside is a crack (a T-junction, two vertices at
- * one place with other heights); of three or more, an overlap. */
+/* The surface drawn is closed (qm_closed.c): places are (u, v, height). */
 static void
 check_closed(const qm_tile *t, int z, int x, int y, qm_report *r)
 {
-	uint32_t *c = places(t);
-	edge *e = malloc((3 * (size_t)t->ntri + 1) * sizeof *e);
-	size_t n = 0, open = 0, over = 0, fo = 0, fv = 0;
+	double *key = malloc((3 * (size_t)t->n + 1) * sizeof *key);
+	double *uv = malloc((2 * (size_t)t->n + 1) * sizeof *uv);
+	qm_closure_in in = { .n = t->n, .key = key, .uv = uv,
+	    .ncorner = 3 * (size_t)t->ntri, .corner = t->idx };
+	qm_closure c;
+	uint32_t *o = c.open_edge;
 
-	if (c == NULL || e == NULL)
-		goto done;
-	for (size_t k = 0; k < 3 * (size_t)t->ntri; k++) {
-		int64_t p = t->idx[k], q = t->idx[k % 3 == 2 ? k - 2 : k + 1];
-
-		if (p < 0 || q < 0 || p >= t->n || q >= t->n ||
-		    c[p] == c[q])
-			continue;
-		e[n].dir = c[p] < c[q];
-		e[n].a = e[n].dir ? c[p] : c[q], e[n].b = e[n].dir ? c[q] : c[p];
-		n++;
+	if (key == NULL || uv == NULL) {
+		free(key), free(uv);
+		qm_issue_add(r, QM_DECODE, z, x, y, "out of memory");
+		return;
 	}
-	qsort(e, n, sizeof *e, cmpedge);
-	for (size_t i = 0, j; i < n; i = j) {
-		for (j = i + 1; j < n && !cmpedge(&e[i], &e[j]); j++)
-			;
-		if (j - i == 1 && !border(t, e[i].a, e[i].b) && !open++)
-			fo = i;
-		if ((j - i > 2 || (j - i == 2 && e[i].dir == e[i + 1].dir)) &&
-		    !over++)
-			fv = i;
+	for (uint32_t i = 0; i < t->n; i++) {
+		key[3 * i] = uv[2 * i] = t->u[i];
+		key[3 * i + 1] = uv[2 * i + 1] = t->v[i];
+		key[3 * i + 2] = t->h[i];
 	}
-	if (open)
+	if (qm_closed(&in, &c) < 0)
+		qm_issue_add(r, QM_DECODE, z, x, y, "out of memory");
+	else if (c.open)
 		qm_issue_add(r, QM_HOLE, z, x, y, "%zu edges inside the tile "
 		    "belong to one triangle only, a crack; the first from "
 		    "vertex %u (u %d, v %d, height %d) to %u (u %d, v %d, "
-		    "height %d)", open, e[fo].a, t->u[e[fo].a], t->v[e[fo].a],
-		    t->h[e[fo].a], e[fo].b, t->u[e[fo].b], t->v[e[fo].b],
-		    t->h[e[fo].b]);
-	if (over)
+		    "height %d)", c.open, o[0], t->u[o[0]], t->v[o[0]],
+		    t->h[o[0]], o[1], t->u[o[1]], t->v[o[1]], t->h[o[1]]);
+	if (c.over)
 		qm_issue_add(r, QM_HOLE, z, x, y, "%zu edges shared by "
 		    "triangles running the same way or by three or more, an "
-		    "overlap; the first from vertex %u to %u", over, e[fv].a,
-		    e[fv].b);
-done:
-	free(c), free(e);
+		    "overlap; the first from vertex %u to %u", c.over,
+		    c.over_edge[0], c.over_edge[1]);
+	free(key), free(uv);
 }
 
 /* Oct-encoded normals (CesiumJS's AttributeCompression.octDecode) must

@@ -309,115 +309,30 @@ check_edges(const t3c_tile *t, const double *uv, const unsigned char *pole,
 	free(mark);
 }
 
-static const t3c_tile *sort_tile; /* qsort has no context argument */
-
-static int
-cmpplace(const void *a, const void *b)
-{
-	const double *p = sort_tile->p + 3 * (size_t)*(const uint32_t *)a;
-	const double *q = sort_tile->p + 3 * (size_t)*(const uint32_t *)b;
-
-	for (int k = 0; k < 3; k++)
-		if (p[k] != q[k])
-			return p[k] < q[k] ? -1 : 1;
-	return *(const uint32_t *)a < *(const uint32_t *)b ? -1 :
-	    *(const uint32_t *)a > *(const uint32_t *)b;
-}
-
-typedef struct {
-	uint32_t a, b; /* a < b: the edge's ends, one vertex per place */
-	int dir;       /* 1 when the triangle runs a to b */
-} edge;
-
-static int
-cmpedge(const void *x, const void *y)
-{
-	const edge *p = x, *q = y;
-
-	if (p->a != q->a)
-		return p->a < q->a ? -1 : 1;
-	return p->b < q->b ? -1 : p->b > q->b;
-}
-
-/* Per vertex the first vertex at its position (the same floats). */
-static uint32_t *
-places(const t3c_tile *t)
-{
-	uint32_t *o = malloc(((size_t)t->n + 1) * sizeof *o);
-	uint32_t *c = malloc(((size_t)t->n + 1) * sizeof *c);
-
-	if (o == NULL || c == NULL) {
-		free(o), free(c);
-		return NULL;
-	}
-	for (uint32_t i = 0; i < t->n; i++)
-		o[i] = i;
-	sort_tile = t;
-	qsort(o, t->n, sizeof *o, cmpplace);
-	for (uint32_t k = 0; k < t->n; k++)
-		c[o[k]] = k > 0 && !memcmp(t->p + 3 * (size_t)o[k],
-		    t->p + 3 * (size_t)o[k - 1], 3 * sizeof *t->p) ?
-		    c[o[k - 1]] : o[k];
-	free(o);
-	return c;
-}
-
-static int
-border(const double *uv, uint32_t a, uint32_t b)
-{
-	for (int k = 0; k < 2; k++)
-		if ((uv[2 * a + k] == 0 && uv[2 * b + k] == 0) ||
-		    (uv[2 * a + k] == QM_MAXQ && uv[2 * b + k] == QM_MAXQ))
-			return 1;
-	return 0;
-}
-
-/* As quantized-mesh's: the surface drawn is closed, vertices at one
- * position taken as one; an edge inside the tile of one triangle is a
- * crack, of three or more, or two running the same way, an overlap.
+/* As quantized-mesh's (qm_closed.c), places the vertices' ECEF floats.
  * Edges from a vertex at a pole are left out: there a row of vertices
  * is one point, up to their rounding. */
 static void
 check_closed(const t3c_tile *t, const double *uv, const unsigned char *pole,
     int z, int x, int y, qm_report *r)
 {
-	uint32_t *c = places(t);
-	edge *e = malloc((3 * (size_t)t->ntri + 1) * sizeof *e);
-	size_t n = 0, open = 0, over = 0, fo = 0, fv = 0;
+	qm_closure_in in = { .n = t->n, .key = t->p, .uv = uv,
+	    .ncorner = 3 * (size_t)t->ntri, .corner32 = t->idx, .skip = pole };
+	qm_closure c;
 
-	if (c == NULL || e == NULL)
-		goto done;
-	for (size_t k = 0; k < 3 * (size_t)t->ntri; k++) {
-		uint32_t p = t->idx[k], q = t->idx[k % 3 == 2 ? k - 2 : k + 1];
-
-		if (p >= t->n || q >= t->n || c[p] == c[q] || pole[p] ||
-		    pole[q])
-			continue;
-		e[n].dir = c[p] < c[q];
-		e[n].a = e[n].dir ? c[p] : c[q], e[n].b = e[n].dir ? c[q] : c[p];
-		n++;
+	if (qm_closed(&in, &c) < 0) {
+		qm_issue_add(r, QM_DECODE, z, x, y, "out of memory");
+		return;
 	}
-	qsort(e, n, sizeof *e, cmpedge);
-	for (size_t i = 0, j; i < n; i = j) {
-		for (j = i + 1; j < n && !cmpedge(&e[i], &e[j]); j++)
-			;
-		if (j - i == 1 && !border(uv, e[i].a, e[i].b) && !open++)
-			fo = i;
-		if ((j - i > 2 || (j - i == 2 && e[i].dir == e[i + 1].dir)) &&
-		    !over++)
-			fv = i;
-	}
-	if (open)
+	if (c.open)
 		qm_issue_add(r, QM_HOLE, z, x, y, "%zu edges inside the tile "
 		    "belong to one triangle only, a crack; the first from "
-		    "vertex %u to %u", open, e[fo].a, e[fo].b);
-	if (over)
+		    "vertex %u to %u", c.open, c.open_edge[0], c.open_edge[1]);
+	if (c.over)
 		qm_issue_add(r, QM_HOLE, z, x, y, "%zu edges shared by "
 		    "triangles running the same way or by three or more, an "
-		    "overlap; the first from vertex %u to %u", over, e[fv].a,
-		    e[fv].b);
-done:
-	free(c), free(e);
+		    "overlap; the first from vertex %u to %u", c.over,
+		    c.over_edge[0], c.over_edge[1]);
 }
 
 static void
