@@ -67,6 +67,18 @@ browser_test() {
 	exit
 }
 
+# quick_skip WHAT: under TL_QUICK (the sanitizer run) a test whose
+# subject is no code path of ours that the other tests leave out (a
+# plan's jobs through make, GNU parallel and Slurm run the steps that
+# t_vgis_job and the programs' tests run under the sanitizers; static
+# checks of the sources and the archives) ends here; make check runs it.
+quick_skip() {
+	[ -n "${TL_QUICK:-}" ] || return 0
+	ok 0 "# SKIP under the sanitizers: $1 (make check runs it)"
+	done_testing
+	exit
+}
+
 done_testing() {
 	echo "1..$_n"
 	[ $_failed -eq 0 ]

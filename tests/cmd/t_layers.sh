@@ -6,6 +6,7 @@
 # defined by a higher one) and on the programs (each links only its
 # layers' libraries: no GL or JSON where no layer asks for it).
 . "$(dirname "$0")/../lib.sh"
+quick_skip "the layers of the sources and archives"
 
 L=$TOP/src/lib
 make -s -C "$TOP" print-layers >"$T/layers" 2>/dev/null

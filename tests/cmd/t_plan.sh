@@ -3,6 +3,7 @@
 # pyramid byte for byte the one dem2vgis builds in one run. The Slurm
 # script is parsed here (sh -n), run in t_plan_slurm.sh.
 . "$(dirname "$0")/../lib.sh"
+quick_skip "a plan run by make and GNU parallel"
 PATH=$B:$PATH
 
 # A crop of N48W125 wide enough for two pieces at level 0 in QEM-1D (more

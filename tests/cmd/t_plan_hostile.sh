@@ -10,6 +10,7 @@
 # what holds it, and no plan is left. The programs' directory (TL_BIN)
 # has a hostile name too.
 . "$(dirname "$0")/../lib.sh"
+quick_skip "hostile names through make, GNU parallel and Slurm"
 . "$TOP/tests/slurm.sh"
 PATH=$B:$PATH
 

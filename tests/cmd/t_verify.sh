@@ -49,7 +49,8 @@ verify() {
 
 # Every DEM in ../shared/data, QEM-1D and QEM-3D levels, through the
 # driver. (The .tif copies of the .hgt tiles give the same pyramids but
-# for their vertical-datum attribute: checked once each, in 1D.)
+# for their vertical-datum attribute: checked once each, in 1D; not
+# N48W125.tif, 13 M samples whose .hgt twin is checked in both modes.)
 for f in N42E001.hgt N44W072.hgt N48W125.hgt bigtujunga.tif fuji.png; do
 	big $f && { ok 0 "# SKIP $f under TL_QUICK"; continue; }
 	o=""; case $f in fuji.png) o="-s 60" ;; esac
@@ -59,8 +60,7 @@ for f in N42E001.hgt N44W072.hgt N48W125.hgt bigtujunga.tif fuji.png; do
 	verify "$f-3d" "$DATA/$f" -3 $o
 	rm -rf "$T/$f-1d" "$T/$f-3d"
 done
-for f in N42E001.tif N44W072.tif N48W125.tif; do
-	big $f && { ok 0 "# SKIP $f under TL_QUICK"; continue; }
+for f in N42E001.tif N44W072.tif; do
 	verify "$f-1d" "$DATA/$f"
 	rm -rf "$T/$f-1d"
 done
