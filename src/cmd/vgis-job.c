@@ -97,7 +97,8 @@ step_check_stamp(cli *c, int argc, char **argv)
 		return CLI_OK;
 	cli_warn(c, "%s: a plan's jobs must all read the DEM (or, for "
 	    "vgis2terrain --plan, the pyramid) it was made from; write the "
-	    "plan again (dem2vgis -f --plan, vgis2terrain --plan)", e.msg);
+	    "plan again (dem2vgis -f --plan, vgis2terrain --plan, dem2rgb "
+	    "--plan)", e.msg);
 	return CLI_FAIL;
 }
 

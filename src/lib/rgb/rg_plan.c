@@ -39,20 +39,6 @@ floordiv(long long a, int b)
 }
 
 int
-rg_part_owns(const rg_args *a, const rg_zoom *zz, int t)
-{
-	long long ty0, nty, T, i;
-
-	if (a->work == NULL || a->nparts <= 1)
-		return 1;
-	ty0 = floordiv(zz->g.y0, a->dim);
-	nty = floordiv(zz->g.y0 + zz->g.h - 1, a->dim) - ty0 + 1;
-	T = nty * zz->ntx, i = (zz->ty - ty0) * zz->ntx + t;
-	return i >= T * a->part / a->nparts &&
-	    i < T * (a->part + 1) / a->nparts;
-}
-
-int
 rg_plan_parts(const rg_args *a, long long tiles, int *n, tl_err *e)
 {
 	double ll[4], cell;
