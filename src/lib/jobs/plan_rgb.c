@@ -59,7 +59,8 @@ put_makefile(FILE *f, const ctx *c)
 	fputs("\n\n", f);
 	for (int k = 0; k < o->nparts; k++)
 		fprintf(f, "done/p-%d:\n\t$(JOB) $@ $(B)/vgis-job rgb-part "
-		    "$(JOBOPTS) $(OPTS) %d:%d $(DEM) work\n\n", k, k, o->nparts);
+		    "$(JOBOPTS) $(OPTS) %d:%d $(DEM) work\n\n", k, k,
+		    o->nparts);
 	fprintf(f, "done/gather: $(PARTS)\n\t$(JOB) $@ $(B)/vgis-job "
 	    "rgb-gather $(OPTS) %s\n", o->archive ? "-o $(OUT) $(DEM) work" :
 	    "$(DEM) work $(OUT)");

@@ -46,7 +46,8 @@ rg_plan_parts(const rg_args *a, long long tiles, int *n, tl_err *e)
 	dem_mgrid g;
 	int z;
 
-	if (dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
+	if (rg_check_out(a, e) < 0 ||
+	    dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
 		return -1;
 	z = a->maxzoom >= 0 ? a->maxzoom :
 	    rg_maxzoom((ll[1] + ll[3]) / 2, cell, a->dim);
@@ -120,7 +121,8 @@ get_record(const char *work, int k, int *n, rg_report *r, tl_err *e)
 	snprintf(path, sizeof path, "%s" RECORDS "/%d", work, k);
 	if ((f = fopen(path, "r")) == NULL)
 		return errno == ENOENT ? tl_fail(e, "%s: no record: run the "
-		    "plan's part %d first", path, k) : tl_failsys(e, "%s", path);
+		    "plan's part %d first", path, k) :
+		    tl_failsys(e, "%s", path);
 	ok = fgets(line, sizeof line, f) != NULL &&
 	    strcmp(line, "tl-rgb-part 1\n") == 0 &&
 	    fscanf(f, "%d %d %d %d %d %lld %lld", &kk, &nn, &z0, &z1, &seg,
@@ -275,9 +277,11 @@ rg_gather(const rg_args *a, const char *work, rg_report *r, tl_err *e)
 		rv = tl_dir_install(work, a->out, e);
 	if (rv < 0)
 		return -1;
-	if (a->pmtiles)
-		tl_rmtree(work);
+	/* the records first: a gather killed before work is gone has the
+	 * plan's sweep run the parts again */
 	snprintf(path, sizeof path, "%s" RECORDS, work);
 	tl_rmtree(path);
+	if (a->pmtiles)
+		tl_rmtree(work);
 	return 0;
 }

@@ -85,7 +85,8 @@ int rg_run(const rg_args *a, rg_report *r, tl_err *e);
  * and installs work as a->out (or, a->pmtiles, writes the archive from
  * work's tiles and removes work): byte for byte rg_run's output. */
 #define RG_MAXPARTS 100000
-/* The parts for about `tiles` tiles of the deepest zoom each. */
+/* The parts for about `tiles` tiles of the deepest zoom each; a->out
+ * checked as rg_run checks it. */
 int rg_plan_parts(const rg_args *a, long long tiles, int *n, tl_err *e);
 int rg_part(const rg_args *a, const char *work, int k, int n, tl_err *e);
 int rg_gather(const rg_args *a, const char *work, rg_report *r,
