@@ -55,8 +55,9 @@ static const struct option longopts[] = {
 	{ NULL, 0, NULL, 0 }
 };
 
-/* Option ch (and its value) as the words every job of a plan is given,
- * appended to w (*n of them); 0, or the usage error's status. */
+/* Option ch (and its value arg, or NULL: none) as the words every job
+ * of a plan is given, appended to w (*n of them); 0, or the usage
+ * error's status. */
 static int
 word(const cli *c, const char **w, int *n, int ch, const char *arg)
 {
@@ -67,7 +68,7 @@ word(const cli *c, const char **w, int *n, int ch, const char *arg)
 	snprintf(opt[*n], sizeof opt[0], "-%c", ch);
 	w[*n] = opt[*n];
 	*n += 1;
-	if (ch != 'c')
+	if (arg != NULL)
 		w[(*n)++] = arg;
 	return 0;
 }
@@ -106,9 +107,11 @@ main(int argc, char **argv)
 		a.jobs = RG_MAXJOBS;
 	while ((ch = cli_next(&c, argc, argv, RG_CLI_OPTS "qo:",
 	    longopts)) != -1) {
-		if (ch == 'q')
+		if (ch == 'q') {
+			if (!quiet && (r = word(&c, w, &nw, ch, NULL)) != 0)
+				return r;
 			quiet = 1;
-		else if (ch == OPT_DUMP)
+		} else if (ch == OPT_DUMP)
 			a.dump = optarg;
 		else if (ch == OPT_PLAN)
 			plan = optarg;
@@ -119,7 +122,8 @@ main(int argc, char **argv)
 			return r;
 		else if (ch == 'j')
 			jobs = a.jobs;
-		else if (ch != 'o' && (r = word(&c, w, &nw, ch, optarg)) != 0)
+		else if (ch != 'o' && (r = word(&c, w, &nw, ch,
+		    ch == 'c' ? NULL : optarg)) != 0)
 			return r;
 	}
 	if (c.status >= 0)
