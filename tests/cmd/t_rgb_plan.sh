@@ -4,7 +4,7 @@
 # process: the tree (diff -r, tiles.json and its measured error
 # included) and the PMTiles archive (cmp), with other options (Terrain-RGB,
 # WebP, 256 px, -m average). The DEM: a 257x257 crop of SRTM N48W125 with
-# voids. Killed while its jobs run, then run again: it finishes,
+# voids, and a UTM variant of it. Killed while its jobs run, then run again: it finishes,
 # identical, no temporary left. The Slurm script submits the parts as an
 # array and the gather after them (sbatch faked). A DEM changed since
 # the plan was written is refused.
@@ -93,6 +93,14 @@ dem2rgb -q -j 1 -m average -z 11 "$T/srtm.tif" "$T/ref-av" &&
 make -s -C "$T/plan-av" -j2 >/dev/null 2>&1 &&
     diff -r "$T/ref-av" "$T/out-av" >/dev/null
 ok $? "-m average, make -j2: the tree byte for byte one process's"
+
+# a UTM DEM (reprojected by the warp): the same
+gdalwarp -q -t_srs EPSG:32610 -tr 30 30 -r bilinear "$T/srtm.tif" "$T/utm.tif"
+dem2rgb -q -j 2 -z 11 "$T/utm.tif" "$T/ref-utm" &&
+    dem2rgb -q -z 11 --plan "$T/plan-utm" --part-tiles 1 "$T/utm.tif" \
+    "$T/out-utm" && make -s -C "$T/plan-utm" -j2 >"$T/make4.log" 2>&1 &&
+    [ ! -s "$T/make4.log" ] && diff -r "$T/ref-utm" "$T/out-utm" >/dev/null
+ok $? "a UTM DEM, -q, make -j2: the tree byte for byte one process's, no report"
 
 # Slurm: the script parses; submitted to a fake sbatch (the plan done, so
 # each job finds its target made): the parts an array of n, the gather
