@@ -62,8 +62,8 @@ uses_tileplay   := play verify
 uses_dem2vgis   := jobs
 uses_vgis2tiles := tiles3d
 uses_vgis2terrain := terrain jobs
-uses_dem2rgb    := rgb
-uses_vgis-job   := jobs pack terrain
+uses_dem2rgb    := rgb jobs
+uses_vgis-job   := jobs pack terrain rgb
 # what a layer's tests use beside it: the packer's results are checked by
 # the independent checker
 tests_pack      := verify

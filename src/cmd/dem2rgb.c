@@ -2,17 +2,19 @@
  * Terrain-RGB, PNG or lossless WebP) on the Web Mercator quadtree, every
  * zoom's heights from the quadric chain: a z/x/y tree and tiles.json, or
  * one PMTiles archive (-o).
- * The work is rg_run (rgb/rgb.h). */
+ * The work is rg_run (rgb/rgb.h); --plan writes it as a plan's jobs
+ * instead (jobs/plan_rgb.h). */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
-#include "rgb/rgb.h"
+#include "rgb_cli.h"
+#include "jobs/plan_rgb.h"
 
 static const char usage[] =
     "[-cq] [-e terrarium|mapbox] [-f png|webp] [-m method] [-t 512|256]\n"
     "    [-Z minzoom] [-z maxzoom] [-j jobs] [-u url] [-H datum] "
-    "[-D datum]\n    [-N nodata] DEM OUT\n"
+    "[-D datum]\n    [-N nodata] [--plan plandir [--part-tiles n]] DEM OUT\n"
     "    or, with those options but -u: -o archive DEM\n"
     "  -e encoding   terrarium (default) or mapbox (Terrain-RGB)\n"
     "  -f format     png (default) or webp (lossless)\n"
@@ -32,6 +34,10 @@ static const char usage[] =
     "  -N nodata     the DEM's nodata value\n"
     "  --dump DIR    also the intended heights of each zoom, Z.tif and\n"
     "                Z.valid.tif (for tests)\n"
+    "  --plan plandir  write the work as jobs for make, GNU parallel or\n"
+    "                Slurm into plandir instead of doing it (dem2rgb(1),\n"
+    "                PLANS); --part-tiles n: about n tiles of the deepest\n"
+    "                zoom a job (default 256)\n"
     "  DEM           any raster GDAL opens, in any CRS\n"
     "  OUT           the tree to make (or replace): OUT/tiles.json,\n"
     "                OUT/{z}/{x}/{y}.png\n"
@@ -39,88 +45,49 @@ static const char usage[] =
     "                one) holding the tree's tiles, tiles.json's fields as\n"
     "                its metadata\n";
 
+enum { OPT_DUMP = 'U', OPT_PLAN = 256, OPT_TILES };
+#define NWORDS 64
+
 static const struct option longopts[] = {
-	{ "dump", required_argument, NULL, 'U' },
+	{ "dump", required_argument, NULL, OPT_DUMP },
+	{ "plan", required_argument, NULL, OPT_PLAN },
+	{ "part-tiles", required_argument, NULL, OPT_TILES },
 	{ NULL, 0, NULL, 0 }
 };
 
+/* Option ch (and its value arg, or NULL: none) as the words every job
+ * of a plan is given, appended to w (*n of them); 0, or the usage
+ * error's status. */
 static int
-method(const char *s, enum solve_mode *m)
+word(const cli *c, const char **w, int *n, int ch, const char *arg)
 {
-	if (strcmp(s, "qem1d") == 0)
-		*m = SOLVE_QEM1D;
-	else if (strcmp(s, "average") == 0)
-		*m = SOLVE_FILTERED;
-	else if (strcmp(s, "subsample") == 0)
-		*m = SOLVE_SUBSAMPLE;
-	else
-		return -1;
+	static char opt[NWORDS][3];
+
+	if (*n + 2 > NWORDS)
+		return cli_bad(c, "over %d options", NWORDS / 2);
+	snprintf(opt[*n], sizeof opt[0], "-%c", ch);
+	w[*n] = opt[*n];
+	*n += 1;
+	if (arg != NULL)
+		w[(*n)++] = arg;
 	return 0;
 }
 
-static void
-report(const cli *c, const rg_report *r)
-{
-	for (int z = r->minzoom; z <= r->maxzoom; z++)
-		fprintf(stderr, "%s: zoom %d: %lld tiles, %.1f KiB; error "
-		    "max %.3f m, rms %.3f m over %lld samples\n", c->prog, z,
-		    r->tiles[z], r->bytes[z] / 1024.0, r->max[z], r->rms[z],
-		    r->n[z]);
-}
-
+/* The work of a written as a plan into dir: parts of about `tiles`
+ * tiles of the deepest zoom, every job given the options' words w (n of
+ * them; jobs: -j, when given). */
 static int
-option(cli *c, rg_args *a, int ch, const char *arg, tl_err *e)
+write_plan(const cli *c, const rg_args *a, const char *dir,
+    long long tiles, const char *const *w, int n, int jobs, tl_err *e)
 {
-	switch (ch) {
-	case 'e':
-		if (strcmp(arg, "terrarium") && strcmp(arg, "mapbox"))
-			return cli_bad(c, "-e %s: not terrarium or mapbox", arg);
-		a->enc = strcmp(arg, "mapbox") == 0 ? RG_MAPBOX : RG_TERRARIUM;
-		break;
-	case 'f':
-		if (strcmp(arg, "png") && strcmp(arg, "webp"))
-			return cli_bad(c, "-f %s: not png or webp", arg);
-		a->fmt = strcmp(arg, "webp") == 0 ? RG_WEBP : RG_PNG;
-		break;
-	case 'm':
-		if (method(arg, &a->mode) < 0)
-			return cli_bad(c, "-m %s: not qem1d, average or "
-			    "subsample", arg);
-		break;
-	case 't':
-		if (strcmp(arg, "512") && strcmp(arg, "256"))
-			return cli_bad(c, "-t %s: not 512 or 256", arg);
-		a->dim = atoi(arg);
-		break;
-	case 'Z':
-		a->minzoom = (int)cli_number(c, "-Z", arg, 0, RG_MAXZOOM);
-		break;
-	case 'z':
-		a->maxzoom = (int)cli_number(c, "-z", arg, 0, RG_MAXZOOM);
-		break;
-	case 'j':
-		a->jobs = (int)cli_number(c, "-j", arg, 1, RG_MAXJOBS);
-		break;
-	case 'c':
-		a->cubic = 1;
-		break;
-	case 'U':
-		a->dump = arg;
-		break;
-	case 'u':
-		a->url = arg;
-		break;
-	case 'o':
-		a->out = arg, a->pmtiles = 1;
-		break;
-	case 'H': case 'D': case 'N':
-		if (dem_option(&a->dopt, ch, arg, e) < 0)
-			return cli_bad(c, "%s", e->msg);
-		break;
-	default:
-		return cli_usage_error(c);
-	}
-	return c->status >= 0 ? c->status : 0;
+	plan_rgb_opts o = { .prog = c->prog, .dem = a->dem, .out = a->out,
+		.archive = a->pmtiles, .opt = w, .nopt = n, .jobs = jobs };
+	char self[PATH_MAX];
+
+	if (rg_plan_parts(a, tiles, &o.nparts, e) < 0)
+		return -1;
+	o.bindir = cli_bindir(self, sizeof self);
+	return plan_rgb_write(&o, dir, e);
 }
 
 int
@@ -128,19 +95,35 @@ main(int argc, char **argv)
 {
 	rg_args a = { .dim = 512, .maxzoom = -1 };
 	rg_report rep;
+	const char *plan = NULL, *w[NWORDS];
+	long long tiles = 256;
 	tl_err e;
 	cli c;
-	int ch, r, quiet = 0;
+	int ch, r, quiet = 0, nw = 0, jobs = 0;
 
 	cli_init(&c, argv, usage, 0);
 	a.jobs = cli_jobs();
 	if (a.jobs > RG_MAXJOBS)
 		a.jobs = RG_MAXJOBS;
-	while ((ch = cli_next(&c, argc, argv, "ce:f:m:t:Z:z:j:qu:o:H:D:N:",
+	while ((ch = cli_next(&c, argc, argv, RG_CLI_OPTS "qo:",
 	    longopts)) != -1) {
-		if (ch == 'q')
+		if (ch == 'q') {
+			if (!quiet && (r = word(&c, w, &nw, ch, NULL)) != 0)
+				return r;
 			quiet = 1;
-		else if ((r = option(&c, &a, ch, optarg, &e)) != 0)
+		} else if (ch == OPT_DUMP)
+			a.dump = optarg;
+		else if (ch == OPT_PLAN)
+			plan = optarg;
+		else if (ch == OPT_TILES)
+			tiles = cli_number(&c, "--part-tiles", optarg, 1,
+			    LLONG_MAX);
+		else if ((r = rg_cli_option(&c, &a, ch, optarg, &e)) != 0)
+			return r;
+		else if (ch == 'j')
+			jobs = a.jobs;
+		else if (ch != 'o' && (r = word(&c, w, &nw, ch,
+		    ch == 'c' ? NULL : optarg)) != 0)
 			return r;
 	}
 	if (c.status >= 0)
@@ -151,11 +134,16 @@ main(int argc, char **argv)
 		return cli_bad(&c, "-u: no tile URLs in an archive (-o)");
 	if (a.maxzoom >= 0 && a.minzoom > a.maxzoom)
 		return cli_bad(&c, "-Z %d: above -z %d", a.minzoom, a.maxzoom);
+	if (plan != NULL && a.dump != NULL)
+		return cli_bad(&c, "--dump: not with --plan");
 	a.dem = argv[optind], a.prog = c.prog;
 	if (!a.pmtiles)
 		a.out = argv[optind + 1];
+	if (plan != NULL)
+		return cli_exit(&c, write_plan(&c, &a, plan, tiles, w, nw,
+		    jobs, &e), &e);
 	r = rg_run(&a, &rep, &e);
 	if (r == 0 && !quiet)
-		report(&c, &rep);
+		rg_cli_report(&c, &rep);
 	return cli_exit(&c, r, &e);
 }

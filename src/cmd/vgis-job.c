@@ -3,7 +3,8 @@
  * fqmsolve, tilepack) carry none of a plan's internals: the DEM's stamp,
  * the guard of the outputs, the fill in row bands, a band's window and
  * columns, the chain, the pieces and the gather; and the terrain's
- * (vgis2terrain --plan: terrain_cli.c). Each step is a thin call
+ * (vgis2terrain --plan: terrain_cli.c) and the raster-dem tiles'
+ * (dem2rgb --plan: rgb_cli.c). Each step is a thin call
  * of the library's work (stage.h, dem.h, stamp.h, pipeline.h, pack.h);
  * its messages say "vgis-job STEP: ...". Internal: the plans write these
  * command lines, vgis-job(1) lists them. */
@@ -14,6 +15,7 @@
 
 #include "cli.h"
 #include "stage.h"
+#include "rgb_cli.h"
 #include "terrain_cli.h"
 #include "base/stamp.h"
 #include "jobs/pipeline.h"
@@ -47,6 +49,9 @@ static const char usage[] =
     "z:i0:i1 dir work\n"
     "       vgis-job terrain-gather [-qz] [-f format] [-j jobs] dir work "
     "outdir\n"
+    "       vgis-job rgb-part [dem2rgb options] k:n dem work\n"
+    "       vgis-job rgb-gather [dem2rgb options] [-o archive] dem work "
+    "[outdir]\n"
     "  the steps of a plan (dem2vgis(1), PLANS; vgis-job(1)); "
     "vgis-job STEP --help\n"
     "  says a step's options\n";
@@ -92,7 +97,8 @@ step_check_stamp(cli *c, int argc, char **argv)
 		return CLI_OK;
 	cli_warn(c, "%s: a plan's jobs must all read the DEM (or, for "
 	    "vgis2terrain --plan, the pyramid) it was made from; write the "
-	    "plan again (dem2vgis -f --plan, vgis2terrain --plan)", e.msg);
+	    "plan again (dem2vgis -f --plan, vgis2terrain --plan, dem2rgb "
+	    "--plan)", e.msg);
 	return CLI_FAIL;
 }
 
@@ -502,6 +508,8 @@ static const struct {
 	    "  the pieces in work become the pyramid dir, as tilepack -q -g\n" },
 	{ "terrain-part", tr_step_part, 0, tr_step_part_usage },
 	{ "terrain-gather", tr_step_gather, 0, tr_step_gather_usage },
+	{ "rgb-part", rg_step_part, 0, rg_step_part_usage },
+	{ "rgb-gather", rg_step_gather, 0, rg_step_gather_usage },
 };
 
 int

@@ -126,4 +126,9 @@ int rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
 int rg_pmtiles_close(pm_writer *w, const rg_job *j, const rg_report *rep,
     const double ll[4], tl_err *e);
 
+/* rg_grid.c: whether tile column t of zoom zz's band (row zz->ty) is
+ * the part's (always, outside a plan's job); rg_run.c: OUT checked. */
+int rg_part_owns(const rg_args *a, const rg_zoom *zz, int t);
+int rg_check_out(const rg_args *a, tl_err *e);
+
 #endif

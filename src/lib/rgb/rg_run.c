@@ -179,8 +179,8 @@ check_archive(const char *out, const struct stat *st, tl_err *e)
 
 /* An existing OUT is replaced only when it is a raster-dem tree (-o: a
  * PMTiles archive). */
-static int
-check_out(const rg_args *a, tl_err *e)
+int
+rg_check_out(const rg_args *a, tl_err *e)
 {
 	char p[4200];
 	struct stat st;
@@ -297,13 +297,17 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 		r = segment(j, k, &g, path, &o, &ng, &ref, rep, e);
 		rep->segments++;
 	}
+	/* a plan's job: part 0 alone measures, the gather writes
+	 * tiles.json (rg_plan.c) */
+	if (a->work != NULL && a->part != 0)
+		return r;
 	if (r == 0 && (ref = dem_open(a->dem, &so, e)) == NULL)
 		r = -1;
 	if (r == 0)
 		r = rg_error(j, ref, rep, e);
 	if (ref != NULL)
 		dem_close(ref);
-	if (r == 0 && j->tree != NULL)
+	if (r == 0 && j->tree != NULL && a->work == NULL)
 		r = rg_tilejson(j, rep, ll, e);
 	return r;
 }
@@ -360,7 +364,8 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 	int r = -1, s;
 
 	memset(rep, 0, sizeof *rep);
-	if (check_out(a, e) < 0 || dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
+	if ((a->work == NULL && rg_check_out(a, e) < 0) ||
+	    dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
 		return -1;
 	rep->maxzoom = a->maxzoom >= 0 ? a->maxzoom :
 	    rg_maxzoom((ll[1] + ll[3]) / 2, cell, a->dim);
@@ -376,7 +381,11 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 	if (scratch_begin(&sc, "dem2rgb", e) < 0)
 		return -1;
 	j.scratch = sc.path;
-	if (a->pmtiles) {
+	if (a->work != NULL) { /* a plan's job, into the shared work tree */
+		j.tree = a->work;
+		if (job_init(&j, a, e) == 0)
+			r = build(&j, &g, ll, rep, e);
+	} else if (a->pmtiles) {
 		if (job_init(&j, a, e) == 0)
 			r = archive(&j, &g, ll, rep, e);
 	} else if (job_init(&j, a, e) == 0 &&

@@ -99,6 +99,8 @@ encode_tiles(void *arg, int k, int t0, int t1)
 		uint32_t any = 0;
 
 		j->img[t] = NULL;
+		if (!rg_part_owns(j->a, zz, t))
+			continue;
 		for (int r = 0; r < dim; r++)
 			for (int i = 0; i < dim; i++) {
 				uint32_t c = zz->c[(size_t)r * bw + t * dim + i];

@@ -53,6 +53,12 @@ typedef struct {
 	int (*sink)(void *ctx, int z, long long x, long long y,
 	    const unsigned char *p, size_t n, tl_err *e);
 	void *sink_ctx;
+	/* A plan's job (rg_plan.c): the tiles into the tree work (shared by
+	 * the plan's jobs), only those of part `part` of `nparts` of each
+	 * zoom; no tiles.json; the error measured by part 0 alone. NULL:
+	 * the whole run. */
+	const char *work;
+	int part, nparts;
 } rg_args;
 
 typedef struct {
@@ -67,6 +73,24 @@ typedef struct {
 } rg_report;
 
 int rg_run(const rg_args *a, rg_report *r, tl_err *e);
+
+/* --- a plan's jobs (rg_plan.c; dem2rgb(1), PLANS) -------------------
+ * Part k of n: each zoom's tiles (those of the tile columns and rows
+ * covering its grid, row by row) cut into n ranges as even as integers
+ * allow; part k writes those of range k (and only those) into the tree
+ * work, exactly as one process writes them, running the warp and the
+ * chain whole (every value computed as in one process), and records
+ * its counts (part 0: also the error) in WORK.parts/K. The gather joins
+ * the n records into one process's report, writes tiles.json into work
+ * and installs work as a->out (or, a->pmtiles, writes the archive from
+ * work's tiles and removes work): byte for byte rg_run's output. */
+#define RG_MAXPARTS 100000
+/* The parts for about `tiles` tiles of the deepest zoom each; a->out
+ * checked as rg_run checks it. */
+int rg_plan_parts(const rg_args *a, long long tiles, int *n, tl_err *e);
+int rg_part(const rg_args *a, const char *work, int k, int n, tl_err *e);
+int rg_gather(const rg_args *a, const char *work, rg_report *r,
+    tl_err *e);
 
 /* --- the encodings (rg_encode.c) ---------------------------------------
  * Terrarium: h = R 256 + G + B / 256 - 32768 (steps of 1/256 m, heights

@@ -1,0 +1,225 @@
+/* plan_rgb.c - dem2rgb's plan on disk (plan_rgb.h): the Makefile of the
+ * parts and the gather, the job wrapper, the list of the parts'
+ * targets, the scripts for GNU parallel and Slurm, and the DEM's
+ * stamp. */
+#include "jobs/plan_rgb.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "base/outfile.h"
+#include "base/paths.h"
+#include "base/stamp.h"
+#include "jobs/plan_impl.h"
+
+/* The plan with its paths made absolute. */
+typedef struct {
+	const plan_rgb_opts *o;
+	char dir[4096], dem[4096], out[4096], bin[4096];
+} ctx;
+
+static void
+put_makefile(FILE *f, const ctx *c)
+{
+	const plan_rgb_opts *o = c->o;
+	const char *const dem = c->dem, *const out = c->out, *bin = c->bin;
+
+	fprintf(f, "# Made by %s --plan: the raster-dem %s %s\n# of the DEM "
+	    "%s.\n# Run: make -C THIS-DIRECTORY -j N, and again after a "
+	    "failure or a kill:\n# it goes on where it stopped. Each job is "
+	    "a step of vgis-job(1):\n# done/p-K (part K of N: its range of "
+	    "every zoom's tiles into work/),\n# done/gather (work/ becomes "
+	    "the %s).\n", o->prog, o->archive ? "archive" : "tree", c->out,
+	    c->dem, o->archive ? "archive" : "tree");
+	fputs("SHELL = /bin/sh\nB =", f);
+	plan_words(f, &bin, 1, 1);
+	fputs("\nJOB = sh job $(B)\nDEM =", f);
+	plan_words(f, &dem, 1, 1);
+	fputs("\nOUT =", f);
+	plan_words(f, &out, 1, 1);
+	fputs("\nOPTS =", f);
+	plan_words(f, o->opt, o->nopt, 1);
+	fputs("\nJOBOPTS =", f);
+	if (o->jobs > 1)
+		fprintf(f, " -j %d", o->jobs);
+	fputs("\n\nall: done/gather\n\n"
+	    "# done/ markers whose records are gone (work/ removed...) removed "
+	    "first,\n# to be made again: for the whole run or the gather, not "
+	    "for each job\n# that GNU parallel and Slurm run, nor for make -n "
+	    "or -q\n"
+	    "ifneq ($(filter all done/gather,$(or $(MAKECMDGOALS),all)),)\n"
+	    "ifeq ($(findstring n,$(firstword -$(MAKEFLAGS)))$(findstring q,"
+	    "$(firstword -$(MAKEFLAGS))),)\n"
+	    "SWEPT := $(shell $(JOB) --sweep)\nendif\nendif\n\nPARTS =", f);
+	for (int k = 0; k < o->nparts; k++)
+		fprintf(f, " done/p-%d", k);
+	fputs("\n\n", f);
+	for (int k = 0; k < o->nparts; k++)
+		fprintf(f, "done/p-%d:\n\t$(JOB) $@ $(B)/vgis-job rgb-part "
+		    "$(JOBOPTS) $(OPTS) %d:%d $(DEM) work\n\n", k, k,
+		    o->nparts);
+	fprintf(f, "done/gather: $(PARTS)\n\t$(JOB) $@ $(B)/vgis-job "
+	    "rgb-gather $(OPTS) %s\n", o->archive ? "-o $(OUT) $(DEM) work" :
+	    "$(DEM) work $(OUT)");
+}
+
+static void
+put_job(FILE *f, const ctx *c)
+{
+	(void)c;
+	fputs("#!/bin/sh\n"
+	    "# job B TARGET CMD...: the plan's job TARGET (done/NAME, made when "
+	    "CMD\n# succeeds; B: the programs' directory). Run once however "
+	    "many runners\n# ask for it at once: under an flock(1) of "
+	    "done/.lock-NAME, and not when\n# TARGET was made meanwhile. "
+	    "First the DEM's files are checked as the\n# plan recorded them "
+	    "(dem.stamp).\n"
+	    "# job B --sweep: the markers of parts whose records "
+	    "(work.parts/) or\n# tiles (work/) are gone removed, so that make "
+	    "runs them again; none once\n# the gather is done.\n"
+	    "set -e\n"
+	    "b=$1 t=$2\n"
+	    "shift 2\n"
+	    "mkdir -p done\n"
+	    "lock() {\n"
+	    "\texec 9>>\"done/.lock-$1\"\n"
+	    "\tif command -v flock >/dev/null; then flock 9; fi\n"
+	    "}\n"
+	    "if [ \"$t\" = --sweep ]; then\n"
+	    "\tlock gather\n"
+	    "\t[ ! -e done/gather ] || exit 0\n"
+	    "\tgone=\n"
+	    "\tfor m in done/p-*; do # p-K: work.parts/K\n"
+	    "\t\t[ -e \"$m\" ] || continue\n"
+	    "\t\t[ -d work ] && [ -e \"work.parts/${m#done/p-}\" ] && "
+	    "continue\n"
+	    "\t\trm -f \"$m\"; gone=\"$gone ${m#done/}\"\n"
+	    "\tdone\n"
+	    "\t[ -z \"$gone\" ] || echo \"job: records gone, their jobs to be\" \\\n"
+	    "\t    \"run again (done/ markers removed):$gone\" >&2\n"
+	    "\texit 0\n"
+	    "fi\n"
+	    "lock \"${t#done/}\"\n"
+	    "[ ! -e \"$t\" ] || exit 0\n"
+	    "\"$b/vgis-job\" check-stamp dem.stamp\n"
+	    "\"$@\" 9>&-\n"
+	    "touch \"$t\"\n", f);
+}
+
+static void
+put_parallel(FILE *f, const ctx *c)
+{
+	fputs("#!/bin/sh\n"
+	    "# GNU parallel, stage by stage: every part, then the gather. Each "
+	    "job is a\n# make target of this directory, so a run again skips "
+	    "what is done. Its\n# options come from PARALLEL, e.g. "
+	    "PARALLEL='--sshloginfile hosts -j 4' for\n# machines that share "
+	    "this file system (same paths).\nset -e\nP=", f);
+	plan_word(f, c->dir, 0);
+	fputs("\n" PLAN_PAR ":::: \"$P/targets1\"\n"
+	    PLAN_PAR "::: done/gather\n", f);
+}
+
+static void
+put_slurm(FILE *f, const ctx *c)
+{
+	fputs("#!/bin/sh\n"
+	    "# Slurm: the parts as job arrays, the gather after them. Each job "
+	    "is a make\n# target of this directory: submitted again, it skips "
+	    "what is done. A failed\n# job cancels the gather. sbatch options "
+	    "(partition, account, time) come\n# from SBATCH_OPTS; arrays have "
+	    "at most TL_SLURM_ARRAY tasks (default 1000:\n# Slurm's default "
+	    "MaxArraySize is 1001), more make several.\nset -e\nP=", f);
+	plan_word(f, c->dir, 0);
+	fputs("\n", f);
+	plan_slurm_funcs(f);
+	fputs("a=$(array parts \"\" targets1)\n"
+	    "job gather \"$a\" 'make done/gather'\n", f);
+}
+
+static void
+put_targets(FILE *f, const ctx *c)
+{
+	for (int k = 0; k < c->o->nparts; k++)
+		fprintf(f, "done/p-%d\n", k);
+}
+
+/* File name in dir, written by fn, executable or not. */
+static int
+put(const char *dir, const char *name, int exec, const ctx *c,
+    void (*fn)(FILE *, const ctx *), tl_err *e)
+{
+	char path[4400];
+	FILE *f;
+
+	snprintf(path, sizeof path, "%s/%s", dir, name);
+	if ((f = fopen(path, "w")) == NULL)
+		return tl_failsys(e, "%s", path);
+	fn(f, c);
+	if (fclose(f) != 0)
+		return tl_failsys(e, "%s", path);
+	if (exec && chmod(path, 0755) != 0)
+		return tl_failsys(e, "%s", path);
+	return 0;
+}
+
+/* p made absolute into full; a newline, which no Makefile carries,
+ * refused. */
+static int
+absolute(const char *what, const char *p, char *full, size_t n, tl_err *e)
+{
+	char cwd[4096];
+
+	if (strchr(p, '\n') != NULL)
+		return tl_fail(e, "%s: a newline cannot go into a plan (make "
+		    "reads its jobs' commands a line at a time): rename it",
+		    what);
+	if (p[0] != '/' && getcwd(cwd, sizeof cwd) == NULL)
+		return tl_failsys(e, "current directory");
+	if ((size_t)snprintf(full, n, "%s%s%s", p[0] == '/' ? "" : cwd,
+	    p[0] == '/' ? "" : "/", p) >= n)
+		return tl_fail(e, "%s: name too long", p);
+	return 0;
+}
+
+int
+plan_rgb_write(const plan_rgb_opts *o, const char *dir, tl_err *e)
+{
+	ctx c = { o, "", "", "", "" };
+	char stamp[4400], *dems[1] = { c.dem };
+	struct stat st;
+	tl_outfile d;
+
+	if (absolute("the plan directory", dir, c.dir, sizeof c.dir, e) < 0 ||
+	    absolute("the DEM", o->dem, c.dem, sizeof c.dem, e) < 0 ||
+	    absolute("the output", o->out, c.out, sizeof c.out, e) < 0 ||
+	    absolute("the programs' directory", o->bindir ? o->bindir : ".",
+	    c.bin, sizeof c.bin, e) < 0)
+		return -1;
+	for (int k = 0; k < o->nopt; k++)
+		if (strchr(o->opt[k], '\n') != NULL)
+			return tl_fail(e, "an option holds a newline: it "
+			    "cannot go into a plan");
+	/* the plan kept off the DEM and off the output */
+	if (tl_path_check(dir, o->dem, "DEM", 0, e) < 0 ||
+	    tl_path_check(dir, o->out, "output", TL_PATH_OUT, e) < 0)
+		return -1;
+	if (stat(dir, &st) == 0)
+		return tl_fail(e, "%s: exists: remove it first", dir);
+	if (tl_outdir_begin(&d, dir, e) < 0)
+		return -1;
+	snprintf(stamp, sizeof stamp, "%s/dem.stamp", d.tmp);
+	if (put(d.tmp, "Makefile", 0, &c, put_makefile, e) < 0 ||
+	    put(d.tmp, "job", 1, &c, put_job, e) < 0 ||
+	    put(d.tmp, "parallel.sh", 1, &c, put_parallel, e) < 0 ||
+	    put(d.tmp, "slurm.sh", 1, &c, put_slurm, e) < 0 ||
+	    put(d.tmp, "targets1", 0, &c, put_targets, e) < 0 ||
+	    dem_stamp(stamp, dems, 1, e) < 0) {
+		tl_outdir_abort(&d);
+		return -1;
+	}
+	return tl_outdir_commit(&d, e);
+}
