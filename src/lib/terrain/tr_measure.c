@@ -506,7 +506,7 @@ tr_kept_free(tr_kept *k)
 size_t
 tr_kept_bytes(const tr_kept *k)
 {
-	return k ? k->bytes : 0;
+	return k->bytes;
 }
 
 int
@@ -573,15 +573,12 @@ tr_kept_walk(tr_work *w, const tr_kept *kp, double d[2], tl_err *e)
 	/* last to first: the blocks the selection read last (level 0 at
 	 * the deep levels) are still in the cache */
 	for (int k = L0->blocks[0] * L0->blocks[1] - 1; k >= 0; k--) {
-		const double *o = w->g->box[0] + 4 * k;
-		const double *t = kp->t;
-		if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3])
-			continue;
 		int bi = k % L0->blocks[0], bj = k / L0->blocks[0];
 		const double *lon, *lat;
-		const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
-		if (b == NULL || measure_block(w->g, b, lon, lat, &kp->l,
-		    kp->rim, bi, bj, t, kp->r, d, e) < 0)
+		const pyramid_block *b;
+		if (tr_kept_meets(w->g, kp, k) && ((b = tr_block(w, 0, bi, bj,
+		    &lon, &lat, e)) == NULL || tr_kept_block(w->g, kp, k, bi, bj,
+		    b, lon, lat, d, e) < 0))
 			return -1;
 	}
 	return 0;
@@ -597,9 +594,7 @@ tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
 	d[0] = d[1] = 0;
 	if (tr_keep(w, z, x, y, &kp, e) < 0)
 		return -1;
-	if (kp == NULL)
-		return 0; /* no sample */
-	ret = tr_kept_walk(w, kp, d, e);
+	ret = kp ? tr_kept_walk(w, kp, d, e) : 0; /* NULL: no sample */
 	tr_kept_free(kp);
 	return ret;
 }
