@@ -43,6 +43,11 @@ typedef struct {
 	tr_choice c;
 	int x0, y0, nx, i0;
 	int ny;                 /* rows of a range of whole rows, else 0 */
+	size_t keep;            /* > 0: tiles kept for one pass over level 0
+	                         * (tr_batch), up to keep bytes a thread */
+	const struct tr_keptz *kl; /* the pass: the kept tiles */
+	double *dd;             /* per thread, per kept tile, d */
+	int nkeep;
 } tr_export;
 
 /* Opens a->dir for export: its index read and checked, the grid, the
@@ -64,6 +69,15 @@ int tr_try(tr_export *x, const char *tmp, int z, int i0, int i1, int t,
  * made at that try (*p); fails when none of the tries holds. */
 int tr_settle(tr_export *x, const char *tmp, int z, int i0, int i1,
     int from, tr_part *p, tl_err *e);
+/* Levels 0 .. z1 (few tiles each), whole, into tmp: each at try 0 with
+ * its tiles measured in one pass over level 0, then from try 1 on, one
+ * at a time, the levels that did not hold; p[z] as tr_settle. The same
+ * files and parts as tr_settle level by level. */
+int tr_batch(tr_export *x, const char *tmp, int z1, tr_part *p, tl_err *e);
+/* The deepest level that tr_batch takes: of TR_BATCH tiles or fewer,
+ * as are all those above it. */
+int tr_batch_depth(const tr_export *x);
+
 /* Level z's line of the report from its parts at one try. */
 void tr_report_level(const tr_export *x, int z, const tr_part *p,
     tr_report *rep);

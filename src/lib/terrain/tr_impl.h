@@ -94,6 +94,12 @@ typedef struct {
 	unsigned char *buf;     /* the encoded tile */
 	size_t nbuf, cbuf;
 	double err, direct;     /* largest d[0], d[1] of its tiles (pass) */
+	struct tr_keptz {       /* tiles kept for one pass (tr_batch.c) */
+		struct tr_kept *k;
+		int z;
+	} *kept;
+	int nkept, ckept;
+	size_t kbytes;
 	long long tiles, tris, bytes;
 } tr_work;
 
@@ -164,6 +170,23 @@ int tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
  * largest distance between the decoded surface and the selection's, d[1]
  * between it and the samples (tr_measure.c). */
 int tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e);
+
+/* A tile's measure in two halves, so that many tiles share one pass
+ * over level 0 (tr_batch.c): tr_keep, the quantised tile's locator,
+ * *out NULL when the tile holds no sample; tr_kept_block, its samples in
+ * level-0 block kb = (bi, bj), b with its vertices' lon, lat, folded
+ * into d as tr_measure does. tr_measure is the two over every block. */
+typedef struct tr_kept tr_kept;
+int tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e);
+int tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi,
+    int bj, const pyramid_block *b, const double *lon, const double *lat,
+    double d[2], tl_err *e);
+/* Whether level-0 block kb meets the tile's part of the terrain. */
+int tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb);
+/* Its samples in every level-0 block, through the thread's cache. */
+int tr_kept_walk(tr_work *w, const tr_kept *k, double d[2], tl_err *e);
+size_t tr_kept_bytes(const tr_kept *k);
+void tr_kept_free(tr_kept *k);
 
 /* The quantized-mesh bytes of the quantised tile into w->buf
  * (qm_encode.c). */

@@ -426,32 +426,32 @@ flat(const locator *l, int q, double lon, double lat)
 	return f[7] + b1 * f[8] + b2 * f[9];
 }
 
+/* The samples of level-0 block (bi, bj) b, its vertices at lon, lat,
+ * in tile t (of rectangle r) under locator l; rim: per triangle, 1 past
+ * a projected DEM's footprint (or NULL). */
 static int
-measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
-    const double r[4], double d[2], tl_err *e)
+measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
+    const double *lat, const locator *l, const unsigned char *rim, int bi,
+    int bj, const double t[4], const double r[4], double d[2], tl_err *e)
 {
-	const double *lon, *lat;
-	const pyramid_block *b = tr_block(w, 0, bi, bj, &lon, &lat, e);
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
 	int hint = -1;
 	double d0 = d[0], d1 = d[1];
 
-	if (b == NULL)
-		return -1;
 	/* a geographic grid: latitude per row, longitude per column, so the
 	 * normals' sines and cosines per row and column (as geo_ellipsoid
 	 * computes them) */
-	for (int k = 0; !w->g->projected && k < BT_SIZE; k++) {
+	for (int k = 0; !g->projected && k < BT_SIZE; k++) {
 		double a = lat[k * BT_SIZE] * (M_PI / 180), o = lon[k] *
 		    (M_PI / 180);
 		sl[k] = sin(a), cl[k] = cos(a), so[k] = sin(o), co[k] = cos(o);
 		nn[k] = 6378137.0 / sqrt(1 - e2 * sl[k] * sl[k]);
 	}
 	for (int J = 0; J < BT_SIZE; J++) {
-		if (bj * BT_CELLS + J >= w->g->h0)
+		if (bj * BT_CELLS + J >= g->h0)
 			break;
-		for (int I = 0; I < BT_SIZE && bi * BT_CELLS + I < w->g->w0;
+		for (int I = 0; I < BT_SIZE && bi * BT_CELLS + I < g->w0;
 		    I++) {
 			int k = J * BT_SIZE + I;
 			double f[3], up[3];
@@ -464,7 +464,7 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
 			const double *n = l->plane + 4 * q;
-			if (w->g->projected)
+			if (g->projected)
 				geo_ellipsoid(lon[k], lat[k], f, up);
 			else {
 				f[0] = nn[J] * cl[J] * co[I];
@@ -476,7 +476,7 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
 			/* past a projected DEM's footprint, the sample itself */
-			d0 = dmax(d0, fabs(hs - (w->m.rim && w->m.rim[q] ?
+			d0 = dmax(d0, fabs(hs - (rim && rim[q] ?
 			    b->z[k] : flat(l, q, lon[k], lat[k]))));
 			d1 = dmax(d1, fabs(hs - b->z[k]));
 		}
@@ -485,39 +485,116 @@ measure_block(tr_work *w, const locator *l, int bi, int bj, const double t[4],
 	return 0;
 }
 
-/* Every level-0 sample in the tile and in the terrain's rectangle. */
-int
-tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
-{
-	const pyramid_level *L0 = &w->ix->lev[0];
-	locator l = { 0 };
+/* A tile's locator kept for its measure: its rectangle r, the part t of
+ * it in the terrain's rectangle, the rim marks of its triangles. */
+struct tr_kept {
 	double r[4], t[4];
-	int ret = -1;
+	locator l;
+	unsigned char *rim;
+	size_t bytes;
+};
 
-	d[0] = d[1] = 0;
+void
+tr_kept_free(tr_kept *k)
+{
+	if (k == NULL)
+		return;
+	free(k->l.start), free(k->l.list), free(k->l.plane), free(k->rim);
+	free(k);
+}
+
+size_t
+tr_kept_bytes(const tr_kept *k)
+{
+	return k->bytes;
+}
+
+int
+tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e)
+{
+	tr_kept *k;
+	double *r, *t;
+	size_t nt = (size_t)w->m.nt;
+
+	*out = NULL;
+	if ((k = calloc(1, sizeof *k)) == NULL)
+		return tl_fail(e, "tile: out of memory");
+	r = k->r, t = k->t;
 	tr_tile_rect(z, x, y, r);
 	t[0] = fmax(r[0], w->g->r[0]), t[2] = fmin(r[2], w->g->r[2]);
 	t[1] = fmax(r[1], w->g->r[1]), t[3] = fmin(r[3], w->g->r[3]);
-	if (!(t[0] <= t[2] && t[1] <= t[3]))
+	if (!(t[0] <= t[2] && t[1] <= t[3])) {
+		free(k);
 		return 0; /* no sample */
+	}
 	double uv[4] = { (t[0] - r[0]) / (r[2] - r[0]) * QM_MAX,
 		(t[1] - r[1]) / (r[3] - r[1]) * QM_MAX,
 		(t[2] - r[0]) / (r[2] - r[0]) * QM_MAX,
 		(t[3] - r[1]) / (r[3] - r[1]) * QM_MAX };
-	if (locate_init(w, &l, uv, e) < 0)
-		goto done;
+	if (locate_init(w, &k->l, uv, e) < 0 || (w->m.rim &&
+	    (k->rim = malloc(nt ? nt : 1)) == NULL)) {
+		tr_kept_free(k);
+		return tl_fail(e, "tile: out of memory");
+	}
+	if (k->rim)
+		memcpy(k->rim, w->m.rim, nt);
+	k->bytes = sizeof *k + ((size_t)k->l.nb * k->l.nb + 1 +
+	    (size_t)k->l.start[k->l.nb * k->l.nb]) * sizeof(int) +
+	    (nt ? nt : 1) * 21 * sizeof(double) + (k->rim ? nt : 0);
+	*out = k;
+	return 0;
+}
+
+int
+tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb)
+{
+	const double *o = g->box[0] + 4 * (size_t)kb, *t = k->t;
+
+	return !(o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3]);
+}
+
+int
+tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi, int bj,
+    const pyramid_block *b, const double *lon, const double *lat,
+    double d[2], tl_err *e)
+{
+	if (!tr_kept_meets(g, k, kb))
+		return 0;
+	return measure_block(g, b, lon, lat, &k->l, k->rim, bi, bj, k->t,
+	    k->r, d, e);
+}
+
+/* Every level-0 sample in kept tile kp, through the thread's cache. */
+int
+tr_kept_walk(tr_work *w, const tr_kept *kp, double d[2], tl_err *e)
+{
+	const pyramid_level *L0 = &w->ix->lev[0];
+
 	/* last to first: the blocks the selection read last (level 0 at
 	 * the deep levels) are still in the cache */
 	for (int k = L0->blocks[0] * L0->blocks[1] - 1; k >= 0; k--) {
-		const double *o = w->g->box[0] + 4 * k;
-		if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3])
-			continue;
-		if (measure_block(w, &l, k % L0->blocks[0], k / L0->blocks[0],
-		    t, r, d, e) < 0)
-			goto done;
+		int bi = k % L0->blocks[0], bj = k / L0->blocks[0];
+		const double *lon, *lat;
+		const pyramid_block *b;
+		if (tr_kept_meets(w->g, kp, k) && ((b = tr_block(w, 0, bi, bj,
+		    &lon, &lat, e)) == NULL || tr_kept_block(w->g, kp, k, bi, bj,
+		    b, lon, lat, d, e) < 0))
+			return -1;
 	}
-	ret = 0;
-done:
-	free(l.start), free(l.list), free(l.plane);
+	return 0;
+}
+
+/* Every level-0 sample in the tile and in the terrain's rectangle. */
+int
+tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
+{
+	tr_kept *kp;
+	int ret;
+
+	d[0] = d[1] = 0;
+	if (tr_keep(w, z, x, y, &kp, e) < 0)
+		return -1;
+	ret = kp ? tr_kept_walk(w, kp, d, e) : 0; /* NULL: no sample */
+	tr_kept_free(kp);
 	return ret;
 }

@@ -38,6 +38,40 @@ write_file(const char *path, const tr_work *w, tl_err *e)
 	return 0;
 }
 
+/* Tile (x, y)'s distances d, or, while tiles are kept for one pass
+ * (tr_batch), d 0 and the tile kept, measured at once past x->keep. */
+static int
+measure(tr_export *j, tr_work *w, int x, int y, double d[2], tl_err *e)
+{
+	tr_kept *k;
+	int r;
+
+	if (j->keep == 0)
+		return tr_measure(w, j->c.z, x, y, d, e);
+	d[0] = d[1] = 0;
+	if (tr_keep(w, j->c.z, x, y, &k, e) < 0)
+		return -1;
+	if (k == NULL)
+		return 0;
+	if (w->kbytes + tr_kept_bytes(k) <= j->keep) {
+		if (w->nkept == w->ckept) {
+			int n = w->ckept ? 2 * w->ckept : 16;
+			struct tr_keptz *p = realloc(w->kept, n * sizeof *p);
+			if (p == NULL) {
+				tr_kept_free(k);
+				return tl_fail(e, "tile: out of memory");
+			}
+			w->kept = p, w->ckept = n;
+		}
+		w->kbytes += tr_kept_bytes(k);
+		w->kept[w->nkept].k = k, w->kept[w->nkept++].z = j->c.z;
+		return 0;
+	}
+	r = tr_kept_walk(w, k, d, e);
+	tr_kept_free(k);
+	return r;
+}
+
 static int
 one_tile(tr_export *j, tr_work *w, int x, int y, tl_err *e)
 {
@@ -47,7 +81,7 @@ one_tile(tr_export *j, tr_work *w, int x, int y, tl_err *e)
 
 	if (tr_mesh_tile(w, &j->c, x, y, e) < 0 ||
 	    tr_quantise(w, j->c.z, x, y, &lo, &hi, e) < 0 ||
-	    tr_measure(w, j->c.z, x, y, d, e) < 0 ||
+	    measure(j, w, x, y, d, e) < 0 ||
 	    (j->t3 ? t3t_glb(w, j->t3, j->c.z, x, y, lo, hi, e) :
 	    qm_encode(w, lo, hi, j->a->gzip, e)) < 0)
 		return -1;
@@ -314,8 +348,8 @@ static int
 export(tr_export *x, tr_report *rep, tl_err *e)
 {
 	tl_outfile od = { 0 };
-	tr_part p;
-	int r = -1;
+	tr_part p, pb[TR_MAXZ + 1];
+	int r = -1, z1 = tr_batch_depth(x);
 
 	if (tr_check_out(x->a->out, e) < 0 || tl_outdir_begin(&od, x->a->out,
 	    e) < 0)
@@ -323,7 +357,11 @@ export(tr_export *x, tr_report *rep, tl_err *e)
 	if (x->a->format && (x->t3 = t3t_new(x->maxz,
 	    (const int (*)[4])x->av, e)) == NULL)
 		goto done;
-	for (int z = 0; z <= x->maxz; z++) {
+	if (tr_batch(x, od.tmp, z1, pb, e) < 0)
+		goto done;
+	for (int z = 0; z <= z1; z++)
+		tr_report_level(x, z, &pb[z], rep);
+	for (int z = z1 + 1; z <= x->maxz; z++) {
 		if (tr_dirs(x, od.tmp, z, e) < 0 || tr_settle(x, od.tmp, z, 0,
 		    (int)tr_count(x, z), 0, &p, e) < 0)
 			goto done;
@@ -351,6 +389,9 @@ work_free(tr_work *w)
 	if (w->g->projected)
 		geo_proj_close(&w->proj);
 	tr_mesh_free(&w->m);
+	for (int i = 0; i < w->nkept; i++)
+		tr_kept_free(w->kept[i].k);
+	free(w->kept);
 	free(w->sel), free(w->row), free(w->u), free(w->v), free(w->q), free(w->pos);
 	free(w->order), free(w->tmp), free(w->buf);
 }
