@@ -17,7 +17,7 @@ typedef struct {
 	inproc_fn fn;
 	void *arg;
 	rs_ring *in, *out;
-	int k;
+	int k, outfd;
 	pthread_t th;
 	int started;
 } task;
@@ -81,6 +81,9 @@ inproc_free(inproc *p)
 {
 	if (p == NULL)
 		return;
+	for (int i = 0; i < p->n; i++)
+		if (p->t[i].outfd >= 0)
+			close(p->t[i].outfd); /* a task never started */
 	for (int i = 0; i < p->nring; i++)
 		rs_ring_free(p->ring[i]);
 	pthread_mutex_destroy(&p->mu);
@@ -103,7 +106,7 @@ inproc_ring(inproc *p, int readers, tl_err *e)
 
 int
 inproc_task(inproc *p, inproc_fn fn, void *arg, rs_ring *in, int k,
-    rs_ring *out, tl_err *e)
+    rs_ring *out, int outfd, tl_err *e)
 {
 	task *t;
 
@@ -111,7 +114,7 @@ inproc_task(inproc *p, inproc_fn fn, void *arg, rs_ring *in, int k,
 		return tl_fail(e, "more than %d tasks", INPROC_MAXTASKS);
 	t = &p->t[p->n++];
 	*t = (task){ .p = p, .fn = fn, .arg = arg, .in = in, .k = k,
-	    .out = out };
+	    .out = out, .outfd = outfd };
 	return 0;
 }
 
@@ -131,8 +134,11 @@ run_task(void *arg)
 	tl_err e = { 0 };
 	int r;
 
-	rs_ring_bind(t->in, t->k, t->out);
+	rs_ring_bind(t->in, t->k, t->out, t->outfd);
 	r = t->fn(t->arg, &e);
+	if (t->outfd >= 0 && close(t->outfd) < 0 && r == 0)
+		r = tl_failsys(&e, "%s: a vertex map", p->prog);
+	t->outfd = -1;
 	pthread_mutex_lock(&p->mu);
 	if (r < 0 && !p->failed) { /* the first: the cause */
 		p->failed = 1;

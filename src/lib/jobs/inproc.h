@@ -31,9 +31,10 @@ inproc *inproc_new(const char *prog, tl_err *e);
 void inproc_free(inproc *p);
 /* A ring owned by p, of `readers` readers. */
 rs_ring *inproc_ring(inproc *p, int readers, tl_err *e);
-/* A task: fn(arg) with "-" as reader k of in, and out (NULL: none). */
+/* A task: fn(arg) with "-" as reader k of in, and out (NULL: none) or
+ * the file outfd (-1: none), which the task's end closes. */
 int inproc_task(inproc *p, inproc_fn fn, void *arg, rs_ring *in, int k,
-    rs_ring *out, tl_err *e);
+    rs_ring *out, int outfd, tl_err *e);
 /* Runs every task and waits for all: 0, or -1 with e the first failure's
  * message, *status 1, or 128+n for a signal (stoppable: the tasks all
  * stop at a cancel). s: the scratch to remove before dying of a signal

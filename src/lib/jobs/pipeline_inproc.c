@@ -1,9 +1,11 @@
 /* pipeline_inproc.c - a run's stages as threads of this process
  * (pipeline.h, o->work; inproc.h): the quadric chain with rings for its
- * pipes and tees, each level's vertex map into the scratch file the
- * process route writes, then tilepack's work over them. */
+ * pipes and tees, each level's vertex map the stream into the scratch
+ * file the processes' route writes, then tilepack's work over them. */
+#include <fcntl.h>
 #include <pthread.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "jobs/inproc.h"
 #include "jobs/pipeline_impl.h"
@@ -37,7 +39,7 @@ solve(void *arg, tl_err *e)
 {
 	job *j = arg;
 
-	return j->w->solve(j->w->ctx, j->path, e);
+	return j->w->solve(j->w->ctx, "-", e);
 }
 
 static int
@@ -56,21 +58,29 @@ chain(inproc *p, const pipeline_opts *o, const char *dem, int levels,
     vpath_t *vpath, job *jobs, tl_err *e)
 {
 	rs_ring *up = inproc_ring(p, levels > 1 ? 2 : 1, e), *next;
+	int v;
 
 	jobs[0] = (job){ .w = o->work, .path = dem };
-	if (up == NULL || inproc_task(p, level0, &jobs[0], NULL, 0, up, e) < 0)
+	if (up == NULL || inproc_task(p, level0, &jobs[0], NULL, 0, up, -1, e) < 0)
 		return -1;
 	for (int l = 0; l < levels; l++) {
 		job *js = &jobs[1 + 2 * l], *jf = js + 1;
-		*js = (job){ .w = o->work, .path = vpath[l] };
-		if (inproc_task(p, solve, js, up, 0, NULL, e) < 0)
+		/* the vertex map as the processes' route has it: fqmsolve's
+		 * stdout, the stream, into the scratch file */
+		*js = (job){ .w = o->work };
+		if ((v = open(vpath[l], O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC,
+		    0600)) < 0)
+			return tl_failsys(e, "%s: %s", o->prog, vpath[l]);
+		if (inproc_task(p, solve, js, up, 0, NULL, v, e) < 0) {
+			close(v);
 			return -1;
+		}
 		if (l == levels - 1)
 			break;
 		*jf = (job){ .w = o->work };
 		next = inproc_ring(p, l + 1 < levels - 1 ? 2 : 1, e);
 		if (next == NULL ||
-		    inproc_task(p, filter, jf, up, 1, next, e) < 0)
+		    inproc_task(p, filter, jf, up, 1, next, -1, e) < 0)
 			return -1;
 		up = next;
 	}
@@ -108,7 +118,7 @@ pipeline_inproc(const pipeline_opts *o, const char *dem, int levels,
 			vm[l] = vpath[l];
 		pj = (job){ .w = o->work, .path = dem, .out = o->out,
 		    .vmaps = vm, .n = levels };
-		r = inproc_task(p, pack, &pj, NULL, 0, NULL, e) < 0 ? -1 :
+		r = inproc_task(p, pack, &pj, NULL, 0, NULL, -1, e) < 0 ? -1 :
 		    inproc_run(p, 0, s, status, e);
 		inproc_free(p);
 	} else if (r == 0)

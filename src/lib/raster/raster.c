@@ -305,7 +305,8 @@ create(const char *path, const rs_header *h, enum rs_compression c,
 		return NULL;
 	}
 	if ((stream && rs_ring_bound(1) ? rs_ring_create(w, e) :
-	    stream ? rs_stream_create(w, STDOUT_FILENO, e) :
+	    stream ? rs_stream_create(w, rs_ring_outfd() >= 0 ?
+	    rs_ring_outfd() : STDOUT_FILENO, e) :
 	    rs_exr_create(w, path, c, fresh, e)) < 0) {
 		rs_abort(w);
 		return NULL;

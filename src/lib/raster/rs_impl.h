@@ -69,6 +69,7 @@ rs_reader *rs_open_listed(const char *path, tl_err *e);
 /* Ring (rs_ring.c): whether this thread's "-" is a ring (out: the
  * output), and the reader or writer on it. */
 int rs_ring_bound(int out);
+int rs_ring_outfd(void); /* the thread's stdout, or -1: STDOUT_FILENO */
 int rs_ring_open_read(rs_reader *r, tl_err *e);
 int rs_ring_create(rs_writer *w, tl_err *e);
 

@@ -15,8 +15,8 @@ struct rs_ring {
 /* this thread's "-" */
 static _Thread_local struct {
 	rs_ring *in, *out;
-	int k;
-} bound;
+	int k, outfd;
+} bound = { .outfd = -1 };
 
 rs_ring *
 rs_ring_new(int readers, int rows, tl_err *e)
@@ -50,15 +50,21 @@ rs_ring_cancel(rs_ring *r)
 }
 
 void
-rs_ring_bind(rs_ring *in, int k, rs_ring *out)
+rs_ring_bind(rs_ring *in, int k, rs_ring *out, int outfd)
 {
-	bound.in = in, bound.k = k, bound.out = out;
+	bound.in = in, bound.k = k, bound.out = out, bound.outfd = outfd;
 }
 
 int
 rs_ring_bound(int out)
 {
 	return (out ? bound.out : bound.in) != NULL;
+}
+
+int
+rs_ring_outfd(void)
+{
+	return bound.outfd;
 }
 
 static size_t

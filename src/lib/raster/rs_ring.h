@@ -23,7 +23,8 @@ void rs_ring_free(rs_ring *q);
 void rs_ring_cancel(rs_ring *q);
 
 /* The calling thread's "-": reader k of in (NULL: the real stdin) and
- * out (NULL: the real stdout), until bound again. */
-void rs_ring_bind(rs_ring *in, int k, rs_ring *out);
+ * out, or else the fqm(5) stream on the descriptor outfd (-1: the real
+ * stdout), until bound again. */
+void rs_ring_bind(rs_ring *in, int k, rs_ring *out, int outfd);
 
 #endif
