@@ -3,6 +3,7 @@
  * pipes and tees, each level's vertex map the stream into the scratch
  * file the processes' route writes, then tilepack's work over them. */
 #include <fcntl.h>
+#include <malloc.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -113,6 +114,9 @@ pipeline_inproc(const pipeline_opts *o, const char *dem, int levels,
 	    chain(p, o, dem, levels, vpath, jobs, e) == 0)
 		r = inproc_run(p, 1, s, status, e);
 	inproc_free(p);
+	/* the chain's threads' heaps back to the system before tilepack's
+	 * (glibc keeps an arena a thread: tens of MiB otherwise held) */
+	malloc_trim(0);
 	if (r == 0 && (p = inproc_new(o->prog, e)) != NULL) {
 		for (int l = 0; l < levels; l++)
 			vm[l] = vpath[l];
