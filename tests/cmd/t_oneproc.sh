@@ -91,6 +91,19 @@ term() {
 	[ $_s -eq 143 ] && [ -z "$(ls -A "$T/D" "$TMPDIR" | grep -v '^/\|^$')" ]
 	ok $? "SIGTERM $1: exit $_s, nothing left ($(ls -A "$T/D" "$TMPDIR" | tr '\n' ' '))"
 }
-term "in the chain" '.v1.fqm.*'
+term "in the chain" 'v1.fqm'
 term "in tilepack" '.p.*'
+# SIGKILL in tilepack: its temporary and the scratch stay, the next run
+# into the same directory removes both
+rm -rf "$T/D"; mkdir "$T/D"
+dem2vgis -q -3 "$DATA/N44W072.hgt" "$T/D/p" 2>/dev/null & pid=$!
+i=0
+while [ $i -lt 3000 ] && kill -0 $pid 2>/dev/null &&
+    ! find "$T/D" -name '.p.*' 2>/dev/null | grep -q .; do
+	sleep 0.01; i=$((i + 1)); done
+kill -KILL $pid; wait $pid 2>/dev/null
+n1=$(ls -A "$T/D" "$TMPDIR" | grep -c '^\.p\.\|^dem2vgis\.' || true)
+dem2vgis -q "$a" "$T/D/p"; s=$?
+[ "$n1" -eq 2 ] && [ $s -eq 0 ] && [ "$(ls -A "$T/D")" = p ] && [ -z "$(ls -A "$TMPDIR")" ]
+ok $? "SIGKILL in tilepack: its temporary and scratch ($n1) swept by the next run (exit $s)"
 done_testing
