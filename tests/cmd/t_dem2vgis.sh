@@ -121,7 +121,9 @@ for k in 1 2 3 4 5 6 7 8 9 10; do
 done
 # a killed run's scratch is swept by the next run
 rm -rf "$TMPDIR"/*; "$B/dem2vgis" -q "$dem" "$T/s1" 2>/dev/null & pid=$!
-sleep 0.5; kill -KILL $pid; wait $pid 2>/dev/null; sleep 1
+# killed once its scratch is there (a loaded machine takes seconds)
+i=0; while [ $i -lt 2000 ] && [ -z "$(ls "$TMPDIR")" ]; do sleep 0.01; i=$((i + 1)); done
+kill -KILL $pid; wait $pid 2>/dev/null; sleep 1
 n1=$(ls "$TMPDIR" | grep -c '^dem2vgis\.' || true)
 dv -q -f "$dem" "$T/s2"
 n2=$(ls "$TMPDIR" | grep -c '^dem2vgis\.' || true)
