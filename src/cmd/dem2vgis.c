@@ -1,5 +1,7 @@
 /* dem2vgis - a DEM in, its VGIS block pyramid out, in one command: the
- * supervisor of the whole pipeline (jobs/pipeline.h). */
+ * supervisor of the whole pipeline (jobs/pipeline.h), its stages threads
+ * of this process (stage_inproc.h) unless --processes or TL_PROCESSES=1
+ * asks for the filters as processes. */
 #include <limits.h>
 #include <signal.h>
 #include <stdio.h>
@@ -10,6 +12,7 @@
 #include "cli.h"
 #include "jobs/graph.h"
 #include "jobs/pipeline.h"
+#include "stage_inproc.h"
 
 static const char usage[] =
     "[-3fMq] [-j jobs] [-k kernel] [-P plandir] [-r cut] [-D datum]\n"
@@ -24,6 +27,8 @@ static const char usage[] =
     "  -q              no summary from tilepack\n"
     "  -r cut          fqmsolve -r (QEM-3D)\n"
     "  -M              only the vertex maps of every level, into dir\n"
+    "  --processes     the stages as processes joined by pipes (also\n"
+    "                  TL_PROCESSES=1), not threads of this one\n"
     "  --band-width n  with -P: chain jobs of n level-0 columns (0: one "
     "job)\n"
     "  --fill-rows n   with -P: the fill in jobs of n rows (0: one job)\n"
@@ -34,7 +39,8 @@ static const char usage[] =
     "  dem ...         the DEM, or - (stdin); several are one mosaic\n"
     "  dir             the pyramid directory to build\n";
 
-enum { OPT_BAND_WIDTH = 256, OPT_FILL_ROWS, OPT_PART_SAMPLES };
+enum { OPT_BAND_WIDTH = 256, OPT_FILL_ROWS, OPT_PART_SAMPLES,
+    OPT_PROCESSES };
 
 /* The options of a plan (dem2vgis(1), section PLANS). */
 static void
@@ -58,13 +64,14 @@ parse_plan(cli *c, int ch, pipeline_opts *o)
 }
 
 static int
-parse(cli *c, int argc, char **argv, pipeline_opts *o)
+parse(cli *c, int argc, char **argv, pipeline_opts *o, int *processes)
 {
 	static const struct option longopts[] = {
 		{ "plan", required_argument, NULL, 'P' },
 		{ "band-width", required_argument, NULL, OPT_BAND_WIDTH },
 		{ "fill-rows", required_argument, NULL, OPT_FILL_ROWS },
 		{ "part-samples", required_argument, NULL, OPT_PART_SAMPLES },
+		{ "processes", no_argument, NULL, OPT_PROCESSES },
 		{ NULL, 0, NULL, 0 },
 	};
 	int ch;
@@ -82,6 +89,7 @@ parse(cli *c, int argc, char **argv, pipeline_opts *o)
 			break;
 		case 'k': o->kernel = optarg; break;
 		case 'r': o->cut = optarg; break;
+		case OPT_PROCESSES: *processes = 1; break;
 		default:
 			if (ch < OPT_BAND_WIDTH || ch > OPT_PART_SAMPLES)
 				return cli_usage_error(c);
@@ -102,13 +110,15 @@ main(int argc, char **argv)
 {
 	pipeline_opts o = { .mode = "qem1d", .kernel = "binomial",
 	    .partplan = -1 };
+	const char *env = getenv("TL_PROCESSES");
 	char self[PATH_MAX];
+	stage_inproc work;
+	int st, processes = env != NULL && strcmp(env, "1") == 0;
 	cli c;
 	tl_err e;
-	int st;
 
 	cli_init(&c, argv, usage, CLI_DEM);
-	if ((st = parse(&c, argc, argv, &o)) >= 0)
+	if ((st = parse(&c, argc, argv, &o, &processes)) >= 0)
 		return st;
 	if (argc - optind < 2)
 		return cli_usage_error(&c);
@@ -122,6 +132,14 @@ main(int argc, char **argv)
 		return cli_bad(&c, "-M and -P: one or the other");
 	if (o.plan != NULL && strcmp(o.dem, "-") == 0)
 		return cli_bad(&c, "-P: the DEM must be a file, not stdin");
+	if (!processes && o.plan == NULL && !o.vmaps) {
+		/* the options are checked again by the stages' programs run
+		 * on no input (pipeline.c), before any work */
+		if (stage_inproc_init(&work, &c, &o, &e) == 0)
+			o.work = &work.w;
+		else
+			processes = 1;
+	}
 	if (pipeline_run(&o, &st, &e) == 0)
 		return 0;
 	fprintf(stderr, "%s\n", e.msg); /* the failing stage's own words */

@@ -53,7 +53,8 @@ dv -q "$dem" "$T/quiet" 2>"$T/err"
 [ ! -s "$T/err" ]; ok $? "not on a terminal: no progress at all"
 
 # a stage that fails mid-way: its message alone, every stage down, nothing
-# left (fake stages: the real ones, but a solver that dies at level 2)
+# left (fake stages: the real ones, but a solver that dies at level 2; the
+# processes' route: t_oneproc tests the one process's)
 mkdir -p "$T/fake"
 for p in dem2fqm fqmfilter tilepack; do ln -s "$B/$p" "$T/fake/$p"; done
 cat >"$T/fake/fqmsolve" <<EOS
@@ -65,7 +66,7 @@ exec "$B/fqmsolve" "\$@"
 EOS
 chmod +x "$T/fake/fqmsolve"
 start=$(date +%s)
-TL_BIN=$T/fake dv -q "$dem" "$T/f" >"$T/out" 2>"$T/err"; s=$?
+TL_BIN=$T/fake TL_PROCESSES=1 dv -q "$dem" "$T/f" >"$T/out" 2>"$T/err"; s=$?
 took=$(( $(date +%s) - start ))
 [ $s -eq 1 ] && [ "$(cat "$T/err")" = "fqmsolve: level 3: made to fail" ]
 ok $? "a stage fails: exit 1 ($s), its message alone ($(tr '\n' '|' <"$T/err" | head -c 200))"
@@ -83,6 +84,8 @@ ok $? "a stage's warning is passed on once, exit 0 ($(tr '\n' '|' <"$T/err" | he
 
 # SIGKILL / SIGTERM at ten moments, over an old pyramid: afterwards no
 # stage alive, the old pyramid or the new one (never a mix), no temporary
+# (SIGKILL: the processes' route, whose stages die with it; SIGTERM: the
+# one process; its SIGKILL is t_oneproc's, swept by the next run)
 cp -r "$T/ref" "$T/old"
 dv -q -3 "$dem" "$T/new3"	# what a finished run leaves
 full=$( { /usr/bin/time -f %e "$B/dem2vgis" -q -3 -f "$dem" "$T/timing" ; } 2>&1 | tail -1)
@@ -90,7 +93,8 @@ for k in 1 2 3 4 5 6 7 8 9 10; do
 	sig=KILL; [ $((k % 3)) -eq 0 ] && sig=TERM
 	at=$(awk -v f="$full" -v k="$k" 'BEGIN { printf "%.2f", f * (k - 0.5) / 10 }')
 	rm -rf "$T/p"; cp -r "$T/old" "$T/p"
-	"$B/dem2vgis" -q -3 "$dem" "$T/p" 2>/dev/null & pid=$!
+	procs=; [ $sig = KILL ] && procs=1
+	TL_PROCESSES=$procs "$B/dem2vgis" -q -3 "$dem" "$T/p" 2>/dev/null & pid=$!
 	sleep "$at"
 	kids=$(ps -eo pid,ppid | awk -v p=$pid '$2 == p { print $1 }')
 	kill -$sig $pid 2>/dev/null
@@ -117,7 +121,9 @@ for k in 1 2 3 4 5 6 7 8 9 10; do
 done
 # a killed run's scratch is swept by the next run
 rm -rf "$TMPDIR"/*; "$B/dem2vgis" -q "$dem" "$T/s1" 2>/dev/null & pid=$!
-sleep 0.5; kill -KILL $pid; wait $pid 2>/dev/null; sleep 1
+# killed once its scratch is there (a loaded machine takes seconds)
+i=0; while [ $i -lt 2000 ] && [ -z "$(ls "$TMPDIR")" ]; do sleep 0.01; i=$((i + 1)); done
+kill -KILL $pid; wait $pid 2>/dev/null; sleep 1
 n1=$(ls "$TMPDIR" | grep -c '^dem2vgis\.' || true)
 dv -q -f "$dem" "$T/s2"
 n2=$(ls "$TMPDIR" | grep -c '^dem2vgis\.' || true)

@@ -190,9 +190,11 @@ fds 4 "fqmsolve" 1 fqmsolve -m qem3d -j 2 "$T/l0.exr" "$D/v0.exr"
 for k in 4 6; do
 	fds $k "tilepack" 1 tilepack -q -j 4 "$m" "$D/pyr" $vm
 done
+# (the processes' route: its pipes; the one process needs fewer)
 for k in 4 16; do
-	fds $k "dem2vgis" 1 dem2vgis -q "$s" "$D/pyr"
+	fds $k "dem2vgis --processes" 1 dem2vgis --processes -q "$s" "$D/pyr"
 done
+fds 4 "dem2vgis" 1 dem2vgis -q "$s" "$D/pyr"
 fds 4 "tilecheck --dem" 3 tilecheck --dem "$s" "$T/p"
 if [ $gl -eq 0 ]; then
 	fds 4 "tileplay --shot (libEGL)" 1 tileplay --shot "$D/s.png" "$T/p"

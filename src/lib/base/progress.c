@@ -25,6 +25,15 @@ progress_fd(void)
 	return fd;
 }
 
+static tl_progress_fn sink;
+static void *sink_ctx;
+
+void
+tl_progress_sink(tl_progress_fn fn, void *ctx)
+{
+	sink = fn, sink_ctx = ctx;
+}
+
 /* One line "LABEL\tDONE\tTOTAL\n" in one write(2) of less than PIPE_BUF
  * bytes, so that the lines of processes sharing the pipe never mix. The
  * label is cut to 200 bytes and loses its tabs and newlines. */
@@ -35,6 +44,10 @@ progress_line(tl_progress *p, long long done)
 	size_t n = 0;
 	ssize_t r;
 
+	if (p->fd == -2) {
+		sink(sink_ctx, p->label, done, p->total);
+		return;
+	}
 	_Static_assert(sizeof buf <= PIPE_BUF, "one atomic write");
 	for (const char *c = p->label; *c != '\0' && n < 200; c++)
 		buf[n++] = *c == '\t' || *c == '\n' ? ' ' : *c;
@@ -54,8 +67,8 @@ tl_progress_start(tl_progress *p, const char *label, long long total)
 	p->total = total > 0 ? total : 1;
 	p->done = 0;
 	p->last = -1;
-	p->fd = progress_fd();
-	p->on = p->fd >= 0 || isatty(STDERR_FILENO);
+	p->fd = sink != NULL ? -2 : progress_fd();
+	p->on = p->fd != -1 || isatty(STDERR_FILENO);
 }
 
 void
@@ -70,7 +83,7 @@ tl_progress_step(tl_progress *p, long long done)
 	if (pct == p->last)
 		return;
 	p->last = pct;
-	if (p->fd >= 0)
+	if (p->fd != -1)
 		progress_line(p, done);
 	else
 		fprintf(stderr, "\r%s: %3d%%", p->label, pct);
@@ -81,9 +94,9 @@ tl_progress_end(tl_progress *p)
 {
 	if (!p->on)
 		return;
-	if (p->fd < 0 && p->last >= 0)
+	if (p->fd == -1 && p->last >= 0)
 		fprintf(stderr, "\r%s: 100%%\n", p->label);
-	else if (p->fd >= 0 && (p->last != 100 || p->done != p->total))
+	else if (p->fd != -1 && (p->last != 100 || p->done != p->total))
 		progress_line(p, p->total); /* unless just said */
 	p->on = 0;
 }

@@ -20,10 +20,18 @@ typedef struct {
 	const char *label;
 	long long total, done;
 	int on, last; /* last percentage drawn or reported */
-	int fd;       /* TL_PROGRESS_FD, or -1: the terminal */
+	int fd;       /* TL_PROGRESS_FD, -1: the terminal, -2: the sink */
 } tl_progress;
 
 void tl_progress_start(tl_progress *p, const char *label, long long total);
+/* A third way, for a supervisor whose stages are threads of its own
+ * (dem2vgis): while a sink is set, the progresses started from then on
+ * report to fn (from any thread: fn must be thread-safe) as they would
+ * on TL_PROGRESS_FD, and draw nothing. NULL unsets it; set and unset it
+ * while no other thread starts one. */
+typedef void (*tl_progress_fn)(void *ctx, const char *label,
+    long long done, long long total);
+void tl_progress_sink(tl_progress_fn fn, void *ctx);
 void tl_progress_step(tl_progress *p, long long done);
 void tl_progress_end(tl_progress *p);
 

@@ -1,12 +1,15 @@
 /* pipeline.c - DEM to pyramid as supervised stages (pipeline.h): the
  * front door, which guards the outputs, checks the options, and runs the
  * input, the chain and tilepack, or writes the plan (pipeline_impl.h). */
+#include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "base/paths.h"
+#include "jobs/inproc.h"
 #include "jobs/pipeline_impl.h"
 
 /* The options passed on, tried before any work: each stage on no input. */
@@ -29,7 +32,7 @@ precheck(const pipeline_opts *o, int *status, tl_err *e)
 
 /* The DEM as the stages read it, then the run, -M or the plan. */
 static int
-stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
+stages(const pipeline_opts *o, scratch *s, vpath_t *vpath,
     int *status, tl_err *e)
 {
 	char spool[PATHMAX];
@@ -58,8 +61,10 @@ stages(const pipeline_opts *o, const scratch *s, vpath_t *vpath,
 	for (int l = 0; l < levels; l++)
 		snprintf(vpath[l], sizeof vpath[l], "%s/v%d.fqm", s->path, l);
 	tl_progress_start(&m.bar, o->prog, 1000);
-	r = pipeline_quadrics(o, dem, 0, levels, w, vpath, NULL, &m, status, e);
-	if (r == 0)
+	if (o->work != NULL)
+		r = pipeline_inproc(o, dem, levels, vpath, s, &m, status, e);
+	else if ((r = pipeline_quadrics(o, dem, 0, levels, w, vpath, NULL,
+	    &m, status, e)) == 0)
 		r = pipeline_pack(o, dem, levels, vpath, &m, status, e);
 	if (r == 0)
 		tl_progress_end(&m.bar);
@@ -108,18 +113,13 @@ undashed(const char *p, char *buf, size_t n)
 	return buf;
 }
 
-int
-pipeline_run(const pipeline_opts *opts, int *status, tl_err *e)
+/* The run: options checked, the scratch, the stages. */
+static int
+run(const pipeline_opts *o, int *status, tl_err *e)
 {
-	char dem[PATHMAX], out[PATHMAX];
-	pipeline_opts q = *opts;
-	const pipeline_opts *o = &q;
 	vpath_t *vpath;
 	scratch s;
 	int r;
-
-	q.dem = undashed(opts->dem, dem, sizeof dem);
-	q.out = undashed(opts->out, out, sizeof out);
 
 	*status = 1;
 	if (guard(o, e) < 0 || precheck(o, status, e) < 0)
@@ -138,6 +138,34 @@ pipeline_run(const pipeline_opts *opts, int *status, tl_err *e)
 		*status = 128 + graph_signal();
 		r = tl_fail(e, "%s: stopped by signal %d", o->prog,
 		    graph_signal());
+	}
+	return r;
+}
+
+int
+pipeline_run(const pipeline_opts *opts, int *status, tl_err *e)
+{
+	char dem[PATHMAX], out[PATHMAX];
+	pipeline_opts q = *opts;
+	const pipeline_opts *o = &q;
+	sigset_t old;
+	int r, sig;
+
+	q.dem = undashed(opts->dem, dem, sizeof dem);
+	q.out = undashed(opts->out, out, sizeof out);
+	if (o->plan != NULL || o->vmaps)
+		q.work = NULL; /* those keep the processes' route */
+	/* one process: the stop signals are taken where the threads are
+	 * watched (inproc.h), until the scratch is gone */
+	if (o->work != NULL)
+		inproc_block(&old);
+	r = run(o, status, e);
+	if (o->work != NULL) {
+		if ((sig = inproc_pending()) != 0 && r == 0) {
+			*status = 128 + sig;
+			r = tl_fail(e, "%s: stopped by signal %d", o->prog, sig);
+		}
+		pthread_sigmask(SIG_SETMASK, &old, NULL);
 	}
 	return r;
 }

@@ -8,7 +8,10 @@
  * The quadric maps travel through pipes only; each level's vertex map is
  * a stream file in a scratch directory (scratch.h); tilepack builds OUT
  * atomically. Levels go up to the first that fits one block, as
- * "dem2fqm -I" reports. Several DEMs are one mosaic: the stages get a
+ * "dem2fqm -I" reports. With o->work, a run's stages are threads of
+ * this process instead (inproc.h): the pipes and tees are rings of
+ * rows, and the same vertex maps, in the same scratch files, go to
+ * tilepack's work, byte for byte the same pyramid. Several DEMs are one mosaic: the stages get a
  * list of them (dem2fqm(1)) written in the scratch directory. The steps
  * of a plan that are no filter of a person's (the guard of the outputs,
  * the DEM's stamp, a band's window and columns) are vgis-job's
@@ -20,6 +23,20 @@
 #include "base/util.h"
 
 #define PIPELINE_MAXOPTS 32
+
+/* The stages' work as functions, for the one-process route (inproc.h):
+ * each runs in a thread of its own whose "-" is a ring of rows, and on
+ * failure fills e with the message its program would print ("prog:
+ * why"). level0: dem2fqm DEM -; filter: fqmfilter - -; solve: fqmsolve
+ * - out; pack: tilepack DEM OUT vmaps. */
+typedef struct {
+	void *ctx;
+	int (*level0)(void *ctx, const char *dem, tl_err *e);
+	int (*filter)(void *ctx, tl_err *e);
+	int (*solve)(void *ctx, const char *out, tl_err *e);
+	int (*pack)(void *ctx, const char *dem, const char *out,
+	    char *const *vmaps, int n, tl_err *e);
+} pipeline_work;
 
 typedef struct {
 	const char *prog;      /* for messages and the scratch name */
@@ -58,6 +75,9 @@ typedef struct {
 	                        * the plan's own choice, -1: one job) */
 	long long partplan;    /* --plan: tilepack -b, DEM samples a job
 	                        * scans at most (-1: tilepack's default) */
+	const pipeline_work *work; /* a run (no -M, no plan): the stages as
+	                        * threads of this process, or NULL: as
+	                        * processes */
 } pipeline_opts;
 
 /* The level-0 columns a band reads past its own on either side so that

@@ -81,6 +81,10 @@ int pipeline_pack(const pipeline_opts *, const char *dem, int levels,
 int pipeline_vmaps_only(const pipeline_opts *, const char *dem,
     int levels, int w, vpath_t *vpath, meter *, int *status, tl_err *);
 
+/* pipeline_inproc.c: the chain and tilepack as threads (o->work). */
+int pipeline_inproc(const pipeline_opts *, const char *dem, int levels,
+    vpath_t *vpath, scratch *, meter *, int *status, tl_err *);
+
 /* pipeline_plan.c: --plan, the job graph written instead of a run. */
 int pipeline_plan(const pipeline_opts *, const char *dem, const scratch *,
     int levels, int w, int h, int *status, tl_err *);

@@ -123,6 +123,12 @@ open_reader(const char *path, int lists, tl_err *e)
 		free(r);
 		return NULL;
 	}
+	if (strcmp(path, "-") == 0 && rs_ring_bound(0)) {
+		if (rs_ring_open_read(r, e) == 0)
+			return r; /* a thread's stdin: rows from a ring */
+		rs_close(r);
+		return NULL;
+	}
 	if (open_fd(r, path, e) < 0 || dispatch(r, lists, e) < 0) {
 		rs_close(r);
 		return NULL;
@@ -298,7 +304,9 @@ create(const char *path, const rs_header *h, enum rs_compression c,
 		free(w);
 		return NULL;
 	}
-	if ((stream ? rs_stream_create(w, STDOUT_FILENO, e) :
+	if ((stream && rs_ring_bound(1) ? rs_ring_create(w, e) :
+	    stream ? rs_stream_create(w, rs_ring_outfd() >= 0 ?
+	    rs_ring_outfd() : STDOUT_FILENO, e) :
 	    rs_exr_create(w, path, c, fresh, e)) < 0) {
 		rs_abort(w);
 		return NULL;

@@ -66,6 +66,13 @@ int rs_list_open_read(rs_reader *r, tl_err *e);
 /* rs_open of one band: any form but a band list. */
 rs_reader *rs_open_listed(const char *path, tl_err *e);
 
+/* Ring (rs_ring.c): whether this thread's "-" is a ring (out: the
+ * output), and the reader or writer on it. */
+int rs_ring_bound(int out);
+int rs_ring_outfd(void); /* the thread's stdout, or -1: STDOUT_FILENO */
+int rs_ring_open_read(rs_reader *r, tl_err *e);
+int rs_ring_create(rs_writer *w, tl_err *e);
+
 extern const unsigned char rs_exr_magic[4];    /* exr_read.c */
 extern const unsigned char rs_stream_magic[8]; /* stream.c */
 extern const unsigned char rs_list_magic[8]; /* "fqm-band" */

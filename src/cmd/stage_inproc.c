@@ -1,0 +1,117 @@
+/* stage_inproc.c - the stages' work for dem2vgis's threads
+ * (stage_inproc.h): the options its command lines would carry, and the
+ * message each program would print on failure. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/pool.h"
+#include "stage_inproc.h"
+
+/* A failure in its program's words, as cli_exit prints them. */
+static int
+said(const cli *c, int r, tl_err *e)
+{
+	static const int limits[] = { EMFILE, EFBIG };
+	char m[sizeof e->msg];
+	const char *hint = "";
+
+	if (r >= 0)
+		return r;
+	for (int k = 0; k < 2; k++)
+		if (strstr(e->msg, strerror(limits[k])) != NULL &&
+		    strstr(e->msg, tl_errno_hint(limits[k])) == NULL)
+			hint = tl_errno_hint(limits[k]);
+	snprintf(m, sizeof m, "%s", e->msg);
+	return tl_fail(e, "%s: %s%s", c->prog, m, hint);
+}
+
+static int
+level0(void *ctx, const char *path, tl_err *e)
+{
+	stage_inproc *p = ctx;
+	stage_level0 o = p->l0;
+
+	o.in = path;
+	return said(&p->c[0], stage_dem2fqm(&p->c[0], &o, e), e);
+}
+
+static int
+filter(void *ctx, tl_err *e)
+{
+	stage_inproc *p = ctx;
+
+	return said(&p->c[1], stage_fqmfilter(&p->c[1], &p->f, e), e);
+}
+
+static int
+solve(void *ctx, const char *out, tl_err *e)
+{
+	stage_inproc *p = ctx;
+	stage_solve o = p->s;
+
+	o.out = out;
+	return said(&p->c[2], stage_fqmsolve(&p->c[2], &o, e), e);
+}
+
+/* tilepack's pack (tilepack.c): the guard, the run, its report. */
+static int
+pack(void *ctx, const char *path, const char *out, char *const *vmaps, int n,
+    tl_err *e)
+{
+	stage_inproc *p = ctx;
+	pack_args a = p->pk;
+	pack_level *lev;
+	int r = -1;
+
+	a.dem_path = path, a.dir = out, a.levels = vmaps, a.nlevels = n;
+	if (stage_pack_guard(&a, NULL, e) < 0)
+		return said(&p->c[3], -1, e);
+	if ((lev = tl_alloc((size_t)n, sizeof *lev, e)) == NULL)
+		return said(&p->c[3], -1, e);
+	r = pack_run(&a, lev, e);
+	if (r == 0 && !p->quiet)
+		pack_report(stderr, p->c[3].prog, lev, n);
+	free(lev);
+	return said(&p->c[3], r, e);
+}
+
+int
+stage_inproc_init(stage_inproc *p, const cli *c, const pipeline_opts *o,
+    tl_err *e)
+{
+	static const char *const progs[4] = { "dem2fqm", "fqmfilter",
+	    "fqmsolve", "tilepack" };
+	int jobs = cli_jobs();
+
+	memset(p, 0, sizeof *p);
+	for (int k = 0; k < 4; k++) {
+		p->c[k] = *c;
+		p->c[k].prog = progs[k];
+		p->c[k].comp = RS_ZIP;
+		/* -n names a DEM file; a DEM from stdin is spooled under
+		 * that name (pipeline_spool_stdin) and given no -n */
+		if (strcmp(o->dem, "-") == 0)
+			p->c[k].dem.hgt_name = NULL;
+	}
+	p->l0.out = "-";
+	p->f.in = p->f.out = "-";
+	if ((p->f.kernel = filter_find(o->kernel)) == NULL)
+		return tl_fail(e, "-k %s: unknown kernel", o->kernel);
+	p->s.in = "-";
+	p->s.rel = o->cut != NULL ? strtod(o->cut, NULL) : 1e-3;
+	p->s.jobs = jobs > TL_POOL_MAXTHREADS ? TL_POOL_MAXTHREADS : jobs;
+	if (solve_mode_parse(o->mode, &p->s.mode) < 0)
+		return tl_fail(e, "-m %s: unknown mode", o->mode);
+	p->pk.dem = p->c[3].dem;
+	p->pk.jobs = o->jobs != NULL ? atoi(o->jobs) : jobs;
+	p->pk.jobs = p->pk.jobs > PACK_MAXJOBS ? PACK_MAXJOBS : p->pk.jobs;
+	p->pk.force = o->force;
+	p->pk.part_samples = 1LL << 30;
+	p->pk.prog = p->c[3].prog;
+	p->quiet = o->quiet;
+	p->w = (pipeline_work){ .ctx = p, .level0 = level0, .filter = filter,
+	    .solve = solve, .pack = pack };
+	return 0;
+}
