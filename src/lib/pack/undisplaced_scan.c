@@ -204,11 +204,12 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
 	 * column i at i - d0 in dd */
 	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
 	q2 = dd + (c[2] * S + t->wlo), q3 = dd + (c[3] * S + t->wlo);
+	/* x: the columns times inv, stepped by inv (exact: see sweep) */
 	x = (v4d){ c[0] * S + t->lo, c[1] * S + t->lo, c[2] * S + t->lo,
-	    c[3] * S + t->lo };
-	for (long o = 0; o <= t->hi - t->lo; o++, x += 1) {
+	    c[3] * S + t->lo } * inv;
+	for (long o = 0; o <= t->hi - t->lo; o++, x += inv) {
 		v4d v = { q0[o], q1[o], q2[o], q3[o] };
-		w = v4max(v4abs(z + dz * (x * inv) - v), w);
+		w = v4max(v4abs(z + dz * x - v), w);
 	}
 	for (int k = 0; k < LANES; k++)
 		err[k] = w[k];
@@ -224,14 +225,20 @@ typedef struct {
 	int b0;
 } sink;
 
-static inline void
+static inline __attribute__((always_inline)) void
 raise_at(const sink *o, int cx, double err)
 {
+	/* a maximum, not a branch (which the data decide, and often
+	 * mispredict): err > was exactly when (float)err > was or both are
+	 * the same float (rounding to a float keeps the order), and a NaN
+	 * is never chosen either way */
 	if (o->acc != NULL) {
-		if (err > o->acc[cx - o->c0])
-			o->acc[cx - o->c0] = (float)err;
-	} else if (err > o->base[cx / BT_CELLS - o->b0])
-		o->base[cx / BT_CELLS - o->b0] = err;
+		float *a = &o->acc[cx - o->c0], was = *a, f = (float)err;
+		*a = f > was ? f : was;
+	} else {
+		double *b = &o->base[cx / BT_CELLS - o->b0], was = *b;
+		*b = err > was ? err : was;
+	}
 }
 
 /* Template t at centres first, first + stride, ... below end, each
