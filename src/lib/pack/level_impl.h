@@ -207,12 +207,17 @@ v4abs(v4d d)
 	return (v4d)((v4l)d & m);
 }
 
-/* max(d, w) lane by lane, w where d is NaN (an invalid sample) */
+/* max(d, w) lane by lane, w where d is NaN (an invalid sample): maxpd's
+ * own rule, which GCC makes of this loop (one vmaxpd on AVX2, two maxpd
+ * on SSE2) and not of a mask and a blend */
 static inline __attribute__((always_inline)) v4d
 v4max(v4d d, v4d w)
 {
-	v4l m = d > w;
-	return (v4d)(((v4l)d & m) | ((v4l)w & ~m));
+	v4d r;
+
+	for (int k = 0; k < 4; k++)
+		r[k] = d[k] > w[k] ? d[k] : w[k];
+	return r;
 }
 
 /* max |z0 + dz * (i / step) - DEM[i]| over the valid DEM columns i in
@@ -228,14 +233,18 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 	long i = a;
 
 	if (b - a >= 7) {
-		v4d x0 = { a, a + 1, a + 2, a + 3 }, x1 = x0 + 4;
+		/* x0, x1: the columns times inv, stepped by 8 x inv: i / step
+		 * and 8 / step are exact, so is their sum */
+		v4d x0 = (v4d){ a, a + 1, a + 2, a + 3 } * inv;
+		v4d x1 = (v4d){ a + 4, a + 5, a + 6, a + 7 } * inv;
 		v4d w0 = { -1, -1, -1, -1 }, w1 = w0;
-		for (; i + 7 <= b; i += 8, x0 += 8, x1 += 8) {
+		v4d s8 = { 8 * inv, 8 * inv, 8 * inv, 8 * inv };
+		for (; i + 7 <= b; i += 8, x0 += s8, x1 += s8) {
 			v4d v0, v1;
 			memcpy(&v0, dd + (i - d0), sizeof v0);
 			memcpy(&v1, dd + (i - d0) + 4, sizeof v1);
-			w0 = v4max(v4abs(z0 + dz * (x0 * inv) - v0), w0);
-			w1 = v4max(v4abs(z0 + dz * (x1 * inv) - v1), w1);
+			w0 = v4max(v4abs(z0 + dz * x0 - v0), w0);
+			w1 = v4max(v4abs(z0 + dz * x1 - v1), w1);
 		}
 		w0 = v4max(w0, w1); /* neither holds a NaN */
 		for (int k = 0; k < 4; k++)

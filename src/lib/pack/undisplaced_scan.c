@@ -164,18 +164,19 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
  * same for every centre of a template: each lane does tri_at's and
  * sweep's operations in their order (v4d, level_impl.h). */
 #define LANES 4
+typedef int v4i __attribute__((vector_size(16)));
 /* chords of at most this many samples go LANES centres at a time;
  * longer ones are swept along the row (sweep), which loads contiguously */
 #define SHORT 12
 
-/* tri_at of centres cx, cx + stride, ... (LANES of them) into err, every
- * chord inside the DEM row. The maximum keeps w where d is NaN (an
+/* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
+ * every chord inside the DEM row. The maximum keeps w where d is NaN (an
  * invalid sample), as sweep does. */
-static inline __attribute__((always_inline)) void
-tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
-    double err[LANES])
+static inline __attribute__((always_inline)) v4d
+tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
 {
-	v4d z0, z1, z2, p00, e1, e2, n0, n1, z, dz, x, w = { -1, -1, -1, -1 };
+	v4d z0, z1, z2, cd, p00, e1, e2, n0, n1, z, dz, x;
+	v4d w = { -1, -1, -1, -1 };
 	const double *q0, *q1, *q2, *q3;
 	long S = (long)s->step, c[LANES];
 	double inv = 1 / s->step;
@@ -188,8 +189,9 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
 	    t->zr[r][c[3] + t->wx[r]] }
 	z0 = LOAD(0), z1 = LOAD(1), z2 = LOAD(2);
 #undef LOAD
-	p00 = (v4d){ c[0] + t->ox[0], c[1] + t->ox[0], c[2] + t->ox[0],
-	    c[3] + t->ox[0] };
+	/* the centres as doubles at once (whole numbers: exact) */
+	cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride + cx, v4d);
+	p00 = cd + (double)t->ox[0];
 	e1 = z1 - z0, e2 = z2 - z0;
 	n0 = t->d1y * e2 - e1 * t->d2y;
 	n1 = e1 * t->d2x - t->d1x * e2;
@@ -204,14 +206,15 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride,
 	 * column i at i - d0 in dd */
 	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
 	q2 = dd + (c[2] * S + t->wlo), q3 = dd + (c[3] * S + t->wlo);
-	x = (v4d){ c[0] * S + t->lo, c[1] * S + t->lo, c[2] * S + t->lo,
-	    c[3] * S + t->lo };
-	for (long o = 0; o <= t->hi - t->lo; o++, x += 1) {
+	/* x: the columns times inv, (c S + lo) / S, stepped by inv: every
+	 * term a whole number over a power of 2, so c + lo / S is that
+	 * exactly, and so is each step (see sweep) */
+	x = cd + t->lo * inv;
+	for (long o = 0; o <= t->hi - t->lo; o++, x += inv) {
 		v4d v = { q0[o], q1[o], q2[o], q3[o] };
-		w = v4max(v4abs(z + dz * (x * inv) - v), w);
+		w = v4max(v4abs(z + dz * x - v), w);
 	}
-	for (int k = 0; k < LANES; k++)
-		err[k] = w[k];
+	return w;
 }
 
 /* Where an error goes: a diamond's local error (a float per centre
@@ -224,14 +227,20 @@ typedef struct {
 	int b0;
 } sink;
 
-static inline void
+static inline __attribute__((always_inline)) void
 raise_at(const sink *o, int cx, double err)
 {
+	/* a maximum, not a branch (which the data decide, and often
+	 * mispredict): err > was exactly when (float)err > was or both are
+	 * the same float (rounding to a float keeps the order), and a NaN
+	 * is never chosen either way */
 	if (o->acc != NULL) {
-		if (err > o->acc[cx - o->c0])
-			o->acc[cx - o->c0] = (float)err;
-	} else if (err > o->base[cx / BT_CELLS - o->b0])
-		o->base[cx / BT_CELLS - o->b0] = err;
+		float *a = &o->acc[cx - o->c0], was = *a, f = (float)err;
+		*a = f > was ? f : was;
+	} else {
+		double *b = &o->base[cx / BT_CELLS - o->b0], was = *b;
+		*b = err > was ? err : was;
+	}
 }
 
 /* Template t at centres first, first + stride, ... below end, each
@@ -261,8 +270,8 @@ scan_template_body(const state *s, const double *dd, const tmpl *t,
 		for (; cx + (LANES - 1) * stride < end &&
 		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
 		    cx += LANES * stride) {
-			double err[LANES];
-			tri_at4(s, dd, t, cx, stride, err);
+			/* from the register, not through memory */
+			v4d err = tri_at4(s, dd, t, cx, stride);
 			for (int k = 0; k < LANES; k++)
 				raise_at(o, cx + k * stride, err[k]);
 		}
