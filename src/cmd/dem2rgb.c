@@ -7,6 +7,9 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "rgb_cli.h"
 #include "jobs/plan_rgb.h"
@@ -102,6 +105,12 @@ main(int argc, char **argv)
 	int ch, r, quiet = 0, nw = 0, jobs = 0;
 
 	cli_init(&c, argv, usage, 0);
+#ifdef __GLIBC__
+	/* blocks of 128 KiB and more (libwebp's, the warper's, a tile's
+	 * image) mapped and unmapped each time, not kept resident by the
+	 * threads' arenas at their high-water mark: dem2rgb(1) MEMORY */
+	mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
 	a.jobs = cli_jobs();
 	if (a.jobs > RG_MAXJOBS)
 		a.jobs = RG_MAXJOBS;

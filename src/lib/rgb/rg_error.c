@@ -6,7 +6,8 @@
  * across tiles through the backfilled neighbours, so one surface over
  * the zoom's grid, clamped at its edges as a tile with no neighbour is),
  * a zoom per thread of the pool, in a fixed order (the same sums for any
- * count). A zoom keeps the span of its rows one DEM row reaches. */
+ * count). A zoom keeps the span of its rows one DEM row reaches, decoded
+ * from its scratch of codes. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,13 +85,20 @@ span(rg_job *j, zerr *ze, int lo, int hi)
 		    ze->buf + (size_t)(keep0 - ze->lo) * w,
 		    (size_t)(keep1 - keep0 + 1) * w * sizeof *ze->buf);
 	for (int r = lo; r <= hi; r++) {
+		float *b = ze->buf + (size_t)(r - lo) * w;
 		if (r >= keep0 && r <= keep1)
 			continue;
-		if (tl_pread(zz->fd, ze->buf + (size_t)(r - lo) * w,
-		    w * sizeof(float), (long long)r * (long long)w *
-		    (long long)sizeof(float), "scratch", &ze->e) < 0) {
+		/* the row's codes, decoded in place (4 bytes each) */
+		if (tl_pread(zz->fd, b, w * sizeof(uint32_t), (long long)r *
+		    (long long)w * (long long)sizeof(uint32_t), "scratch",
+		    &ze->e) < 0) {
 			ze->fail = 1, ze->nr = 0;
 			return -1;
+		}
+		for (size_t i = 0; i < w; i++) {
+			uint32_t c;
+			memcpy(&c, b + i, sizeof c);
+			b[i] = (float)rg_decode(j->a->enc, c & (RG_VALID - 1));
 		}
 	}
 	ze->lo = lo, ze->nr = n;

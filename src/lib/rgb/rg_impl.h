@@ -1,15 +1,18 @@
 /* rg_impl.h - inside the rgb layer: a zoom's grid, its band of tile rows
- * and its scratch of encoded heights (rg_tiles.c), the quadric chain of
+ * and its scratch of codes (rg_tiles.c), the quadric chain of
  * a segment of zooms (rg_chain.c), the error pass (rg_error.c). */
 #ifndef TL_RG_IMPL_H
 #define TL_RG_IMPL_H
 
+#include <pthread.h>
+#include <signal.h>
 #include <stdint.h>
 
 #include "rgb/rgb.h"
 #include "rgb/pmtiles.h"
 #include "dem/dem_warp.h"
 #include "base/pool.h"
+#include "base/scratch.h"
 #include "qem/fqm.h"
 
 /* A segment of the chain spans at most RG_SEG + 1 zooms: its level-0
@@ -19,7 +22,7 @@
  * anew. */
 #define RG_SEG 5
 
-#define RG_VALID 0x1000000u /* a band pixel over valid samples */
+#define RG_VALID 0x1000000u /* a pixel's code over valid samples */
 
 typedef struct {
 	dem_mgrid g;              /* the zoom's pixel grid */
@@ -27,10 +30,10 @@ typedef struct {
 	int ntx;                  /* tile columns covering the grid */
 	long long ty;             /* tile row in the band, -1: empty */
 	int rlo, rhi;             /* band rows filled: rlo .. rhi - 1 */
-	uint32_t *c;              /* the band: dim rows of ntx dim pixels,
-	                           * each its 24-bit code | RG_VALID; freed
-	                           * after the zoom's last row */
-	int fd;                   /* scratch: decoded heights, w x h floats */
+	int fd;                   /* scratch: the grid's pixels, w x h, each
+	                           * its 24-bit code | RG_VALID; the band's
+	                           * tiles are cut from it, the error pass
+	                           * decodes it */
 	dem_mwriter *dz, *dv;     /* the dump's heights and validity */
 	long long tiles, bytes;
 	int on;                   /* the zoom is made */
@@ -45,6 +48,7 @@ typedef struct {
 	tl_pool *pool;
 	int nt;
 	unsigned char **rgb;      /* per thread: dim x dim x 3 */
+	uint32_t **line;          /* per thread: a tile row's dim codes */
 	unsigned char **img;      /* per tile of a band: the encoded file */
 	size_t *imgn;
 	int nimg;
@@ -54,6 +58,21 @@ typedef struct {
 	uint32_t *code;           /* its codes */
 	rg_zoom zoom[RG_MAXZOOM + 1];
 } rg_job;
+
+/* rg_scratch.c: the run's scratch directory (sc.path), made with
+ * SIGINT, SIGTERM and SIGHUP blocked in the caller and the threads it
+ * starts until rg_scratch_end (begun, it is always to be called): one
+ * of them, read by a thread of its own, removes the directory and then
+ * kills the run as it would have. */
+typedef struct {
+	scratch sc;
+	char path[sizeof ((scratch *)0)->path]; /* the thread's copy */
+	sigset_t old;
+	pthread_t t;
+	int sfd, quit[2], blocked, running;
+} rg_scratch;
+int rg_scratch_begin(rg_scratch *s, tl_err *e);
+void rg_scratch_end(rg_scratch *s);
 
 /* rg_tiles.c: zoom z made on grid g (its band, scratch, dump opened). */
 int rg_zoom_open(rg_job *j, int z, const dem_mgrid *g, tl_err *e);

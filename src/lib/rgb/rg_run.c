@@ -8,6 +8,9 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,7 +20,6 @@
 #include "rgb/rg_impl.h"
 #include "base/outfile.h"
 #include "base/paths.h"
-#include "base/scratch.h"
 #include "geo/levels.h"
 #include "geo/vdatum.h"
 
@@ -236,11 +238,13 @@ job_init(rg_job *j, const rg_args *a, tl_err *e)
 	j->nt = tl_pool_threads(j->pool);
 	if ((j->rgb = tl_alloc(j->nt, sizeof *j->rgb, e)) == NULL ||
 	    (j->terr = tl_alloc(j->nt, sizeof *j->terr, e)) == NULL ||
-	    (j->tfail = tl_alloc(j->nt, sizeof *j->tfail, e)) == NULL)
+	    (j->tfail = tl_alloc(j->nt, sizeof *j->tfail, e)) == NULL ||
+	    (j->line = tl_alloc(j->nt, sizeof *j->line, e)) == NULL)
 		return -1;
 	for (int k = 0; k < j->nt; k++)
 		if ((j->rgb[k] = tl_alloc((size_t)a->dim * a->dim, 3, e)) ==
-		    NULL)
+		    NULL || (j->line[k] = tl_alloc(a->dim, sizeof **j->line,
+		    e)) == NULL)
 			return -1;
 	return 0;
 }
@@ -253,7 +257,9 @@ job_free(rg_job *j)
 			rg_zoom_close(&j->zoom[z]);
 	for (int k = 0; j->rgb != NULL && k < j->nt; k++)
 		free(j->rgb[k]);
-	free(j->rgb), free(j->terr), free(j->tfail);
+	for (int k = 0; j->line != NULL && k < j->nt; k++)
+		free(j->line[k]);
+	free(j->rgb), free(j->line), free(j->terr), free(j->tfail);
 	free(j->img), free(j->imgn), free(j->row), free(j->code);
 	if (j->pool)
 		tl_pool_free(j->pool);
@@ -281,6 +287,11 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 	    dem_warp_mercator(a->dem, a->dopt.has_nodata, a->dopt.nodata,
 	    &g, a->cubic, a->jobs, path, e) < 0)
 		return -1;
+#ifdef __GLIBC__
+	/* the warper's buffers, freed in its threads' arenas, given back
+	 * rather than held resident through the chain */
+	malloc_trim(0);
+#endif
 	r = segment(j, 0, &g, path, &o, &ng, &ref, rep, e);
 	rep->segments = 1;
 	/* the error's reference: the DEM itself, read as the warp read it,
@@ -358,7 +369,7 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 {
 	rg_job j = { 0 };
 	tl_outfile od = { 0 };
-	scratch sc = { .lock = -1 };
+	rg_scratch sc;
 	double ll[4], cell;
 	dem_mgrid g;
 	int r = -1, s;
@@ -378,9 +389,9 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 	rg_grid_of(&g, rep->maxzoom, a->dim, ll, s, rep->pad);
 	if (a->dump != NULL && mkdir(a->dump, 0777) < 0 && errno != EEXIST)
 		return tl_failsys(e, "%s", a->dump);
-	if (scratch_begin(&sc, "dem2rgb", e) < 0)
+	if (rg_scratch_begin(&sc, e) < 0)
 		return -1;
-	j.scratch = sc.path;
+	j.scratch = sc.sc.path;
 	if (a->work != NULL) { /* a plan's job, into the shared work tree */
 		j.tree = a->work;
 		if (job_init(&j, a, e) == 0)
@@ -398,6 +409,6 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 			tl_outdir_abort(&od);
 	}
 	job_free(&j);
-	scratch_end(&sc);
+	rg_scratch_end(&sc);
 	return r;
 }

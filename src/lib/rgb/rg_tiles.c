@@ -1,8 +1,9 @@
-/* rg_tiles.c - a zoom's rows into its tiles: a band of dim rows of the
- * tile columns covering the zoom's grid, cut into tiles when its last
- * row comes (the tiles of a band encoded on the pool's threads, written
- * in order), the decoded heights kept in a scratch file for the error
- * pass, the intended heights dumped for the tests (rg_impl.h). */
+/* rg_tiles.c - a zoom's rows into its tiles: each row's codes kept in a
+ * scratch file (the error pass decodes it too), and when a band of dim
+ * rows of the tile columns covering the zoom's grid is complete, its
+ * tiles cut from that file and encoded on the pool's threads (a row of
+ * dim codes held a thread, never the band), written in order; the
+ * intended heights dumped for the tests (rg_impl.h). */
 #include <assert.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -27,15 +28,11 @@ rg_zoom_open(rg_job *j, int z, const dem_mgrid *g, tl_err *e)
 	rg_zoom *zz = &j->zoom[z];
 	int dim = j->a->dim;
 	char p[4200];
-	size_t n;
 
 	memset(zz, 0, sizeof *zz);
 	zz->g = *g, zz->ty = -1, zz->fd = -1, zz->on = 1;
 	zz->tx0 = floordiv(g->x0, dim);
 	zz->ntx = floordiv(g->x0 + g->w - 1, dim) - (int)zz->tx0 + 1;
-	n = (size_t)zz->ntx * dim * dim;
-	if ((zz->c = tl_alloc(n, sizeof *zz->c, e)) == NULL)
-		return -1;
 	if (zz->ntx > j->nimg) {
 		free(j->img), free(j->imgn);
 		j->nimg = zz->ntx;
@@ -43,7 +40,7 @@ rg_zoom_open(rg_job *j, int z, const dem_mgrid *g, tl_err *e)
 		    (j->imgn = tl_alloc(j->nimg, sizeof *j->imgn, e)) == NULL)
 			return -1;
 	}
-	snprintf(p, sizeof p, "%s/z%d.f32", j->scratch, z);
+	snprintf(p, sizeof p, "%s/z%d.code", j->scratch, z);
 	if ((zz->fd = open(p, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC,
 	    0600)) < 0)
 		return tl_failsys(e, "%s", p);
@@ -68,8 +65,6 @@ rg_zoom_close(rg_zoom *zz)
 {
 	tl_err e;
 
-	free(zz->c);
-	zz->c = NULL;
 	if (zz->fd >= 0)
 		close(zz->fd);
 	zz->fd = -1;
@@ -84,31 +79,67 @@ typedef struct {
 	int z;
 } band;
 
+/* Row y (0 .. dim - 1) of tile t of the band into line: the grid's
+ * codes, those of a row or column past the grid its nearest one's, not
+ * valid (the band's rows are rlo .. rhi - 1 of the tile row). */
+static int
+tile_row(const rg_job *j, const rg_zoom *zz, int t, int y, uint32_t *line,
+    tl_err *e)
+{
+	int dim = j->a->dim, w = zz->g.w;
+	int from = y < zz->rlo ? zz->rlo : y >= zz->rhi ? zz->rhi - 1 : y;
+	long long gr = zz->ty * dim + from - zz->g.y0;
+	/* the tile's first column on the grid, and the span it covers */
+	long c0 = (long)(zz->tx0 * dim - zz->g.x0) + (long)t * dim;
+	long k0 = c0 < 0 ? 0 : c0, k1 = c0 + dim < w ? c0 + dim : w;
+	uint32_t mask = from == y ? ~0u : ~RG_VALID;
+
+	assert(k0 < k1);
+	if (tl_pread(zz->fd, line + (k0 - c0), (size_t)(k1 - k0) *
+	    sizeof *line, (gr * w + k0) * (long long)sizeof *line, "scratch",
+	    e) < 0)
+		return -1;
+	for (long i = 0; i < dim; i++) {
+		long k = c0 + i;
+		if (k < k0)
+			line[i] = line[k0 - c0] & ~RG_VALID;
+		else if (k >= k1)
+			line[i] = line[k1 - 1 - c0] & ~RG_VALID;
+		line[i] &= mask;
+	}
+	return 0;
+}
+
 /* Tile t of the band into j->img[t] (NULL when it holds no valid
- * pixel): its pixels the band's codes. */
+ * pixel). */
 static void
 encode_tiles(void *arg, int k, int t0, int t1)
 {
 	band *b = arg;
 	rg_job *j = b->j;
 	rg_zoom *zz = b->zz;
-	int dim = j->a->dim, bw = zz->ntx * dim;
+	int dim = j->a->dim;
 
 	for (int t = t0; t < t1; t++) {
 		unsigned char *rgb = j->rgb[k];
-		uint32_t any = 0;
+		uint32_t any = 0, *line = j->line[k];
 
 		j->img[t] = NULL;
-		if (!rg_part_owns(j->a, zz, t))
+		if (j->tfail[k] || !rg_part_owns(j->a, zz, t))
 			continue;
-		for (int r = 0; r < dim; r++)
+		for (int r = 0; r < dim; r++) {
+			if (tile_row(j, zz, t, r, line, &j->terr[k]) < 0) {
+				j->tfail[k] = 1;
+				break;
+			}
 			for (int i = 0; i < dim; i++) {
-				uint32_t c = zz->c[(size_t)r * bw + t * dim + i];
+				uint32_t c = line[i];
 				unsigned char *p = rgb + ((size_t)r * dim + i) * 3;
 				any |= c;
 				p[0] = c >> 16 & 255, p[1] = c >> 8 & 255;
 				p[2] = c & 255;
 			}
+		}
 		if (!(any & RG_VALID) || j->tfail[k])
 			continue;
 		if (rg_image(j->a->fmt, rgb, dim, &j->img[t], &j->imgn[t],
@@ -136,25 +167,15 @@ write_file(const char *path, const unsigned char *p, size_t n, tl_err *e)
 	return 0;
 }
 
-/* The band's rows outside the grid copy its nearest row, then its tiles
- * are encoded and written. */
+/* The band's tiles encoded and written. */
 static int
 flush(rg_job *j, int z, tl_err *e)
 {
 	rg_zoom *zz = &j->zoom[z];
-	int dim = j->a->dim;
-	size_t bw = (size_t)zz->ntx * dim;
 	band b = { j, zz, z };
 	char p[4300];
 	int r = 0;
 
-	for (int y = 0; y < dim; y++) {
-		int from = y < zz->rlo ? zz->rlo : y >= zz->rhi ? zz->rhi - 1 : y;
-		if (from != y)
-			for (size_t i = 0; i < bw; i++)
-				zz->c[y * bw + i] = zz->c[from * bw + i] &
-				    ~RG_VALID;
-	}
 	memset(j->tfail, 0, j->nt * sizeof *j->tfail);
 	tl_pool_for(j->pool, zz->ntx, encode_tiles, &b);
 	for (int k = 0; k < j->nt; k++)
@@ -204,10 +225,8 @@ rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
 {
 	rg_zoom *zz = &j->zoom[z];
 	const dem_mgrid *g = &zz->g;
-	int dim = j->a->dim, w = g->w, off;
+	int dim = j->a->dim, w = g->w;
 	long long y = g->y0 + r;
-	size_t bw = (size_t)zz->ntx * dim;
-	uint32_t *bc;
 
 	assert(zz->on && r < g->h);
 	for (int i = 0; i < w; i++) {
@@ -216,10 +235,9 @@ rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
 		if (c < 0)
 			return range_fail(j, z, r, i, h[i], e);
 		j->code[i] = (uint32_t)c | (v[i] > 0 ? RG_VALID : 0);
-		j->row[i] = (float)rg_decode(j->a->enc, c);
 	}
-	if (tl_pwrite(zz->fd, j->row, (size_t)w * sizeof *j->row,
-	    (long long)r * w * (long long)sizeof *j->row, "scratch", e) < 0)
+	if (tl_pwrite(zz->fd, j->code, (size_t)w * sizeof *j->code,
+	    (long long)r * w * (long long)sizeof *j->code, "scratch", e) < 0)
 		return -1;
 	if (zz->dz != NULL) {
 		for (int i = 0; i < w; i++)
@@ -234,21 +252,7 @@ rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
 	if (zz->ty < 0)
 		zz->ty = y / dim, zz->rlo = (int)(y - zz->ty * dim);
 	zz->rhi = (int)(y - zz->ty * dim) + 1;
-	bc = zz->c + (size_t)(zz->rhi - 1) * bw;
-	off = (int)(g->x0 - zz->tx0 * dim);
-	/* columns past the grid: its edge heights, not valid */
-	for (size_t i = 0; i < bw; i++) {
-		long k = (long)i - off;
-		k = k < 0 ? 0 : k >= w ? w - 1 : k;
-		bc[i] = (long)i - off == k ? j->code[k] : j->code[k] & ~RG_VALID;
-	}
 	if (zz->rhi < dim && r < g->h - 1)
 		return 0;
-	if (flush(j, z, e) < 0)
-		return -1;
-	if (r == g->h - 1) { /* the zoom's last row: its band is done */
-		free(zz->c);
-		zz->c = NULL;
-	}
-	return 0;
+	return flush(j, z, e);
 }
