@@ -384,6 +384,18 @@ place_range(void *arg, int k, int i0, int i1)
 		place3d(p->s, i, p->j, &p->in[i], &p->out[i]);
 }
 
+/* 1 when every vertex of the row has b = 0 (place3d's known minimiser). */
+static int
+known_row(const solve_state *s, const fqm_vertex *in)
+{
+	if (!s->known)
+		return 0;
+	for (int i = 0; i < s->w; i++)
+		if (in[i].q.b[0] != 0 || in[i].q.b[1] != 0 || in[i].q.b[2] != 0)
+			return 0;
+	return 1;
+}
+
 void
 solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 {
@@ -409,7 +421,9 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 	}
 	if (s->mode == SOLVE_QEM3D) {
 		placing p = { s, j, in, out };
-		if (s->pool != NULL)
+		/* a row of known minimisers (level 0's) is cheaper here
+		 * than the hand-overs to the pool */
+		if (s->pool != NULL && !known_row(s, in))
 			tl_pool_for(s->pool, s->w, place_range, &p);
 		else
 			place_range(&p, 0, 0, s->w);
