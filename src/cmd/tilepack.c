@@ -14,6 +14,7 @@
 static const char usage[] =
     "[-flq] [-b samples] [-D datum] [-e encoding] [-g work | -p piece]\n"
     "                [-H datum] [-j jobs] [-N nodata] [-n name] [-s dx[,dy]]\n"
+    "                [-z compression]\n"
     "                dem dir level0 [level1 ...]\n"
     "  -b samples      with -l and -p: a piece whose DEM window holds more\n"
     "                  samples is made in parts of rows (default 2^30; 0:\n"
@@ -27,6 +28,7 @@ static const char usage[] =
     "                  b0..b1-1), or one part, level:b0:b1:y0:y1 (its DEM\n"
     "                  rows y0..y1-1), in dir taken as a work directory\n"
     "  -q              no report on stderr\n"
+    "  -z compression  the blocks': zip (default), zips, rle, piz, none\n"
     CLI_DEM_HELP
     "  dem             the original DEM (errors are measured against it);\n"
     "                  a VRT or a list of DEM files for a mosaic\n"
@@ -93,7 +95,7 @@ main(int argc, char **argv)
 	cli c;
 	tl_err e;
 
-	cli_init(&c, argv, usage, CLI_DEM);
+	cli_init(&c, argv, usage, CLI_DEM | CLI_COMPRESSION);
 	a.jobs = cli_jobs();
 	a.part_samples = 1LL << 30;
 	while ((ch = cli_next(&c, argc, argv, "b:fg:j:lp:q", NULL)) != -1) {
@@ -139,5 +141,6 @@ main(int argc, char **argv)
 		return ch;
 	a.dem = c.dem;
 	a.prog = c.prog;
+	a.comp = c.comp;
 	return cli_exit(&c, pack(&c, &a, &md, &e), &e);
 }

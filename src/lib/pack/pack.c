@@ -134,7 +134,7 @@ write_block(void *ctx, const pyramid_block *b, tl_err *e)
 	pyramid_block_path(path, sizeof path, k->dir, b->level, b->bi, b->bj);
 	k->L->zmin[i] = b->zmin, k->L->zmax[i] = b->zmax;
 	k->L->base[i] = b->base, k->L->emax[i] = b->emax;
-	return pyramid_block_write(path, b, k->attrs, e);
+	return pyramid_block_write_z(path, b, k->attrs, k->comp, e);
 }
 
 /* The index's entry for a level, from its vertex map's header. */
@@ -223,6 +223,7 @@ void
 pk_level_setup(work *w, int l, vmap *v, sink *k, int threads, level_args *L)
 {
 	k->dir = w->tmp, k->attrs = v->h, k->L = &w->ix->lev[l];
+	k->comp = w->a->comp;
 	memset(L, 0, sizeof *L);
 	L->level = l;
 	L->size[0] = v->h->width, L->size[1] = v->h->height;

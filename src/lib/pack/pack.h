@@ -29,6 +29,8 @@ typedef struct {
 	 * samples runs in parts of rows (0: never) */
 	long long part_samples;
 	const char *prog;     /* names the progress line, or NULL: none */
+	enum rs_compression comp; /* the blocks' EXR compression: RS_ZIP
+	                           * (0, the default) unless tilepack -z */
 } pack_args;
 
 /* What a level came to. */

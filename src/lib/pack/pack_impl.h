@@ -27,6 +27,7 @@ typedef struct {
 typedef struct {
 	const char *dir;
 	const rs_header *attrs; /* the vertex map's fqm:* and geo:* */
+	enum rs_compression comp; /* the blocks' (pack_args) */
 	pyramid_level *L;
 } sink;
 

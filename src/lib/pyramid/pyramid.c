@@ -86,6 +86,13 @@ int
 pyramid_block_write(const char *path, const pyramid_block *b,
     const rs_header *attrs, tl_err *e)
 {
+	return pyramid_block_write_z(path, b, attrs, RS_ZIP, e);
+}
+
+int
+pyramid_block_write_z(const char *path, const pyramid_block *b,
+    const rs_header *attrs, enum rs_compression comp, tl_err *e)
+{
 	rs_header h;
 	rs_writer *w;
 	float row[4 * BT_SIZE], *p[4];
@@ -107,7 +114,7 @@ pyramid_block_write(const char *path, const pyramid_block *b,
 	    rs_set_double(&h, VGIS_ATTR_BASE_ERROR, b->base, e) < 0 ||
 	    rs_set_v2d(&h, VGIS_ATTR_ZRANGE, b->zmin, b->zmax, e) < 0)
 		goto done;
-	if ((w = rs_create_fresh(path, &h, RS_ZIP, e)) == NULL)
+	if ((w = rs_create_fresh(path, &h, comp, e)) == NULL)
 		goto done;
 	for (int j = 0; j < BT_SIZE; j++) {
 		for (int c = 0; c < n; c++)

@@ -99,6 +99,10 @@ void pyramid_block_free(pyramid_block *b);
  * (rs_create_fresh). */
 int pyramid_block_write(const char *path, const pyramid_block *b,
     const rs_header *attrs, tl_err *e);
+/* ... compressed as comp says (pyramid_block_write: RS_ZIP, the default;
+ * tilepack -z). */
+int pyramid_block_write_z(const char *path, const pyramid_block *b,
+    const rs_header *attrs, enum rs_compression comp, tl_err *e);
 /* Reads a block, a regular file (a FIFO is refused at once), and checks
  * its size, its channels and vgis:* attributes against what b->level,
  * bi, bj, displaced say it must be, and its content as vgis(5) allows it:

@@ -56,6 +56,7 @@ solve_init(solve_state *s, enum solve_mode mode, int level, int w, int h,
 	s->level = level;
 	s->w = w, s->h = h;
 	s->m = m;
+	s->known = getenv("TL_SOLVE_FULL") == NULL;
 	if (mode != SOLVE_QEM3D)
 		return 0;
 	s->hist[0] = tl_alloc(w, sizeof *s->hist[0], e);
@@ -299,7 +300,15 @@ place3d(const solve_state *s, int i, int j, const fqm_vertex *in,
 	double v[3], hx, hy, up, down;
 	long step = 1L << s->level;
 
-	quadric_min_3d(&in->q, s->rel, v);
+	/* b = 0 (every vertex of level 0: its planes pass through it): the
+	 * minimiser is known, +0 in each coordinate, which is what
+	 * quadric_min_3d gives bit for bit (+0 - (u.b / w) u with u.b = ±0,
+	 * A's eigenvectors finite), without its eigen-decomposition */
+	if (s->known && in->q.b[0] == 0 && in->q.b[1] == 0 &&
+	    in->q.b[2] == 0)
+		v[0] = v[1] = v[2] = 0;
+	else
+		quadric_min_3d(&in->q, s->rel, v);
 	hx = 0.5 * (double)step * s->msx[2][i];
 	up = j > 0 ? s->my[2][i] - s->my[1][i] : INFINITY;
 	down = s->my[3][i] - s->my[2][i];
@@ -308,9 +317,35 @@ place3d(const solve_state *s, int i, int j, const fqm_vertex *in,
 	o->y = j == 0 || j == s->h - 1 ? 0 : fmax(-hy, fmin(hy, v[1]));
 }
 
+/* 1 when the fold fix is known to change nothing on row j: the offsets
+ * of rows j-2 .. j all zero, so every checked triangle is its grid
+ * triangle (p = g + 0 has g's values, and so pa = ga), which keeps
+ * `shrink` (0 .. 1) of its area whenever ga is a number; the metric's
+ * cached rows bounded make it one. Level 0's rows are of this kind. */
+static int
+on_grid(const solve_state *s, int j, const solve_vertex *cur)
+{
+	if (!s->known || !(s->shrink >= 0 && s->shrink <= 1))
+		return 0;
+	for (int r = 0; r <= 2 && r <= j; r++) {
+		const solve_vertex *o = r == 0 ? cur : s->hist[r - 1];
+		for (int i = 0; i < s->w; i++)
+			if (o[i].x != 0 || o[i].y != 0)
+				return 0;
+	}
+	for (int r = 0; r < 5; r++)
+		for (int i = 0; i < s->w; i++)
+			if (!(fabs(s->msx[r][i]) <= 1e100 &&
+			    fabs(s->my[r][i]) <= 1e100))
+				return 0;
+	return 1;
+}
+
 static void
 fix_folds(solve_state *s, int j, solve_vertex *cur)
 {
+	if (on_grid(s, j, cur))
+		return;
 	/* Halving converges on the grid, where every invariant holds; after
 	 * a few halvings, put the stubborn vertices on the grid. Each round
 	 * puts at least one more vertex there, so this ends. */
@@ -349,6 +384,18 @@ place_range(void *arg, int k, int i0, int i1)
 		place3d(p->s, i, p->j, &p->in[i], &p->out[i]);
 }
 
+/* 1 when every vertex of the row has b = 0 (place3d's known minimiser). */
+static int
+known_row(const solve_state *s, const fqm_vertex *in)
+{
+	if (!s->known)
+		return 0;
+	for (int i = 0; i < s->w; i++)
+		if (in[i].q.b[0] != 0 || in[i].q.b[1] != 0 || in[i].q.b[2] != 0)
+			return 0;
+	return 1;
+}
+
 void
 solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 {
@@ -374,7 +421,9 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 	}
 	if (s->mode == SOLVE_QEM3D) {
 		placing p = { s, j, in, out };
-		if (s->pool != NULL)
+		/* a row of known minimisers (level 0's) is cheaper here
+		 * than the hand-overs to the pool */
+		if (s->pool != NULL && !known_row(s, in))
 			tl_pool_for(s->pool, s->w, place_range, &p);
 		else
 			place_range(&p, 0, 0, s->w);

@@ -30,6 +30,9 @@ typedef struct {
 	                       * its threads, or NULL: this one; set with
 	                       * solve_pool */
 	unsigned char *markt; /* 3D on a pool: a row of marks per thread */
+	int known;       /* 3D: the known answers taken (b = 0: the vertex;
+	                  * rows on the grid: no fold fix); 0 where
+	                  * TL_SOLVE_FULL is set, for the tests */
 	int row;         /* next row expected */
 	long long reduced; /* 3D: vertices whose offset the fold fix reduced */
 	long long zeroed;  /* ... of which set back onto the grid */
