@@ -185,6 +185,21 @@ absolute(const char *what, const char *p, char *full, size_t n, tl_err *e)
 	return 0;
 }
 
+/* The plan directory apart from the output ("DIR: contains the output
+ * OUT"). */
+static int
+off_out(const char *dir, const plan_rgb_opts *o, tl_err *e)
+{
+	tl_paths s = { 0 };
+	int r = tl_paths_add(&s, o->out, TL_PATH_OUT, e, "the output %s",
+	    o->out);
+
+	if (r == 0)
+		r = tl_paths_check(&s, dir, e);
+	tl_paths_free(&s);
+	return r;
+}
+
 int
 plan_rgb_write(const plan_rgb_opts *o, const char *dir, tl_err *e)
 {
@@ -204,8 +219,7 @@ plan_rgb_write(const plan_rgb_opts *o, const char *dir, tl_err *e)
 			return tl_fail(e, "an option holds a newline: it "
 			    "cannot go into a plan");
 	/* the plan kept off the DEM and off the output */
-	if (tl_path_check(dir, o->dem, "DEM", 0, e) < 0 ||
-	    tl_path_check(dir, o->out, "output", TL_PATH_OUT, e) < 0)
+	if (tl_path_check(dir, o->dem, "DEM", 0, e) < 0 || off_out(dir, o, e) < 0)
 		return -1;
 	if (stat(dir, &st) == 0)
 		return tl_fail(e, "%s: exists: remove it first", dir);
