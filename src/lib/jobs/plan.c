@@ -21,25 +21,6 @@ static const plan_backend backends[] = {
 	{ "slurm.sh", 1, plan_slurm },
 };
 
-/* File name in dir, written by fn, executable or not. */
-static int
-put(const char *dir, const char *name, int exec,
-    void (*fn)(FILE *, const void *), const void *arg, tl_err *e)
-{
-	char path[4400];
-	FILE *f;
-
-	snprintf(path, sizeof path, "%s/%s", dir, name);
-	if ((f = fopen(path, "w")) == NULL)
-		return tl_failsys(e, "%s", path);
-	fn(f, arg);
-	if (fclose(f) != 0)
-		return tl_failsys(e, "%s", path);
-	if (exec && chmod(path, 0755) != 0)
-		return tl_failsys(e, "%s", path);
-	return 0;
-}
-
 /* A backend's file, through put. */
 typedef struct {
 	const plan_backend *b;
@@ -61,8 +42,8 @@ put_backends(const char *dir, const plan_ctx *c, tl_err *e)
 	for (size_t i = 0; i < sizeof backends / sizeof backends[0]; i++) {
 		backend_call bc = { &backends[i], c };
 
-		if (put(dir, backends[i].name, backends[i].exec, put_backend,
-		    &bc, e) < 0)
+		if (plan_put(dir, backends[i].name, backends[i].exec,
+		    put_backend, &bc, e) < 0)
 			return -1;
 	}
 	return 0;
@@ -123,12 +104,13 @@ put_bands(const char *dir, const plan_opts *o, tl_err *e)
 		else
 			snprintf(name, sizeof name, "f.fqm"),
 			    snprintf(list, sizeof list, "f.bands");
-		if (put(sub, list, 0, put_bandlist, &b, e) < 0)
+		if (plan_put(sub, list, 0, put_bandlist, &b, e) < 0)
 			return -1;
 	}
-	return put(sub, "targets", 0, put_targets, &bands, e) < 0 ||
-	    (o->nfill > 0 && (put(sub, "fill1", 0, put_targets, &f1, e) < 0 ||
-	    put(sub, "fill2", 0, put_targets, &f2, e) < 0)) ? -1 : 0;
+	return plan_put(sub, "targets", 0, put_targets, &bands, e) < 0 ||
+	    (o->nfill > 0 &&
+	    (plan_put(sub, "fill1", 0, put_targets, &f1, e) < 0 ||
+	    plan_put(sub, "fill2", 0, put_targets, &f2, e) < 0)) ? -1 : 0;
 }
 
 /* The mosaic's files as a list, absolute paths (cwd for relative). */
@@ -264,7 +246,8 @@ plan_write(const plan_opts *o, const char *dir, tl_err *e)
 		q.dem = list;
 	if (tl_outdir_begin(&d, dir, e) < 0)
 		return -1;
-	if ((o->ndem > 0 && put(d.tmp, "dems.txt", 0, put_list, o, e) < 0) ||
+	if ((o->ndem > 0 &&
+	    plan_put(d.tmp, "dems.txt", 0, put_list, o, e) < 0) ||
 	    put_backends(d.tmp, &c, e) < 0 ||
 	    copy(d.tmp, "dem.stamp", o->stamp, e) < 0 ||
 	    put_bands(d.tmp, o, e) < 0) {

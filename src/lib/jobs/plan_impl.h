@@ -1,14 +1,16 @@
 /* plan_impl.h - the plan's insides, shared by plan*.c: what each
  * consumer's writer is given, the writers plan.c's table names (one file
- * each: plan_make.c, plan_job.c, plan_parallel.c, plan_slurm.c) and the
- * quoting they share (plan_word.c, a leaf). Calls go one way: plan.c
- * to the writers, the writers to plan_word.c. */
+ * each: plan_make.c, plan_job.c, plan_parallel.c, plan_slurm.c), the
+ * quoting they share (plan_word.c, a leaf) and the files every plan
+ * writes (plan_file.c, a leaf). Calls go one way: plan.c to the
+ * writers, the writers to plan_word.c. */
 #ifndef TL_PLAN_IMPL_H
 #define TL_PLAN_IMPL_H
 
 #include <stdio.h>
 
 #include "jobs/plan.h"
+#include "base/util.h"
 
 /* What a writer is given: the plan's options (dem: dems.txt's absolute
  * path for a mosaic) and the plan's final absolute path. */
@@ -44,5 +46,13 @@ void plan_slurm_funcs(FILE *);
  * variable's value. plan_words: n of them, each after a blank. */
 void plan_word(FILE *, const char *w, int make);
 void plan_words(FILE *, const char *const *w, int n, int make);
+
+/* File name in dir, written whole by fn(f, arg), executable or not. */
+int plan_put(const char *dir, const char *name, int exec,
+    void (*fn)(FILE *, const void *), const void *arg, tl_err *e);
+/* p made absolute into full (n bytes); a newline, which no Makefile
+ * carries, refused (what names p). */
+int plan_absolute(const char *what, const char *p, char *full, size_t n,
+    tl_err *e);
 
 #endif

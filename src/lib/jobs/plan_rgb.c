@@ -22,8 +22,9 @@ typedef struct {
 } ctx;
 
 static void
-put_makefile(FILE *f, const ctx *c)
+put_makefile(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	const plan_rgb_opts *o = c->o;
 	const char *const dem = c->dem, *const out = c->out, *bin = c->bin;
 
@@ -67,8 +68,9 @@ put_makefile(FILE *f, const ctx *c)
 }
 
 static void
-put_job(FILE *f, const ctx *c)
+put_job(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	(void)c;
 	fputs("#!/bin/sh\n"
 	    "# job B TARGET CMD...: the plan's job TARGET (done/NAME, made when "
@@ -110,8 +112,9 @@ put_job(FILE *f, const ctx *c)
 }
 
 static void
-put_parallel(FILE *f, const ctx *c)
+put_parallel(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	fputs("#!/bin/sh\n"
 	    "# GNU parallel, stage by stage: every part, then the gather. Each "
 	    "job is a\n# make target of this directory, so a run again skips "
@@ -124,8 +127,9 @@ put_parallel(FILE *f, const ctx *c)
 }
 
 static void
-put_slurm(FILE *f, const ctx *c)
+put_slurm(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	fputs("#!/bin/sh\n"
 	    "# Slurm: the parts as job arrays, the gather after them. Each job "
 	    "is a make\n# target of this directory: submitted again, it skips "
@@ -141,48 +145,11 @@ put_slurm(FILE *f, const ctx *c)
 }
 
 static void
-put_targets(FILE *f, const ctx *c)
+put_targets(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	for (int k = 0; k < c->o->nparts; k++)
 		fprintf(f, "done/p-%d\n", k);
-}
-
-/* File name in dir, written by fn, executable or not. */
-static int
-put(const char *dir, const char *name, int exec, const ctx *c,
-    void (*fn)(FILE *, const ctx *), tl_err *e)
-{
-	char path[4400];
-	FILE *f;
-
-	snprintf(path, sizeof path, "%s/%s", dir, name);
-	if ((f = fopen(path, "w")) == NULL)
-		return tl_failsys(e, "%s", path);
-	fn(f, c);
-	if (fclose(f) != 0)
-		return tl_failsys(e, "%s", path);
-	if (exec && chmod(path, 0755) != 0)
-		return tl_failsys(e, "%s", path);
-	return 0;
-}
-
-/* p made absolute into full; a newline, which no Makefile carries,
- * refused. */
-static int
-absolute(const char *what, const char *p, char *full, size_t n, tl_err *e)
-{
-	char cwd[4096];
-
-	if (strchr(p, '\n') != NULL)
-		return tl_fail(e, "%s: a newline cannot go into a plan (make "
-		    "reads its jobs' commands a line at a time): rename it",
-		    what);
-	if (p[0] != '/' && getcwd(cwd, sizeof cwd) == NULL)
-		return tl_failsys(e, "current directory");
-	if ((size_t)snprintf(full, n, "%s%s%s", p[0] == '/' ? "" : cwd,
-	    p[0] == '/' ? "" : "/", p) >= n)
-		return tl_fail(e, "%s: name too long", p);
-	return 0;
 }
 
 /* The plan directory apart from the output ("DIR: contains the output
@@ -208,29 +175,31 @@ plan_rgb_write(const plan_rgb_opts *o, const char *dir, tl_err *e)
 	struct stat st;
 	tl_outfile d;
 
-	if (absolute("the plan directory", dir, c.dir, sizeof c.dir, e) < 0 ||
-	    absolute("the DEM", o->dem, c.dem, sizeof c.dem, e) < 0 ||
-	    absolute("the output", o->out, c.out, sizeof c.out, e) < 0 ||
-	    absolute("the programs' directory", o->bindir ? o->bindir : ".",
-	    c.bin, sizeof c.bin, e) < 0)
+	if (plan_absolute("the plan directory", dir, c.dir, sizeof c.dir,
+	    e) < 0 ||
+	    plan_absolute("the DEM", o->dem, c.dem, sizeof c.dem, e) < 0 ||
+	    plan_absolute("the output", o->out, c.out, sizeof c.out, e) < 0 ||
+	    plan_absolute("the programs' directory",
+	    o->bindir ? o->bindir : ".", c.bin, sizeof c.bin, e) < 0)
 		return -1;
 	for (int k = 0; k < o->nopt; k++)
 		if (strchr(o->opt[k], '\n') != NULL)
 			return tl_fail(e, "an option holds a newline: it "
 			    "cannot go into a plan");
 	/* the plan kept off the DEM and off the output */
-	if (tl_path_check(dir, o->dem, "DEM", 0, e) < 0 || off_out(dir, o, e) < 0)
+	if (tl_path_check(dir, o->dem, "DEM", 0, e) < 0 ||
+	    off_out(dir, o, e) < 0)
 		return -1;
 	if (stat(dir, &st) == 0)
 		return tl_fail(e, "%s: exists: remove it first", dir);
 	if (tl_outdir_begin(&d, dir, e) < 0)
 		return -1;
 	snprintf(stamp, sizeof stamp, "%s/dem.stamp", d.tmp);
-	if (put(d.tmp, "Makefile", 0, &c, put_makefile, e) < 0 ||
-	    put(d.tmp, "job", 1, &c, put_job, e) < 0 ||
-	    put(d.tmp, "parallel.sh", 1, &c, put_parallel, e) < 0 ||
-	    put(d.tmp, "slurm.sh", 1, &c, put_slurm, e) < 0 ||
-	    put(d.tmp, "targets1", 0, &c, put_targets, e) < 0 ||
+	if (plan_put(d.tmp, "Makefile", 0, put_makefile, &c, e) < 0 ||
+	    plan_put(d.tmp, "job", 1, put_job, &c, e) < 0 ||
+	    plan_put(d.tmp, "parallel.sh", 1, put_parallel, &c, e) < 0 ||
+	    plan_put(d.tmp, "slurm.sh", 1, put_slurm, &c, e) < 0 ||
+	    plan_put(d.tmp, "targets1", 0, put_targets, &c, e) < 0 ||
 	    dem_stamp(stamp, dems, 1, e) < 0) {
 		tl_outdir_abort(&d);
 		return -1;

@@ -33,8 +33,9 @@ make_range(FILE *f, const int *r, int round)
 }
 
 static void
-put_makefile(FILE *f, const ctx *c)
+put_makefile(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	const plan_terrain_opts *o = c->o;
 	const char *const pyr = c->pyr, *const out = c->out, *bin = c->bin;
 
@@ -85,8 +86,9 @@ put_makefile(FILE *f, const ctx *c)
 }
 
 static void
-put_job(FILE *f, const ctx *c)
+put_job(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	(void)c;
 	fputs("#!/bin/sh\n"
 	    "# job B TARGET CMD...: the plan's job TARGET (done/NAME, made when "
@@ -129,8 +131,9 @@ put_job(FILE *f, const ctx *c)
 }
 
 static void
-put_parallel(FILE *f, const ctx *c)
+put_parallel(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	fputs("#!/bin/sh\n"
 	    "# GNU parallel, stage by stage: round 1 of every range, round 2, "
 	    "the gather.\n# Each job is a make target of this directory, so a "
@@ -144,8 +147,9 @@ put_parallel(FILE *f, const ctx *c)
 }
 
 static void
-put_slurm(FILE *f, const ctx *c)
+put_slurm(FILE *f, const void *arg)
 {
+	const ctx *c = arg;
 	fputs("#!/bin/sh\n"
 	    "# Slurm: round 1 of every range as job arrays, round 2 as arrays "
 	    "after\n# them, the gather after those. Each job is a make target "
@@ -170,46 +174,16 @@ put_targets(FILE *f, const ctx *c, int round)
 		    c->o->range[k][1], c->o->range[k][2]);
 }
 
-/* File name in dir, written by fn (round: put_targets'), executable or
- * not. */
-static int
-put(const char *dir, const char *name, int exec, const ctx *c,
-    void (*fn)(FILE *, const ctx *), int round, tl_err *e)
+static void
+put_targets1(FILE *f, const void *arg)
 {
-	char path[4400];
-	FILE *f;
-
-	snprintf(path, sizeof path, "%s/%s", dir, name);
-	if ((f = fopen(path, "w")) == NULL)
-		return tl_failsys(e, "%s", path);
-	if (fn)
-		fn(f, c);
-	else
-		put_targets(f, c, round);
-	if (fclose(f) != 0)
-		return tl_failsys(e, "%s", path);
-	if (exec && chmod(path, 0755) != 0)
-		return tl_failsys(e, "%s", path);
-	return 0;
+	put_targets(f, arg, 1);
 }
 
-/* p made absolute into full; a newline, which no Makefile carries,
- * refused. */
-static int
-absolute(const char *what, const char *p, char *full, size_t n, tl_err *e)
+static void
+put_targets2(FILE *f, const void *arg)
 {
-	char cwd[4096];
-
-	if (strchr(p, '\n') != NULL)
-		return tl_fail(e, "%s: a newline cannot go into a plan (make "
-		    "reads its jobs' commands a line at a time): rename it",
-		    what);
-	if (p[0] != '/' && getcwd(cwd, sizeof cwd) == NULL)
-		return tl_failsys(e, "current directory");
-	if ((size_t)snprintf(full, n, "%s%s%s", p[0] == '/' ? "" : cwd,
-	    p[0] == '/' ? "" : "/", p) >= n)
-		return tl_fail(e, "%s: name too long", p);
-	return 0;
+	put_targets(f, arg, 2);
 }
 
 int
@@ -220,11 +194,12 @@ plan_terrain_write(const plan_terrain_opts *o, const char *dir, tl_err *e)
 	struct stat st;
 	tl_outfile d;
 
-	if (absolute("the plan directory", dir, c.dir, sizeof c.dir, e) < 0 ||
-	    absolute("the pyramid", o->pyr, c.pyr, sizeof c.pyr, e) < 0 ||
-	    absolute("the terrain", o->out, c.out, sizeof c.out, e) < 0 ||
-	    absolute("the programs' directory", o->bindir ? o->bindir : ".",
-	    c.bin, sizeof c.bin, e) < 0)
+	if (plan_absolute("the plan directory", dir, c.dir, sizeof c.dir,
+	    e) < 0 ||
+	    plan_absolute("the pyramid", o->pyr, c.pyr, sizeof c.pyr, e) < 0 ||
+	    plan_absolute("the terrain", o->out, c.out, sizeof c.out, e) < 0 ||
+	    plan_absolute("the programs' directory",
+	    o->bindir ? o->bindir : ".", c.bin, sizeof c.bin, e) < 0)
 		return -1;
 	for (int k = 0; k < o->nopt; k++)
 		if (strchr(o->opt[k], '\n') != NULL)
@@ -239,12 +214,12 @@ plan_terrain_write(const plan_terrain_opts *o, const char *dir, tl_err *e)
 	if (tl_outdir_begin(&d, dir, e) < 0)
 		return -1;
 	snprintf(stamp, sizeof stamp, "%s/pyramid.stamp", d.tmp);
-	if (put(d.tmp, "Makefile", 0, &c, put_makefile, 0, e) < 0 ||
-	    put(d.tmp, "job", 1, &c, put_job, 0, e) < 0 ||
-	    put(d.tmp, "parallel.sh", 1, &c, put_parallel, 0, e) < 0 ||
-	    put(d.tmp, "slurm.sh", 1, &c, put_slurm, 0, e) < 0 ||
-	    put(d.tmp, "targets1", 0, &c, NULL, 1, e) < 0 ||
-	    put(d.tmp, "targets2", 0, &c, NULL, 2, e) < 0 ||
+	if (plan_put(d.tmp, "Makefile", 0, put_makefile, &c, e) < 0 ||
+	    plan_put(d.tmp, "job", 1, put_job, &c, e) < 0 ||
+	    plan_put(d.tmp, "parallel.sh", 1, put_parallel, &c, e) < 0 ||
+	    plan_put(d.tmp, "slurm.sh", 1, put_slurm, &c, e) < 0 ||
+	    plan_put(d.tmp, "targets1", 0, put_targets1, &c, e) < 0 ||
+	    plan_put(d.tmp, "targets2", 0, put_targets2, &c, e) < 0 ||
 	    stamp_write(stamp, files, 1, e) < 0) {
 		tl_outdir_abort(&d);
 		return -1;

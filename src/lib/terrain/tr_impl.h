@@ -13,6 +13,7 @@
 
 #define QM_MAX 32767 /* u, v, height quantised to 0 .. QM_MAX */
 #define TR_CACHE 16  /* blocks a thread holds (a power of 2) */
+#define TR_RMIN 6335439.0 /* m: WGS 84's least radius of curvature */
 
 /* --- the encoder's pieces (qm_encode.c), exposed for the unit test --- */
 
