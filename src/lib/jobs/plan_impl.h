@@ -33,6 +33,10 @@ void plan_mkpieces(FILE *, const plan_ctx *);  /* make: the pieces' rules */
 void plan_job(FILE *, const plan_ctx *);       /* every job's wrapper */
 void plan_parallel(FILE *, const plan_ctx *);  /* GNU parallel */
 void plan_slurm(FILE *, const plan_ctx *);     /* Slurm */
+/* Every job wrapper's lock and sweep start, and its end (plan_job.c):
+ * WHAT the sweep reports gone ("records"), STAMP the file checked. */
+void plan_job_head(FILE *);
+void plan_job_tail(FILE *, const char *what, const char *stamp);
 /* Slurm's shell functions job and array (plan_slurm.c), for every plan. */
 void plan_slurm_funcs(FILE *);
 

@@ -23,20 +23,9 @@ plan_job(FILE *f, const plan_ctx *c)
 	    "or\n"
 	    "# vmaps/ removed...) removed, so that make runs those jobs again; "
 	    "none\n"
-	    "# once the gather is done.\n"
-	    "set -e\n"
-	    "b=$1 t=$2\n"
-	    "shift 2\n"
-	    "mkdir -p done\n"
-	    "lock() {\n"
-	    "\texec 9>>\"done/.lock-$1\"\n"
-	    "\tif command -v flock >/dev/null; then flock 9; fi\n"
-	    "}\n"
-	    "if [ \"$t\" = --sweep ]; then\n"
-	    "\tlock gather\n"
-	    "\t[ ! -e done/gather ] || exit 0\n"
-	    "\tgone=\n"
-	    "\tstale() { rm -f \"$1\"; gone=\"$gone ${1#done/}\"; }\n"
+	    "# once the gather is done.\n", f);
+	plan_job_head(f);
+	fputs("\tstale() { rm -f \"$1\"; gone=\"$gone ${1#done/}\"; }\n"
 	    "\tfor m in done/p-*; do\n"
 	    "\t\t[ ! -e \"$m\" ] || [ -e \"work/.pieces/${m#done/p-}\" ] ||\n"
 	    "\t\t    stale \"$m\"\n"
@@ -55,14 +44,42 @@ plan_job(FILE *f, const plan_ctx *c)
 	    "\t\twhile read -r m; do\n"
 	    "\t\t\t[ -e \"$m\" ] || { stale done/fill; break; }\n"
 	    "\t\tdone <bands/targets\n"
-	    "\tfi\n"
-	    "\t[ -z \"$gone\" ] || echo \"job: outputs gone, their jobs to be\" \\\n"
+	    "\tfi\n", f);
+	plan_job_tail(f, "outputs", "dem.stamp");
+}
+
+/* Every plan's wrapper, after its comment: the lock, and the sweep's
+ * start (a sweep once the gather is done does nothing). */
+void
+plan_job_head(FILE *f)
+{
+	fputs("set -e\n"
+	    "b=$1 t=$2\n"
+	    "shift 2\n"
+	    "mkdir -p done\n"
+	    "lock() {\n"
+	    "\texec 9>>\"done/.lock-$1\"\n"
+	    "\tif command -v flock >/dev/null; then flock 9; fi\n"
+	    "}\n"
+	    "if [ \"$t\" = --sweep ]; then\n"
+	    "\tlock gather\n"
+	    "\t[ ! -e done/gather ] || exit 0\n"
+	    "\tgone=\n", f);
+}
+
+/* ... and its end: the sweep's report of the WHAT gone, then the job
+ * under its lock, after the check of the plan's STAMP. */
+void
+plan_job_tail(FILE *f, const char *what, const char *stamp)
+{
+	fprintf(f, "\t[ -z \"$gone\" ] || echo \"job: %s gone, their jobs "
+	    "to be\" \\\n"
 	    "\t    \"run again (done/ markers removed):$gone\" >&2\n"
 	    "\texit 0\n"
 	    "fi\n"
 	    "lock \"${t#done/}\"\n"
 	    "[ ! -e \"$t\" ] || exit 0\n"
-	    "\"$b/vgis-job\" check-stamp dem.stamp\n"
+	    "\"$b/vgis-job\" check-stamp %s\n"
 	    "\"$@\" 9>&-\n"
-	    "touch \"$t\"\n", f);
+	    "touch \"$t\"\n", what, stamp);
 }

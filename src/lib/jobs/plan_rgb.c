@@ -70,8 +70,7 @@ put_makefile(FILE *f, const void *arg)
 static void
 put_job(FILE *f, const void *arg)
 {
-	const ctx *c = arg;
-	(void)c;
+	(void)arg;
 	fputs("#!/bin/sh\n"
 	    "# job B TARGET CMD...: the plan's job TARGET (done/NAME, made when "
 	    "CMD\n# succeeds; B: the programs' directory). Run once however "
@@ -81,34 +80,15 @@ put_job(FILE *f, const void *arg)
 	    "(dem.stamp).\n"
 	    "# job B --sweep: the markers of parts whose records "
 	    "(work.parts/) or\n# tiles (work/) are gone removed, so that make "
-	    "runs them again; none once\n# the gather is done.\n"
-	    "set -e\n"
-	    "b=$1 t=$2\n"
-	    "shift 2\n"
-	    "mkdir -p done\n"
-	    "lock() {\n"
-	    "\texec 9>>\"done/.lock-$1\"\n"
-	    "\tif command -v flock >/dev/null; then flock 9; fi\n"
-	    "}\n"
-	    "if [ \"$t\" = --sweep ]; then\n"
-	    "\tlock gather\n"
-	    "\t[ ! -e done/gather ] || exit 0\n"
-	    "\tgone=\n"
-	    "\tfor m in done/p-*; do # p-K: work.parts/K\n"
+	    "runs them again; none once\n# the gather is done.\n", f);
+	plan_job_head(f);
+	fputs("\tfor m in done/p-*; do # p-K: work.parts/K\n"
 	    "\t\t[ -e \"$m\" ] || continue\n"
 	    "\t\t[ -d work ] && [ -e \"work.parts/${m#done/p-}\" ] && "
 	    "continue\n"
 	    "\t\trm -f \"$m\"; gone=\"$gone ${m#done/}\"\n"
-	    "\tdone\n"
-	    "\t[ -z \"$gone\" ] || echo \"job: records gone, their jobs to be\" \\\n"
-	    "\t    \"run again (done/ markers removed):$gone\" >&2\n"
-	    "\texit 0\n"
-	    "fi\n"
-	    "lock \"${t#done/}\"\n"
-	    "[ ! -e \"$t\" ] || exit 0\n"
-	    "\"$b/vgis-job\" check-stamp dem.stamp\n"
-	    "\"$@\" 9>&-\n"
-	    "touch \"$t\"\n", f);
+	    "\tdone\n", f);
+	plan_job_tail(f, "records", "dem.stamp");
 }
 
 static void

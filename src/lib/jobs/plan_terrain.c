@@ -88,8 +88,7 @@ put_makefile(FILE *f, const void *arg)
 static void
 put_job(FILE *f, const void *arg)
 {
-	const ctx *c = arg;
-	(void)c;
+	(void)arg;
 	fputs("#!/bin/sh\n"
 	    "# job B TARGET CMD...: the plan's job TARGET (done/NAME, made when "
 	    "CMD\n# succeeds; B: the programs' directory). Run once however "
@@ -99,35 +98,16 @@ put_job(FILE *f, const void *arg)
 	    "(pyramid.stamp).\n"
 	    "# job B --sweep: the markers of ranges whose records "
 	    "(work.ranges/) or\n# tiles (work/) are gone removed, so that make "
-	    "runs them again; none once\n# the gather is done.\n"
-	    "set -e\n"
-	    "b=$1 t=$2\n"
-	    "shift 2\n"
-	    "mkdir -p done\n"
-	    "lock() {\n"
-	    "\texec 9>>\"done/.lock-$1\"\n"
-	    "\tif command -v flock >/dev/null; then flock 9; fi\n"
-	    "}\n"
-	    "if [ \"$t\" = --sweep ]; then\n"
-	    "\tlock gather\n"
-	    "\t[ ! -e done/gather ] || exit 0\n"
-	    "\tgone=\n"
-	    "\tfor m in done/t1-* done/t2-*; do # tR-Z-I0-I1: "
+	    "runs them again; none once\n# the gather is done.\n", f);
+	plan_job_head(f);
+	fputs("\tfor m in done/t1-* done/t2-*; do # tR-Z-I0-I1: "
 	    "work.ranges/Z-I0.R\n"
 	    "\t\t[ -e \"$m\" ] || continue\n"
 	    "\t\tn=${m#done/t} n=${n%%-*} r=${m#done/t?-} r=${r%-*}\n"
 	    "\t\t[ -d work ] && [ -e \"work.ranges/$r.$n\" ] && continue\n"
 	    "\t\trm -f \"$m\"; gone=\"$gone ${m#done/}\"\n"
-	    "\tdone\n"
-	    "\t[ -z \"$gone\" ] || echo \"job: records gone, their jobs to be\" \\\n"
-	    "\t    \"run again (done/ markers removed):$gone\" >&2\n"
-	    "\texit 0\n"
-	    "fi\n"
-	    "lock \"${t#done/}\"\n"
-	    "[ ! -e \"$t\" ] || exit 0\n"
-	    "\"$b/vgis-job\" check-stamp pyramid.stamp\n"
-	    "\"$@\" 9>&-\n"
-	    "touch \"$t\"\n", f);
+	    "\tdone\n", f);
+	plan_job_tail(f, "records", "pyramid.stamp");
 }
 
 static void
