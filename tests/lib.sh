@@ -71,7 +71,8 @@ browser_test() {
 # subject is no code path of ours that the other tests leave out (a
 # plan's jobs through make, GNU parallel and Slurm run the steps that
 # t_vgis_job and the programs' tests run under the sanitizers; static
-# checks of the sources and the archives) ends here; make check runs it.
+# checks of the sources and the archives; two routes giving the same
+# bytes, both run by other tests) ends here; make check runs it.
 quick_skip() {
 	[ -n "${TL_QUICK:-}" ] || return 0
 	ok 0 "# SKIP under the sanitizers: $1 (make check runs it)"

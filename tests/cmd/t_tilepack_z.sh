@@ -5,6 +5,7 @@
 # differ), and the pyramid passes tilecheck against its DEM; a QEM-3D
 # level's X and Y too. An unknown name is a usage error.
 . "$(dirname "$0")/../lib.sh"
+quick_skip "the blocks compressed by OpenEXR, our code only names the compressor"
 
 # a window of N42E001 with voids, 1D and 3D vertex maps
 gdal_translate -q -srcwin 500 850 300 260 "$DATA/N42E001.hgt" "$T/d.tif"
