@@ -37,6 +37,9 @@ void plan_slurm(FILE *, const plan_ctx *);     /* Slurm */
  * WHAT the sweep reports gone ("records"), STAMP the file checked. */
 void plan_job_head(FILE *);
 void plan_job_tail(FILE *, const char *what, const char *stamp);
+/* A ranges-and-gather Makefile's OPTS, JOBOPTS, goal and sweep
+ * (plan_job.c; dem2rgb's and vgis2terrain's plans). */
+void plan_make_sweep(FILE *, const char *const *opt, int nopt, int jobs);
 /* Slurm's shell functions job and array (plan_slurm.c), for every plan. */
 void plan_slurm_funcs(FILE *);
 

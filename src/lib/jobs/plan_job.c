@@ -83,3 +83,25 @@ plan_job_tail(FILE *f, const char *what, const char *stamp)
 	    "\"$@\" 9>&-\n"
 	    "touch \"$t\"\n", what, stamp);
 }
+
+/* The end of the head of a Makefile of ranges and a gather (dem2rgb's,
+ * vgis2terrain's plans): OPTS, JOBOPTS, the goal, and the sweep of
+ * stale markers before a whole run or the gather. */
+void
+plan_make_sweep(FILE *f, const char *const *opt, int nopt, int jobs)
+{
+	fputs("\nOPTS =", f);
+	plan_words(f, opt, nopt, 1);
+	fputs("\nJOBOPTS =", f);
+	if (jobs > 1)
+		fprintf(f, " -j %d", jobs);
+	fputs("\n\nall: done/gather\n\n"
+	    "# done/ markers whose records are gone (work/ removed...) removed "
+	    "first,\n# to be made again: for the whole run or the gather, not "
+	    "for each job\n# that GNU parallel and Slurm run, nor for make -n "
+	    "or -q\n"
+	    "ifneq ($(filter all done/gather,$(or $(MAKECMDGOALS),all)),)\n"
+	    "ifeq ($(findstring n,$(firstword -$(MAKEFLAGS)))$(findstring q,"
+	    "$(firstword -$(MAKEFLAGS))),)\n"
+	    "SWEPT := $(shell $(JOB) --sweep)\nendif\nendif\n\n", f);
+}

@@ -53,20 +53,7 @@ put_makefile(FILE *f, const void *arg)
 	plan_words(f, &pyr, 1, 1);
 	fputs("\nOUT =", f);
 	plan_words(f, &out, 1, 1);
-	fputs("\nOPTS =", f);
-	plan_words(f, o->opt, o->nopt, 1);
-	fputs("\nJOBOPTS =", f);
-	if (o->jobs > 1)
-		fprintf(f, " -j %d", o->jobs);
-	fputs("\n\nall: done/gather\n\n"
-	    "# done/ markers whose records are gone (work/ removed...) removed "
-	    "first,\n# to be made again: for the whole run or the gather, not "
-	    "for each job\n# that GNU parallel and Slurm run, nor for make -n "
-	    "or -q\n"
-	    "ifneq ($(filter all done/gather,$(or $(MAKECMDGOALS),all)),)\n"
-	    "ifeq ($(findstring n,$(firstword -$(MAKEFLAGS)))$(findstring q,"
-	    "$(firstword -$(MAKEFLAGS))),)\n"
-	    "SWEPT := $(shell $(JOB) --sweep)\nendif\nendif\n\n", f);
+	plan_make_sweep(f, o->opt, o->nopt, o->jobs);
 	for (int k = 0; k < o->nrange; k++) {
 		const int *r = o->range[k];
 		if (k == 0 || r[0] != o->range[k - 1][0])
