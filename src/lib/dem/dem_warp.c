@@ -112,6 +112,25 @@ to_wgs84(GDALDatasetH ds, double *x, double *y, int n)
 	return ok ? 0 : -1;
 }
 
+/* Whether the outline (n points a side, the sides interleaved: point k
+ * of side s at k 4 + s) crosses the antimeridian: jumps across it between
+ * neighbours (a CRS whose longitudes wrap there: its grid would span the
+ * world), or goes past 180 degrees (its grid would run off the world's
+ * east edge) and is not the whole world (a global grid a half cell past
+ * its seam: clamped). */
+static int
+crosses(const double *x, int n, const double ll[4])
+{
+	int past = 0;
+
+	for (int k = 0; k < n * 4; k++) {
+		if (k + 4 < n * 4 && fabs(x[k] - x[k + 4]) > 180)
+			return 1;
+		past |= fabs(x[k]) > 180 + 1e-9;
+	}
+	return past && ll[2] - ll[0] < 359.9;
+}
+
 int
 dem_extent_wgs84(const char *path, double ll[4], double *cell, tl_err *e)
 {
@@ -125,11 +144,17 @@ dem_extent_wgs84(const char *path, double ll[4], double *cell, tl_err *e)
 	/* a FIFO or a device refused at once, as the reader does */
 	if (strncmp(path, "/vsi", 4) != 0 && dem_check_file(path, &kind, e) < 0)
 		return -1;
+	if (kind == DEM_IN_EXR)
+		return tl_fail(e, "%s: an EXR carries no georeferencing GDAL "
+		    "reads: dem2rgb needs a DEM GDAL opens, with a CRS", path);
 	dem_gdal_init();
 	dem_gdal_catch(&m);
 	if ((ds = dem_gdal_open(path)) == NULL) {
 		dem_gdal_release();
-		return tl_fail(e, "%s: %s", path, m.msg[0] ? m.msg :
+		/* a list (dem2fqm(1)'s mosaics) is not a GDAL dataset */
+		return tl_fail(e, "%s: %s (dem2rgb reads one dataset GDAL "
+		    "opens: a list of DEMs must be made a VRT first, "
+		    "gdalbuildvrt -input_file_list)", path, m.msg[0] ? m.msg :
 		    "GDAL cannot open it");
 	}
 	w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
@@ -160,6 +185,11 @@ dem_extent_wgs84(const char *path, double ll[4], double *cell, tl_err *e)
 		ll[0] = fmin(ll[0], x[i]), ll[2] = fmax(ll[2], x[i]);
 		ll[1] = fmin(ll[1], y[i]), ll[3] = fmax(ll[3], y[i]);
 	}
+	if (crosses(x, N, ll))
+		return tl_fail(e, "%s: lies across or past the antimeridian (180 "
+		    "degrees): not supported; cut it there (gdalwarp -te) "
+		    "and make each side apart", path);
+	ll[0] = fmax(ll[0], -180), ll[2] = fmin(ll[2], 180);
 	/* ground metres on a sphere of the mean radius: only for the rule */
 	{
 		const double R = 6371008.8, d = M_PI / 180;
