@@ -7,10 +7,10 @@
 # re-georeferenced there; Web Mercator ends at 85.05): tiles decoded by
 # the tests' own decoder (tests/tools/rgbdecode.py) within half a step of
 # the heights intended (--dump), the error tiles.json declares measured
-# again at every valid sample; refused, with a message and nothing
-# written: a DEM across the antimeridian (longitudes past 180, or a CRS
-# whose longitudes wrap at it), an EXR, a list of DEMs; the VRT of that
-# list gives the tiles of the whole.
+# again at every valid sample; one past 85.05 N clamped there; refused,
+# with a message and nothing written: a DEM across the antimeridian
+# (longitudes past 180, or a CRS whose longitudes wrap at it), an EXR, a
+# list of DEMs; the VRT of that list gives the tiles of the whole.
 . "$(dirname "$0")/../lib.sh"
 
 TOOLS=$TOP/tests/tools
@@ -133,6 +133,14 @@ sed -n '2,9p' "$T/check"
 $PY "$TOOLS/rgbdecode.py" claim "$T/pt" "$T/polar.tif" >"$T/claim" 2>&1
 ok $? "84 N: the error tiles.json declares, measured again at every valid sample"
 grep EXCEEDED "$T/claim" | head -3 | sed 's/^/#   /'
+
+# past Web Mercator's 85.0511 N: 85.03 .. 85.10, clamped there
+gdal_translate -q -a_srs EPSG:4326 -a_ullr -124.289 85.1 -124.2176 85.0286 \
+    "$T/crop.tif" "$T/p85.tif"
+run "85.03 .. 85.10 N: the tree" dem2rgb -q -z 8 "$T/p85.tif" "$T/p85"
+[ "$(cd "$T/p85" && ls -d 8/*/0.png | wc -l)" -ge 1 ] &&
+    [ -z "$(cd "$T/p85" && ls -d 8/*/* | grep -v '/0.png$')" ]
+ok $? "85.03 .. 85.10 N: tiles in the world's first row alone (clamped at its edge)"
 
 # --- refused ---------------------------------------------------------------
 gdal_translate -q -a_srs EPSG:4326 -a_ullr 179.96 48.2157 180.0314 48.1443 \
