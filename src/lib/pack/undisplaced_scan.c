@@ -39,6 +39,7 @@ typedef struct {
 	 * y - p[0][1]: whole numbers and their differences, exact */
 	double d1x, d1y, d2x, d2y, n2, ym;
 	double rn2;         /* 1 / n2 when n2 is a power of 2, else 0 */
+	double inv;         /* 1 / step, exact: found once, not per centre */
 } tmpl;
 
 /* tri_row's chord, in whole DEM columns: the row r (DEM rows, less cy x
@@ -116,6 +117,7 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 	t->d2y = (double)tri[2][1] - tri[0][1];
 	t->n2 = t->d1x * t->d2y - t->d1y * t->d2x;
 	t->ym = y - (double)tri[0][1];
+	t->inv = 1 / s->step;
 	/* x / n2 is x x (1 / n2), rounded once, when n2 is a power of 2
 	 * (every triangle here: legs h or 2h, or 1 for leaves) */
 	{
@@ -156,7 +158,7 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 		dz = -n0 / t->n2;
 		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
 	}
-	return sweep(dd, s->d0, a, b, z, dz, 1 / s->step);
+	return sweep(dd, s->d0, a, b, z, dz, t->inv);
 }
 
 /* Four centres at once: short chords (every one of level 0's, most of
@@ -165,6 +167,7 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
  * sweep's operations in their order (v4d, level_impl.h). */
 #define LANES 4
 typedef int v4i __attribute__((vector_size(16)));
+typedef float v4f __attribute__((vector_size(16)));
 /* chords of at most this many samples go LANES centres at a time;
  * longer ones are swept along the row (sweep), which loads contiguously */
 #define SHORT 12
@@ -179,7 +182,7 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
 	v4d w = { -1, -1, -1, -1 };
 	const double *q0, *q1, *q2, *q3;
 	long S = (long)s->step, c[LANES];
-	double inv = 1 / s->step;
+	double inv = t->inv;
 
 	/* vectors built from scalars, not through memory (store forwarding) */
 	for (int k = 0; k < LANES; k++)
@@ -243,6 +246,75 @@ raise_at(const sink *o, int cx, double err)
 	}
 }
 
+/* A block's base error gathered in a register while a template of
+ * leaves scans: its cells raise one double per 128 of them, which
+ * through memory is a chain of dependent loads and stores. Stored when
+ * the block changes and when the scan ends; a maximum's order does not
+ * matter and no error is NaN, so the base ends as the errors raising it
+ * one by one would leave it. */
+typedef struct {
+	const sink *o;
+	int blk;      /* the block column gathered in m; -1: none yet */
+	v4d m;
+} gather;
+
+static inline __attribute__((always_inline)) void
+gather_flush(gather *g)
+{
+	double w = g->m[0], *b;
+
+	if (g->blk < 0)
+		return;
+	for (int k = 1; k < LANES; k++)
+		w = g->m[k] > w ? g->m[k] : w;
+	b = &g->o->base[g->blk - g->o->b0];
+	*b = w > *b ? w : *b;
+}
+
+/* err's lanes: errors of cells in cx's block */
+static inline __attribute__((always_inline)) void
+gather_raise(gather *g, int cx, v4d err)
+{
+	int blk = cx / BT_CELLS;
+
+	if (blk != g->blk) {
+		gather_flush(g);
+		g->blk = blk, g->m = err;
+	} else
+		g->m = v4max(err, g->m);
+}
+
+/* One centre's error, or LANES of them (stride apart) from a vector;
+ * leaves: o is a block row's base errors (a constant: each kind has its
+ * own copy of the loops, with no test per centre). */
+static inline __attribute__((always_inline)) void
+raise1(const sink *o, gather *g, int leaves, int cx, double err)
+{
+	if (!leaves)
+		raise_at(o, cx, err);
+	else
+		gather_raise(g, cx, (v4d){ err, err, err, err });
+}
+
+static inline __attribute__((always_inline)) void
+raise4(const sink *o, gather *g, int leaves, int cx, int stride, v4d err)
+{
+	if (!leaves) {
+		/* raise_at's maximum, the lanes rounded to floats at once
+		 * (as each (float) cast rounds); the centres are apart */
+		v4f f = __builtin_convertvector(err, v4f);
+		float *a = &o->acc[cx - o->c0];
+		for (int k = 0; k < LANES; k++) {
+			float was = a[k * stride];
+			a[k * stride] = f[k] > was ? f[k] : was;
+		}
+	} else if (cx / BT_CELLS == (cx + (LANES - 1) * stride) / BT_CELLS)
+		gather_raise(g, cx, err);
+	else
+		for (int k = 0; k < LANES; k++)
+			raise1(o, g, leaves, cx + k * stride, err[k]);
+}
+
 /* Template t at centres first, first + stride, ... below end, each
  * raising its sink: the range where it is on the grid found once, short
  * chords inside the DEM row LANES centres at a time. Raising by each
@@ -250,9 +322,10 @@ raise_at(const sink *o, int cx, double err)
  * the order. */
 static inline __attribute__((always_inline)) void
 scan_template_body(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
+    const sink *o, int leaves, int first, int end, int stride)
 {
 	long S = (long)s->step, last = s->dend - 1;
+	gather g = { o, -1, { 0, 0, 0, 0 } };
 	int cx;
 
 	if (!t->ok || t->n2 == 0)
@@ -266,25 +339,27 @@ scan_template_body(const state *s, const double *dd, const tmpl *t,
 	cx = first;
 	if (t->hi - t->lo < SHORT) {
 		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
-			raise_at(o, cx, tri_at(s, dd, t, cx));
+			raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
 		for (; cx + (LANES - 1) * stride < end &&
 		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
-		    cx += LANES * stride) {
+		    cx += LANES * stride)
 			/* from the register, not through memory */
-			v4d err = tri_at4(s, dd, t, cx, stride);
-			for (int k = 0; k < LANES; k++)
-				raise_at(o, cx + k * stride, err[k]);
-		}
+			raise4(o, &g, leaves, cx, stride,
+			    tri_at4(s, dd, t, cx, stride));
 	}
 	for (; cx < end; cx += stride)
-		raise_at(o, cx, tri_at(s, dd, t, cx));
+		raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
+	gather_flush(&g);
 }
 
 TL_AVX2 static void
 scan_template_avx2(const state *s, const double *dd, const tmpl *t,
     const sink *o, int first, int end, int stride)
 {
-	scan_template_body(s, dd, t, o, first, end, stride);
+	if (o->acc != NULL)
+		scan_template_body(s, dd, t, o, 0, first, end, stride);
+	else
+		scan_template_body(s, dd, t, o, 1, first, end, stride);
 }
 
 static void
@@ -293,8 +368,10 @@ scan_template(const state *s, const double *dd, const tmpl *t,
 {
 	if (s->avx2)
 		scan_template_avx2(s, dd, t, o, first, end, stride);
+	else if (o->acc != NULL)
+		scan_template_body(s, dd, t, o, 0, first, end, stride);
 	else
-		scan_template_body(s, dd, t, o, first, end, stride);
+		scan_template_body(s, dd, t, o, 1, first, end, stride);
 }
 
 /* row_diamonds (exact_error.c) by templates: the diamonds along a centre row
