@@ -172,26 +172,33 @@ typedef float v4f __attribute__((vector_size(16)));
  * longer ones are swept along the row (sweep), which loads contiguously */
 #define SHORT 12
 
-/* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
- * every chord inside the DEM row. The maximum keeps w where d is NaN (an
- * invalid sample), as sweep does. */
+/* The heights of vertex r of template t at centres cx, cx + stride, ...
+ * (LANES of them): vectors built from scalars, not through memory (store
+ * forwarding). */
 static inline __attribute__((always_inline)) v4d
-tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
+heights4(const tmpl *t, int r, int cx, int stride)
 {
-	v4d z0, z1, z2, cd, p00, e1, e2, n0, n1, z, dz, x;
+	const float *z = t->zr[r] + t->wx[r] + cx;
+
+	return (v4d){ z[0], z[stride], z[2 * stride], z[3 * stride] };
+}
+
+/* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
+ * every chord inside the DEM row, the vertices' heights z0, z1, z2
+ * (heights4). The maximum keeps w where d is NaN (an invalid sample), as
+ * sweep does. */
+static inline __attribute__((always_inline)) v4d
+tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
+    int stride, v4d z0, v4d z1, v4d z2)
+{
+	v4d cd, p00, e1, e2, n0, n1, z, dz, x;
 	v4d w = { -1, -1, -1, -1 };
 	const double *q0, *q1, *q2, *q3;
 	long S = (long)s->step, c[LANES];
 	double inv = t->inv;
 
-	/* vectors built from scalars, not through memory (store forwarding) */
 	for (int k = 0; k < LANES; k++)
 		c[k] = cx + k * stride;
-#define LOAD(r) (v4d){ t->zr[r][c[0] + t->wx[r]], \
-	    t->zr[r][c[1] + t->wx[r]], t->zr[r][c[2] + t->wx[r]], \
-	    t->zr[r][c[3] + t->wx[r]] }
-	z0 = LOAD(0), z1 = LOAD(1), z2 = LOAD(2);
-#undef LOAD
 	/* the centres as doubles at once (whole numbers: exact) */
 	cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride + cx, v4d);
 	p00 = cd + (double)t->ox[0];
@@ -218,6 +225,29 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
 		w = v4max(v4abs(z + dz * x - v), w);
 	}
 	return w;
+}
+
+static inline __attribute__((always_inline)) v4d
+tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
+{
+	return tri_at4z(s, dd, t, cx, stride, heights4(t, 0, cx, stride),
+	    heights4(t, 1, cx, stride), heights4(t, 2, cx, stride));
+}
+
+/* A diamond's two triangles (bt_diamond: the second's first two
+ * vertices are the first's, swapped) at the same centres: the heights
+ * of the shared vertices loaded once, the larger error of the two, which
+ * raises a local error as the two one after the other would. */
+static inline __attribute__((always_inline)) v4d
+pair_at4(const state *s, const double *dd, const tmpl *t, int cx,
+    int stride)
+{
+	v4d a = heights4(&t[0], 0, cx, stride);
+	v4d b = heights4(&t[0], 1, cx, stride);
+
+	return v4max(tri_at4z(s, dd, &t[0], cx, stride, a, b,
+	    heights4(&t[0], 2, cx, stride)), tri_at4z(s, dd, &t[1], cx,
+	    stride, b, a, heights4(&t[1], 2, cx, stride)));
 }
 
 /* Where an error goes: a diamond's local error (a float per centre
@@ -374,6 +404,65 @@ scan_template(const state *s, const double *dd, const tmpl *t,
 		scan_template_body(s, dd, t, o, 1, first, end, stride);
 }
 
+/* A diamond's two templates t[0], t[1] at centres first, first +
+ * stride, ... below end, as scan_template would scan each: both on the
+ * grid at the same centres (their columns span the same range), both
+ * chords short, pair_at4 where both are inside the DEM row, each alone
+ * elsewhere. */
+static inline __attribute__((always_inline)) void
+scan_pair_body(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
+{
+	long S = (long)s->step, last = s->dend - 1;
+	long lo = t[0].lo < t[1].lo ? t[0].lo : t[1].lo;
+	long hi = t[0].hi > t[1].hi ? t[0].hi : t[1].hi;
+	int cx;
+
+	if (end > s->cend - t->xmax)
+		end = s->cend - t->xmax;
+	if (first < s->c0 - t->xmin)
+		first += (s->c0 - t->xmin - first + stride - 1) / stride *
+		    stride;
+	cx = first;
+	for (; cx < end && (long)cx * S + lo < s->d0; cx += stride)
+		for (int k = 0; k < 2; k++)
+			raise_at(o, cx, tri_at(s, dd, &t[k], cx));
+	for (; cx + (LANES - 1) * stride < end &&
+	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
+	    cx += LANES * stride)
+		raise4(o, NULL, 0, cx, stride, pair_at4(s, dd, t, cx, stride));
+	for (; cx < end; cx += stride)
+		for (int k = 0; k < 2; k++)
+			raise_at(o, cx, tri_at(s, dd, &t[k], cx));
+}
+
+TL_AVX2 static void
+scan_pair_avx2(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int first, int end, int stride)
+{
+	scan_pair_body(s, dd, t, o, first, end, stride);
+}
+
+/* t[0] and t[1] of one shape, paired where scan_pair_body applies. */
+static void
+scan_shape(const state *s, const double *dd, const tmpl *t, int nt,
+    const sink *o, int first, int end, int stride)
+{
+	if (nt == 2 && t[0].ok && t[1].ok && t[0].n2 != 0 && t[1].n2 != 0 &&
+	    t[0].hi - t[0].lo < SHORT && t[1].hi - t[1].lo < SHORT &&
+	    t[0].xmin == t[1].xmin && t[0].xmax == t[1].xmax &&
+	    t[1].ox[0] == t[0].ox[1] && t[1].oy[0] == t[0].oy[1] &&
+	    t[1].ox[1] == t[0].ox[0] && t[1].oy[1] == t[0].oy[0]) {
+		if (s->avx2)
+			scan_pair_avx2(s, dd, t, o, first, end, stride);
+		else
+			scan_pair_body(s, dd, t, o, first, end, stride);
+		return;
+	}
+	for (int k = 0; k < nt; k++)
+		scan_template(s, dd, &t[k], o, first, end, stride);
+}
+
 /* row_diamonds (exact_error.c) by templates: the diamonds along a centre row
  * alternate between two shapes (square diamonds' diagonals alternate;
  * edge diamonds are all alike). Those centred in the share's columns. */
@@ -411,9 +500,8 @@ scan_diamonds(share *sh, int J, double y, int h, int edge)
 			if (first < sh->lo)
 				first += (sh->lo - first + 4 * h - 1) /
 				    (4 * h) * (4 * h);
-			for (int k = 0; k < nt[ph]; k++)
-				scan_template(s, sh->dd, &T[ph][k], &o, first,
-				    end, 4 * h);
+			scan_shape(s, sh->dd, T[ph], nt[ph], &o, first, end,
+			    4 * h);
 		}
 	}
 }
