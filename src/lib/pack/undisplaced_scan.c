@@ -234,20 +234,53 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
 	    heights4(t, 1, cx, stride), heights4(t, 2, cx, stride));
 }
 
-/* A diamond's two triangles (bt_diamond: the second's first two
- * vertices are the first's, swapped) at the same centres: the heights
- * of the shared vertices loaded once, the larger error of the two, which
- * raises a local error as the two one after the other would. */
+/* How two triangles at the same centres share vertices: t[1]'s vertex
+ * k is t[0]'s vertex form(f, k), or its own (-1). f = 0: a diamond's
+ * (bt_diamond), their hypotenuse swapped; 1 and 2: a cell's two leaves,
+ * their diagonal, by the cell's parity (scan_leaves). A function of
+ * constants, folded where it is inlined. */
+static inline __attribute__((always_inline)) int
+form(int f, int k)
+{
+	switch (f) {
+	case 0:
+		return k == 0 ? 1 : k == 1 ? 0 : -1;
+	case 1:
+		return k == 0 ? 0 : k == 1 ? 2 : -1;
+	default:
+		return k == 0 ? 1 : k == 1 ? -1 : 2;
+	}
+}
+
+/* The two at once: the shared vertices' heights loaded once, the larger
+ * error of the two, which raises an error as the two one after the other
+ * would (f a constant). */
 static inline __attribute__((always_inline)) v4d
-pair_at4(const state *s, const double *dd, const tmpl *t, int cx,
+pair_at4(const state *s, const double *dd, const tmpl *t, int f, int cx,
     int stride)
 {
-	v4d a = heights4(&t[0], 0, cx, stride);
-	v4d b = heights4(&t[0], 1, cx, stride);
+	v4d v[3], u[3];
 
-	return v4max(tri_at4z(s, dd, &t[0], cx, stride, a, b,
-	    heights4(&t[0], 2, cx, stride)), tri_at4z(s, dd, &t[1], cx,
-	    stride, b, a, heights4(&t[1], 2, cx, stride)));
+	for (int k = 0; k < 3; k++)
+		v[k] = heights4(&t[0], k, cx, stride);
+	for (int k = 0; k < 3; k++)
+		u[k] = form(f, k) >= 0 ? v[form(f, k)] :
+		    heights4(&t[1], k, cx, stride);
+	return v4max(tri_at4z(s, dd, &t[0], cx, stride, v[0], v[1], v[2]),
+	    tri_at4z(s, dd, &t[1], cx, stride, u[0], u[1], u[2]));
+}
+
+/* Whether t[1] shares t[0]'s vertices as form(f, k) says. */
+static int
+pair_form(const tmpl *t, int f)
+{
+	for (int k = 0; k < 3; k++) {
+		int m = form(f, k);
+		if (m >= 0 && (t[1].ox[k] != t[0].ox[m] ||
+		    t[1].oy[k] != t[0].oy[m]))
+			return 0;
+	}
+	return 1;
 }
 
 /* Where an error goes: a diamond's local error (a float per centre
@@ -411,11 +444,12 @@ scan_template(const state *s, const double *dd, const tmpl *t,
  * elsewhere. */
 static inline __attribute__((always_inline)) void
 scan_pair_body(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
+    const sink *o, int leaves, int f, int first, int end, int stride)
 {
 	long S = (long)s->step, last = s->dend - 1;
 	long lo = t[0].lo < t[1].lo ? t[0].lo : t[1].lo;
 	long hi = t[0].hi > t[1].hi ? t[0].hi : t[1].hi;
+	gather g = { o, -1, { 0, 0, 0, 0 } };
 	int cx;
 
 	if (end > s->cend - t->xmax)
@@ -426,37 +460,54 @@ scan_pair_body(const state *s, const double *dd, const tmpl *t,
 	cx = first;
 	for (; cx < end && (long)cx * S + lo < s->d0; cx += stride)
 		for (int k = 0; k < 2; k++)
-			raise_at(o, cx, tri_at(s, dd, &t[k], cx));
+			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
 	for (; cx + (LANES - 1) * stride < end &&
 	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
 	    cx += LANES * stride)
-		raise4(o, NULL, 0, cx, stride, pair_at4(s, dd, t, cx, stride));
+		raise4(o, &g, leaves, cx, stride,
+		    pair_at4(s, dd, t, f, cx, stride));
 	for (; cx < end; cx += stride)
 		for (int k = 0; k < 2; k++)
-			raise_at(o, cx, tri_at(s, dd, &t[k], cx));
+			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
+	gather_flush(&g);
+}
+
+/* The copies: a diamond's pair into local errors, a cell's (either
+ * parity) into base errors; AVX2 and plain. */
+static inline __attribute__((always_inline)) void
+scan_pair_copy(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int f, int first, int end, int stride)
+{
+	if (f == 0)
+		scan_pair_body(s, dd, t, o, 0, 0, first, end, stride);
+	else if (f == 1)
+		scan_pair_body(s, dd, t, o, 1, 1, first, end, stride);
+	else
+		scan_pair_body(s, dd, t, o, 1, 2, first, end, stride);
 }
 
 TL_AVX2 static void
 scan_pair_avx2(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
+    const sink *o, int f, int first, int end, int stride)
 {
-	scan_pair_body(s, dd, t, o, first, end, stride);
+	scan_pair_copy(s, dd, t, o, f, first, end, stride);
 }
 
-/* t[0] and t[1] of one shape, paired where scan_pair_body applies. */
+/* t[0] and t[1] of one shape (nt of them), paired where
+ * scan_pair_body applies; f: the form they would pair by (0 for
+ * diamonds, 1 or 2 for a cell's leaves). */
 static void
-scan_shape(const state *s, const double *dd, const tmpl *t, int nt,
+scan_shape(const state *s, const double *dd, const tmpl *t, int nt, int f,
     const sink *o, int first, int end, int stride)
 {
 	if (nt == 2 && t[0].ok && t[1].ok && t[0].n2 != 0 && t[1].n2 != 0 &&
 	    t[0].hi - t[0].lo < SHORT && t[1].hi - t[1].lo < SHORT &&
 	    t[0].xmin == t[1].xmin && t[0].xmax == t[1].xmax &&
-	    t[1].ox[0] == t[0].ox[1] && t[1].oy[0] == t[0].oy[1] &&
-	    t[1].ox[1] == t[0].ox[0] && t[1].oy[1] == t[0].oy[0]) {
+	    pair_form(t, f)) {
 		if (s->avx2)
-			scan_pair_avx2(s, dd, t, o, first, end, stride);
+			scan_pair_avx2(s, dd, t, o, f, first, end, stride);
 		else
-			scan_pair_body(s, dd, t, o, first, end, stride);
+			scan_pair_copy(s, dd, t, o, f, first, end, stride);
 		return;
 	}
 	for (int k = 0; k < nt; k++)
@@ -500,8 +551,8 @@ scan_diamonds(share *sh, int J, double y, int h, int edge)
 			if (first < sh->lo)
 				first += (sh->lo - first + 4 * h - 1) /
 				    (4 * h) * (4 * h);
-			scan_shape(s, sh->dd, T[ph], nt[ph], &o, first, end,
-			    4 * h);
+			scan_shape(s, sh->dd, T[ph], nt[ph], 0, &o, first,
+			    end, 4 * h);
 		}
 	}
 }
@@ -541,9 +592,8 @@ scan_leaves(share *sh, int J, double y)
 		sink o = { NULL, 0, base_at(sh, (int)cj, lo), lo / BT_CELLS };
 		/* the cells of each parity, every other one */
 		for (int ph = 0; ph < 2; ph++)
-			for (int k = 0; k < 2; k++)
-				scan_template(s, sh->dd, &T[ph][k], &o,
-				    lo + ((lo & 1) != ph), end, 2);
+			scan_shape(s, sh->dd, T[ph], 2, (ph + cj) % 2 ? 2 : 1,
+			    &o, lo + ((lo & 1) != ph), end, 2);
 	}
 }
 
