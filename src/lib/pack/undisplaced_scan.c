@@ -39,6 +39,7 @@ typedef struct {
 	 * y - p[0][1]: whole numbers and their differences, exact */
 	double d1x, d1y, d2x, d2y, n2, ym;
 	double rn2;         /* 1 / n2 when n2 is a power of 2, else 0 */
+	double inv;         /* 1 / step, exact: found once, not per centre */
 } tmpl;
 
 /* tri_row's chord, in whole DEM columns: the row r (DEM rows, less cy x
@@ -116,6 +117,7 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 	t->d2y = (double)tri[2][1] - tri[0][1];
 	t->n2 = t->d1x * t->d2y - t->d1y * t->d2x;
 	t->ym = y - (double)tri[0][1];
+	t->inv = 1 / s->step;
 	/* x / n2 is x x (1 / n2), rounded once, when n2 is a power of 2
 	 * (every triangle here: legs h or 2h, or 1 for leaves) */
 	{
@@ -156,7 +158,7 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 		dz = -n0 / t->n2;
 		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
 	}
-	return sweep(dd, s->d0, a, b, z, dz, 1 / s->step);
+	return sweep(dd, s->d0, a, b, z, dz, t->inv);
 }
 
 /* Four centres at once: short chords (every one of level 0's, most of
@@ -165,30 +167,38 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
  * sweep's operations in their order (v4d, level_impl.h). */
 #define LANES 4
 typedef int v4i __attribute__((vector_size(16)));
+typedef float v4f __attribute__((vector_size(16)));
 /* chords of at most this many samples go LANES centres at a time;
  * longer ones are swept along the row (sweep), which loads contiguously */
 #define SHORT 12
 
-/* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
- * every chord inside the DEM row. The maximum keeps w where d is NaN (an
- * invalid sample), as sweep does. */
+/* The heights of vertex r of template t at centres cx, cx + stride, ...
+ * (LANES of them): vectors built from scalars, not through memory (store
+ * forwarding). */
 static inline __attribute__((always_inline)) v4d
-tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
+heights4(const tmpl *t, int r, int cx, int stride)
 {
-	v4d z0, z1, z2, cd, p00, e1, e2, n0, n1, z, dz, x;
+	const float *z = t->zr[r] + t->wx[r] + cx;
+
+	return (v4d){ z[0], z[stride], z[2 * stride], z[3 * stride] };
+}
+
+/* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
+ * every chord inside the DEM row, the vertices' heights z0, z1, z2
+ * (heights4). The maximum keeps w where d is NaN (an invalid sample), as
+ * sweep does. */
+static inline __attribute__((always_inline)) v4d
+tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
+    int stride, v4d z0, v4d z1, v4d z2)
+{
+	v4d cd, p00, e1, e2, n0, n1, z, dz, x;
 	v4d w = { -1, -1, -1, -1 };
 	const double *q0, *q1, *q2, *q3;
 	long S = (long)s->step, c[LANES];
-	double inv = 1 / s->step;
+	double inv = t->inv;
 
-	/* vectors built from scalars, not through memory (store forwarding) */
 	for (int k = 0; k < LANES; k++)
 		c[k] = cx + k * stride;
-#define LOAD(r) (v4d){ t->zr[r][c[0] + t->wx[r]], \
-	    t->zr[r][c[1] + t->wx[r]], t->zr[r][c[2] + t->wx[r]], \
-	    t->zr[r][c[3] + t->wx[r]] }
-	z0 = LOAD(0), z1 = LOAD(1), z2 = LOAD(2);
-#undef LOAD
 	/* the centres as doubles at once (whole numbers: exact) */
 	cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride + cx, v4d);
 	p00 = cd + (double)t->ox[0];
@@ -217,6 +227,62 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
 	return w;
 }
 
+static inline __attribute__((always_inline)) v4d
+tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
+{
+	return tri_at4z(s, dd, t, cx, stride, heights4(t, 0, cx, stride),
+	    heights4(t, 1, cx, stride), heights4(t, 2, cx, stride));
+}
+
+/* How two triangles at the same centres share vertices: t[1]'s vertex
+ * k is t[0]'s vertex form(f, k), or its own (-1). f = 0: a diamond's
+ * (bt_diamond), their hypotenuse swapped; 1 and 2: a cell's two leaves,
+ * their diagonal, by the cell's parity (scan_leaves). A function of
+ * constants, folded where it is inlined. */
+static inline __attribute__((always_inline)) int
+form(int f, int k)
+{
+	switch (f) {
+	case 0:
+		return k == 0 ? 1 : k == 1 ? 0 : -1;
+	case 1:
+		return k == 0 ? 0 : k == 1 ? 2 : -1;
+	default:
+		return k == 0 ? 1 : k == 1 ? -1 : 2;
+	}
+}
+
+/* The two at once: the shared vertices' heights loaded once, the larger
+ * error of the two, which raises an error as the two one after the other
+ * would (f a constant). */
+static inline __attribute__((always_inline)) v4d
+pair_at4(const state *s, const double *dd, const tmpl *t, int f, int cx,
+    int stride)
+{
+	v4d v[3], u[3];
+
+	for (int k = 0; k < 3; k++)
+		v[k] = heights4(&t[0], k, cx, stride);
+	for (int k = 0; k < 3; k++)
+		u[k] = form(f, k) >= 0 ? v[form(f, k)] :
+		    heights4(&t[1], k, cx, stride);
+	return v4max(tri_at4z(s, dd, &t[0], cx, stride, v[0], v[1], v[2]),
+	    tri_at4z(s, dd, &t[1], cx, stride, u[0], u[1], u[2]));
+}
+
+/* Whether t[1] shares t[0]'s vertices as form(f, k) says. */
+static int
+pair_form(const tmpl *t, int f)
+{
+	for (int k = 0; k < 3; k++) {
+		int m = form(f, k);
+		if (m >= 0 && (t[1].ox[k] != t[0].ox[m] ||
+		    t[1].oy[k] != t[0].oy[m]))
+			return 0;
+	}
+	return 1;
+}
+
 /* Where an error goes: a diamond's local error (a float per centre
  * column) or, for leaves, its block's base error (a double per block
  * column). The order of a maximum does not matter. */
@@ -243,6 +309,75 @@ raise_at(const sink *o, int cx, double err)
 	}
 }
 
+/* A block's base error gathered in a register while a template of
+ * leaves scans: its cells raise one double per 128 of them, which
+ * through memory is a chain of dependent loads and stores. Stored when
+ * the block changes and when the scan ends; a maximum's order does not
+ * matter and no error is NaN, so the base ends as the errors raising it
+ * one by one would leave it. */
+typedef struct {
+	const sink *o;
+	int blk;      /* the block column gathered in m; -1: none yet */
+	v4d m;
+} gather;
+
+static inline __attribute__((always_inline)) void
+gather_flush(gather *g)
+{
+	double w = g->m[0], *b;
+
+	if (g->blk < 0)
+		return;
+	for (int k = 1; k < LANES; k++)
+		w = g->m[k] > w ? g->m[k] : w;
+	b = &g->o->base[g->blk - g->o->b0];
+	*b = w > *b ? w : *b;
+}
+
+/* err's lanes: errors of cells in cx's block */
+static inline __attribute__((always_inline)) void
+gather_raise(gather *g, int cx, v4d err)
+{
+	int blk = cx / BT_CELLS;
+
+	if (blk != g->blk) {
+		gather_flush(g);
+		g->blk = blk, g->m = err;
+	} else
+		g->m = v4max(err, g->m);
+}
+
+/* One centre's error, or LANES of them (stride apart) from a vector;
+ * leaves: o is a block row's base errors (a constant: each kind has its
+ * own copy of the loops, with no test per centre). */
+static inline __attribute__((always_inline)) void
+raise1(const sink *o, gather *g, int leaves, int cx, double err)
+{
+	if (!leaves)
+		raise_at(o, cx, err);
+	else
+		gather_raise(g, cx, (v4d){ err, err, err, err });
+}
+
+static inline __attribute__((always_inline)) void
+raise4(const sink *o, gather *g, int leaves, int cx, int stride, v4d err)
+{
+	if (!leaves) {
+		/* raise_at's maximum, the lanes rounded to floats at once
+		 * (as each (float) cast rounds); the centres are apart */
+		v4f f = __builtin_convertvector(err, v4f);
+		float *a = &o->acc[cx - o->c0];
+		for (int k = 0; k < LANES; k++) {
+			float was = a[k * stride];
+			a[k * stride] = f[k] > was ? f[k] : was;
+		}
+	} else if (cx / BT_CELLS == (cx + (LANES - 1) * stride) / BT_CELLS)
+		gather_raise(g, cx, err);
+	else
+		for (int k = 0; k < LANES; k++)
+			raise1(o, g, leaves, cx + k * stride, err[k]);
+}
+
 /* Template t at centres first, first + stride, ... below end, each
  * raising its sink: the range where it is on the grid found once, short
  * chords inside the DEM row LANES centres at a time. Raising by each
@@ -250,9 +385,10 @@ raise_at(const sink *o, int cx, double err)
  * the order. */
 static inline __attribute__((always_inline)) void
 scan_template_body(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
+    const sink *o, int leaves, int first, int end, int stride)
 {
 	long S = (long)s->step, last = s->dend - 1;
+	gather g = { o, -1, { 0, 0, 0, 0 } };
 	int cx;
 
 	if (!t->ok || t->n2 == 0)
@@ -266,25 +402,27 @@ scan_template_body(const state *s, const double *dd, const tmpl *t,
 	cx = first;
 	if (t->hi - t->lo < SHORT) {
 		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
-			raise_at(o, cx, tri_at(s, dd, t, cx));
+			raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
 		for (; cx + (LANES - 1) * stride < end &&
 		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
-		    cx += LANES * stride) {
+		    cx += LANES * stride)
 			/* from the register, not through memory */
-			v4d err = tri_at4(s, dd, t, cx, stride);
-			for (int k = 0; k < LANES; k++)
-				raise_at(o, cx + k * stride, err[k]);
-		}
+			raise4(o, &g, leaves, cx, stride,
+			    tri_at4(s, dd, t, cx, stride));
 	}
 	for (; cx < end; cx += stride)
-		raise_at(o, cx, tri_at(s, dd, t, cx));
+		raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
+	gather_flush(&g);
 }
 
 TL_AVX2 static void
 scan_template_avx2(const state *s, const double *dd, const tmpl *t,
     const sink *o, int first, int end, int stride)
 {
-	scan_template_body(s, dd, t, o, first, end, stride);
+	if (o->acc != NULL)
+		scan_template_body(s, dd, t, o, 0, first, end, stride);
+	else
+		scan_template_body(s, dd, t, o, 1, first, end, stride);
 }
 
 static void
@@ -293,8 +431,87 @@ scan_template(const state *s, const double *dd, const tmpl *t,
 {
 	if (s->avx2)
 		scan_template_avx2(s, dd, t, o, first, end, stride);
+	else if (o->acc != NULL)
+		scan_template_body(s, dd, t, o, 0, first, end, stride);
 	else
-		scan_template_body(s, dd, t, o, first, end, stride);
+		scan_template_body(s, dd, t, o, 1, first, end, stride);
+}
+
+/* A diamond's two templates t[0], t[1] at centres first, first +
+ * stride, ... below end, as scan_template would scan each: both on the
+ * grid at the same centres (their columns span the same range), both
+ * chords short, pair_at4 where both are inside the DEM row, each alone
+ * elsewhere. */
+static inline __attribute__((always_inline)) void
+scan_pair_body(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int leaves, int f, int first, int end, int stride)
+{
+	long S = (long)s->step, last = s->dend - 1;
+	long lo = t[0].lo < t[1].lo ? t[0].lo : t[1].lo;
+	long hi = t[0].hi > t[1].hi ? t[0].hi : t[1].hi;
+	gather g = { o, -1, { 0, 0, 0, 0 } };
+	int cx;
+
+	if (end > s->cend - t->xmax)
+		end = s->cend - t->xmax;
+	if (first < s->c0 - t->xmin)
+		first += (s->c0 - t->xmin - first + stride - 1) / stride *
+		    stride;
+	cx = first;
+	for (; cx < end && (long)cx * S + lo < s->d0; cx += stride)
+		for (int k = 0; k < 2; k++)
+			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
+	for (; cx + (LANES - 1) * stride < end &&
+	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
+	    cx += LANES * stride)
+		raise4(o, &g, leaves, cx, stride,
+		    pair_at4(s, dd, t, f, cx, stride));
+	for (; cx < end; cx += stride)
+		for (int k = 0; k < 2; k++)
+			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
+	gather_flush(&g);
+}
+
+/* The copies: a diamond's pair into local errors, a cell's (either
+ * parity) into base errors; AVX2 and plain. */
+static inline __attribute__((always_inline)) void
+scan_pair_copy(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int f, int first, int end, int stride)
+{
+	if (f == 0)
+		scan_pair_body(s, dd, t, o, 0, 0, first, end, stride);
+	else if (f == 1)
+		scan_pair_body(s, dd, t, o, 1, 1, first, end, stride);
+	else
+		scan_pair_body(s, dd, t, o, 1, 2, first, end, stride);
+}
+
+TL_AVX2 static void
+scan_pair_avx2(const state *s, const double *dd, const tmpl *t,
+    const sink *o, int f, int first, int end, int stride)
+{
+	scan_pair_copy(s, dd, t, o, f, first, end, stride);
+}
+
+/* t[0] and t[1] of one shape (nt of them), paired where
+ * scan_pair_body applies; f: the form they would pair by (0 for
+ * diamonds, 1 or 2 for a cell's leaves). */
+static void
+scan_shape(const state *s, const double *dd, const tmpl *t, int nt, int f,
+    const sink *o, int first, int end, int stride)
+{
+	if (nt == 2 && t[0].ok && t[1].ok && t[0].n2 != 0 && t[1].n2 != 0 &&
+	    t[0].hi - t[0].lo < SHORT && t[1].hi - t[1].lo < SHORT &&
+	    t[0].xmin == t[1].xmin && t[0].xmax == t[1].xmax &&
+	    pair_form(t, f)) {
+		if (s->avx2)
+			scan_pair_avx2(s, dd, t, o, f, first, end, stride);
+		else
+			scan_pair_copy(s, dd, t, o, f, first, end, stride);
+		return;
+	}
+	for (int k = 0; k < nt; k++)
+		scan_template(s, dd, &t[k], o, first, end, stride);
 }
 
 /* row_diamonds (exact_error.c) by templates: the diamonds along a centre row
@@ -334,9 +551,8 @@ scan_diamonds(share *sh, int J, double y, int h, int edge)
 			if (first < sh->lo)
 				first += (sh->lo - first + 4 * h - 1) /
 				    (4 * h) * (4 * h);
-			for (int k = 0; k < nt[ph]; k++)
-				scan_template(s, sh->dd, &T[ph][k], &o, first,
-				    end, 4 * h);
+			scan_shape(s, sh->dd, T[ph], nt[ph], 0, &o, first,
+			    end, 4 * h);
 		}
 	}
 }
@@ -376,9 +592,8 @@ scan_leaves(share *sh, int J, double y)
 		sink o = { NULL, 0, base_at(sh, (int)cj, lo), lo / BT_CELLS };
 		/* the cells of each parity, every other one */
 		for (int ph = 0; ph < 2; ph++)
-			for (int k = 0; k < 2; k++)
-				scan_template(s, sh->dd, &T[ph][k], &o,
-				    lo + ((lo & 1) != ph), end, 2);
+			scan_shape(s, sh->dd, T[ph], 2, (ph + cj) % 2 ? 2 : 1,
+			    &o, lo + ((lo & 1) != ph), end, 2);
 	}
 }
 
