@@ -96,12 +96,17 @@ floordiv(long long a, int b)
 	return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
-/* The zoom's tiles numbered row by row, cut into nparts ranges. */
+/* The zoom's tiles numbered row by row, cut into nparts ranges (-m
+ * average's parts); the split work's parts, by the band's rule. */
 int
-rg_part_owns(const rg_args *a, const rg_zoom *zz, int t)
+rg_part_owns(const rg_job *j, const rg_zoom *zz, int t)
 {
+	const rg_args *a = j->a;
 	long long ty0, nty, T, i;
 
+	if (j->band != NULL)
+		return rg_band_owner(j->band, j->band->maxz - zz->g.z,
+		    zz->tx0 + t) == j->band->k;
 	if (a->work == NULL || a->nparts <= 1)
 		return 1;
 	ty0 = floordiv(zz->g.y0, a->dim);

@@ -125,7 +125,7 @@ encode_tiles(void *arg, int k, int t0, int t1)
 		uint32_t any = 0, *line = j->line[k];
 
 		j->img[t] = NULL;
-		if (j->tfail[k] || !rg_part_owns(j->a, zz, t))
+		if (j->tfail[k] || !rg_part_owns(j, zz, t))
 			continue;
 		for (int r = 0; r < dim; r++) {
 			if (tile_row(j, zz, t, r, line, &j->terr[k]) < 0) {
@@ -204,6 +204,25 @@ flush(rg_job *j, int z, tl_err *e)
 		j->img[t] = NULL;
 	}
 	zz->ty = -1;
+	return r;
+}
+
+int
+rg_zoom_cut(rg_job *j, int z, tl_err *e)
+{
+	rg_zoom *zz = &j->zoom[z];
+	const dem_mgrid *g = &zz->g;
+	int dim = j->a->dim, r = 0;
+
+	for (long long ty = floordiv(g->y0, dim); r == 0 &&
+	    ty <= floordiv(g->y0 + g->h - 1, dim); ty++) {
+		long long y0 = ty * dim > g->y0 ? ty * dim : g->y0;
+		long long y1 = (ty + 1) * dim < g->y0 + g->h ? (ty + 1) * dim :
+		    g->y0 + g->h;
+		zz->ty = ty;
+		zz->rlo = (int)(y0 - ty * dim), zz->rhi = (int)(y1 - ty * dim);
+		r = flush(j, z, e);
+	}
 	return r;
 }
 
