@@ -1,22 +1,22 @@
 /* rg_plan.c - dem2rgb as a plan's jobs (rgb.h): the parts, each writing
- * one range of every zoom's tiles into the shared work tree and a record
- * of its counts, and the gather that joins the records into one
- * process's report and makes the tree (or the archive) appear.
+ * its tiles into the shared work tree and a record of its counts, and
+ * the gather that joins the records into one process's report and makes
+ * the tree (or the archive) appear.
  *
- * Why identical: a part runs rg_run itself, the warp and the chain
- * whole, and only leaves out the encoding of the tiles of other ranges,
- * so every tile it writes holds the bytes one process writes, and the n
- * ranges of a zoom cover its tiles once. The error and the datum are
- * part 0's, which measured as one process does. A range of the chain
- * itself (a window with a halo) would not be the same: the warped
- * grid's voids are filled by the reader's 4-direction fill, which
- * reaches across the whole grid (dem.h).
+ * The work split (QEM-1D, subsample): a part is rg_split.c's band, and
+ * the gather joins the parts' pieces there before the rest (why that is
+ * identical: rg_split.c). -m average: a part runs rg_run itself, the
+ * warp and the means whole, and only leaves out the encoding of the
+ * tiles of other ranges, so every tile it writes holds the bytes one
+ * process writes, and the n ranges of a zoom cover its tiles once; the
+ * error and the datum are part 0's, which measured as one process does.
  *
  * Records are WORK.parts/K, beside the work tree (which becomes OUT,
  * nothing more), text, written under a temporary name and renamed
  * (outfile.h): "tl-rgb-part 1", then "k n minzoom maxzoom segments
- * padx pady", the vertical datum on a line of its own, and per zoom
- * "z tiles bytes samples max rms", the doubles in C99's %a (exact). */
+ * padx pady", the vertical datum on a line of its own, per zoom
+ * "z tiles bytes samples max rms", the doubles in C99's %a (exact), and
+ * for the split work "window x0 x1 of w" (the level-0 columns read). */
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
