@@ -61,9 +61,12 @@ typedef struct {
 	double *h, *v;            /* a row of the window, owned only */
 	float *f;
 } rg_band;
-/* The part whose columns hold zoom maxz - l's tile column t whole, or
- * -1 (the gather's). */
+/* rg_band.c: the part whose columns hold zoom maxz - l's tile column t
+ * whole, or -1 (the gather's); b: part k of n (k -1: the gather, owning
+ * no column) of segment 0 (nl levels) on grid g, its window. */
 int rg_band_owner(const rg_band *b, int l, long long t);
+void rg_band_of(rg_band *b, const dem_mgrid *g, int maxz, int nl, int k,
+    int n);
 
 typedef struct {
 	const rg_args *a;
@@ -178,7 +181,7 @@ int rg_tilejson(const rg_job *j, const rg_report *rep, const double ll[4],
 int rg_pmtiles_close(pm_writer *w, const rg_job *j, const rg_report *rep,
     const double ll[4], tl_err *e);
 
-/* rg_grid.c: whether tile column t of zoom zz's band (row zz->ty) is
+/* rg_band.c: whether tile column t of zoom zz's band (row zz->ty) is
  * the part's (always, outside a plan's job); rg_run.c: OUT checked. */
 int rg_part_owns(const rg_job *j, const rg_zoom *zz, int t);
 int rg_check_out(const rg_args *a, tl_err *e);
@@ -200,7 +203,7 @@ int rg_segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
     const dem_opts *o, dem_mgrid *ng, rg_report *rep, tl_err *e);
 int rg_finish(rg_job *j, int r, const dem_mgrid *ng, const dem_opts *o,
     const double ll[4], rg_report *rep, tl_err *e);
-/* rg_split.c: a part's row of zoom z (level l of segment 0): its owned
+/* rg_tiles.c: a part's row of zoom z (level l of segment 0): its owned
  * columns into the zoom's tiles and its piece; row r of the next
  * segment's vertices (level nl - 1), its owned columns into its piece. */
 int rg_band_row(rg_job *j, int l, int z, int r, const double *h,

@@ -14,7 +14,8 @@
  * that far from its window's edges or on the grid's own edge. The
  * pieces are the codes and the vertex heights one process computes, and
  * the gather runs the later segments and the error pass as one process
- * does. WORK.grid/: seg0.tif, seg0.filled; K/zZ.code (part K's columns
+ * does. Which columns are whose: rg_band.c; a part's rows into its
+ * tiles and pieces: rg_tiles.c. WORK.grid/: seg0.tif, seg0.filled; K/zZ.code (part K's columns
  * lo .. hi - 1 of zoom Z's codes, row by row), K/next (its columns of the
  * next segment's vertices, float32, NaN: void). */
 #include <errno.h>
@@ -28,82 +29,6 @@
 
 #include "rgb/rg_impl.h"
 #include "geo/levels.h"
-
-static long long
-floordiv(long long a, long long b)
-{
-	return a >= 0 ? a / b : -((-a + b - 1) / b);
-}
-
-/* The first level-0 column of part k: that of its range of the deepest
- * zoom's tile columns, ntx k / n .. ntx (k + 1) / n - 1. */
-static long long
-first(const rg_band *b, int k)
-{
-	long long c;
-
-	if (k <= 0)
-		return 0;
-	if (k >= b->n)
-		return b->gw;
-	c = (b->T0 + (long long)b->ntx * k / b->n) * b->dim - b->gx0;
-	return c < 0 ? 0 : c > b->gw ? b->gw : c;
-}
-
-/* Part k's columns of level l: those whose level-0 column is its (the
- * last part's also those past the grid's last column). */
-static void
-cols(const rg_band *b, int k, int l, int *lo, int *hi)
-{
-	long long s = (1LL << l) - 1;
-
-	*lo = (int)((first(b, k) + s) >> l);
-	*hi = k == b->n - 1 ? geo_level_size(b->gw, l) :
-	    (int)((first(b, k + 1) + s) >> l);
-}
-
-int
-rg_band_owner(const rg_band *b, int l, long long t)
-{
-	long long o = b->gx0 >> l, wl = geo_level_size(b->gw, l);
-	long long c0 = t * b->dim - o, c1 = c0 + b->dim;
-	int lo, hi;
-
-	c0 = c0 < 0 ? 0 : c0, c1 = c1 > wl ? wl : c1;
-	for (int k = 0; k < b->n; k++) { /* its first column's part */
-		cols(b, k, l, &lo, &hi);
-		if (c0 >= lo && c0 < hi)
-			return c1 <= hi ? k : -1;
-	}
-	return -1;
-}
-
-/* Part k of n of segment 0 (nl levels) on grid g: its columns of each
- * level, its window. */
-static void
-band_of(rg_band *b, const dem_mgrid *g, int maxz, int nl, int k, int n)
-{
-	long long x0, x1 = 0;
-
-	memset(b, 0, sizeof *b);
-	b->k = k, b->n = n, b->maxz = maxz, b->nl = nl, b->dim = g->dim;
-	b->gx0 = g->x0, b->gw = g->w, b->nfd = -1;
-	b->T0 = floordiv(g->x0, g->dim);
-	b->ntx = (int)(floordiv(g->x0 + g->w - 1, g->dim) - b->T0 + 1);
-	for (int l = 0; l < nl; l++) {
-		b->fd[l] = -1;
-		cols(b, k, l, &b->lo[l], &b->hi[l]);
-		if (((long long)b->hi[l] << l) > x1)
-			x1 = (long long)b->hi[l] << l;
-	}
-	if (k < 0 || b->hi[0] == b->lo[0])
-		return; /* owns nothing: x0 = x1 = 0 */
-	/* the centres of level l reach vertex hi[l] */
-	x0 = first(b, k) - RG_HALO(nl - 1);
-	x1 += RG_HALO(nl - 1) + 1;
-	x0 = x0 < 0 ? 0 : x0 >> (nl - 1) << (nl - 1);
-	b->x0 = (int)x0, b->x1 = (int)(x1 > g->w ? g->w : x1);
-}
 
 /* The grid of segment 0 and its levels, as rg_run makes them. */
 static int
@@ -161,43 +86,6 @@ piece(const char *work, int k, const char *name, tl_err *e)
 	return fd;
 }
 
-int
-rg_band_row(rg_job *j, int l, int z, int r, const double *h,
-    const double *v, tl_err *e)
-{
-	rg_band *b = j->band;
-	int o = b->x0 >> l, lo = b->lo[l] - o, hi = b->hi[l] - o;
-	int w = j->zoom[z].g.w;
-
-	/* only the owned columns encoded: the others may be wrong (the
-	 * window's edges), and no owned tile reads them */
-	for (int i = 0; i < w; i++) {
-		int in = i >= lo && i < hi;
-		b->h[i] = in ? h[i] : 0, b->v[i] = in ? v[i] : 0;
-	}
-	if (rg_zoom_row(j, z, r, b->h, b->v, e) < 0)
-		return -1;
-	/* j->code: the row's codes, as rg_zoom_row left them */
-	return tl_pwrite(b->fd[l], j->code + lo, (size_t)(hi - lo) *
-	    sizeof *j->code, (long long)r * (hi - lo) *
-	    (long long)sizeof *j->code, "piece", e);
-}
-
-int
-rg_band_next(rg_job *j, int r, const double *h, const double *v,
-    tl_err *e)
-{
-	rg_band *b = j->band;
-	int t = b->nl - 1, o = b->x0 >> t, n = b->hi[t] - b->lo[t];
-
-	for (int i = 0; i < n; i++) {
-		int c = b->lo[t] - o + i;
-		b->f[i] = v[c] > 0 ? (float)h[c] : NAN;
-	}
-	return tl_pwrite(b->nfd, b->f, (size_t)n * sizeof *b->f,
-	    (long long)r * n * (long long)sizeof *b->f, "piece", e);
-}
-
 /* The part's pieces opened, its window's rows allocated. */
 static int
 part_open(rg_job *j, const char *work, int next, tl_err *e)
@@ -253,7 +141,7 @@ rg_split_part(const rg_args *a, const char *work, int k, int n,
 	if (seg0(a, rep, ll, &g, &nl, e) < 0 ||
 	    rg_warp_opts(a, &o, vd, sizeof vd, e) < 0)
 		return -1;
-	band_of(&b, &g, rep->maxzoom, nl, k, n);
+	rg_band_of(&b, &g, rep->maxzoom, nl, k, n);
 	win[0] = b.x0, win[1] = b.x1, win[2] = g.w;
 	snprintf(path, sizeof path, "%s.grid/seg0.tif", work);
 	snprintf(fill, sizeof fill, "%s.grid/seg0.filled", work);
@@ -343,7 +231,7 @@ joins(rg_job *j, const char *work, const dem_mgrid *g, int nl, int n,
 			break;
 		snprintf(p, sizeof p, "z%d.code", z);
 		for (int k = 0; r == 0 && k < n; k++) {
-			band_of(&b, g, g->z, nl, k, n);
+			rg_band_of(&b, g, g->z, nl, k, n);
 			r = join(j->zoom[z].fd, lg.w, lg.h, work, k, p,
 			    b.lo[l], b.hi[l], 4, buf, e);
 		}
@@ -363,7 +251,7 @@ joins(rg_job *j, const char *work, const dem_mgrid *g, int nl, int n,
 	if ((fd = open(p, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600)) < 0)
 		r = tl_failsys(e, "%s", p);
 	for (int k = 0; r == 0 && k < n; k++) {
-		band_of(&b, g, g->z, nl, k, n);
+		rg_band_of(&b, g, g->z, nl, k, n);
 		r = join(fd, wt, ht, work, k, "next", b.lo[t], b.hi[t], 4,
 		    buf, e);
 	}
@@ -406,7 +294,7 @@ rg_split_gather(const rg_args *a, const char *work, int n, rg_report *rep,
 	    dem_georef(d)->vdatum : o.vdatum);
 	dem_close(d);
 	rep->segments = 1;
-	band_of(&gb, &g, g.z, nl, -1, n); /* the tiles across parts */
+	rg_band_of(&gb, &g, g.z, nl, -1, n); /* the tiles across parts */
 	j.band = &gb;
 	/* measured as part 0 of a plan: tiles.json is the gather's */
 	b.work = work, b.part = 0, b.sink = NULL, b.dump = NULL;
