@@ -3,6 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "rgb_cli.h"
 
@@ -99,6 +102,16 @@ const char rg_step_gather_usage[] =
     "written), or\n  the archive; the report on stderr unless -q; the "
     "options as for dem2rgb(1)\n";
 
+/* As dem2rgb: blocks of 128 KiB and more mapped for each use, not kept
+ * resident by the threads' arenas (dem2rgb(1) MEMORY). */
+static void
+mmap_blocks(void)
+{
+#ifdef __GLIBC__
+	mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
+}
+
 /* The options of the steps into a (-q: *quiet); the status to exit
  * with now, or -1 when the step's operands follow (the gather's with -o:
  * one fewer; gather < 0: the warp's, two). */
@@ -109,6 +122,7 @@ step_options(cli *c, int argc, char **argv, rg_args *a, int *quiet,
 	tl_err e;
 	int ch, r;
 
+	mmap_blocks();
 	a->dim = 512, a->maxzoom = -1, a->jobs = 0, a->prog = c->prog;
 	while ((ch = cli_next(c, argc, argv, RG_CLI_OPTS "qo:", NULL)) != -1)
 		if (ch == 'q')

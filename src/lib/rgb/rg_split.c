@@ -26,6 +26,9 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "rgb/rg_impl.h"
 #include "geo/levels.h"
@@ -65,8 +68,12 @@ rg_warp(const rg_args *a, const char *work, tl_err *e)
 	snprintf(path, sizeof path, "%s/seg0.tif", dir);
 	snprintf(fill, sizeof fill, "%s/seg0.filled", dir);
 	if (dem_warp_mercator(a->dem, a->dopt.has_nodata, a->dopt.nodata, &g,
-	    a->cubic, a->jobs, path, e) < 0 ||
-	    (d = dem_open(path, &o, e)) == NULL)
+	    a->cubic, a->jobs, path, e) < 0)
+		return -1;
+#ifdef __GLIBC__
+	malloc_trim(0); /* the warper's buffers given back, as rg_run does */
+#endif
+	if ((d = dem_open(path, &o, e)) == NULL)
 		return -1;
 	r = dem_save_filled(d, fill, e);
 	dem_close(d);
