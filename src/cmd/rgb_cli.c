@@ -148,8 +148,7 @@ rg_step_warp(cli *c, int argc, char **argv)
 		return st;
 	a.dem = argv[optind];
 	a.jobs = a.jobs ? a.jobs : cli_jobs(); /* it runs alone */
-	return cli_exit(c, RG_SPLIT(&a) ? rg_warp(&a, argv[optind + 1], &e) :
-	    0, &e);
+	return cli_exit(c, rg_warp(&a, argv[optind + 1], &e), &e);
 }
 
 int

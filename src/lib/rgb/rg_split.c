@@ -59,10 +59,14 @@ rg_warp(const rg_args *a, const char *work, tl_err *e)
 	dem *d;
 	int nl, r;
 
+	/* -m average: nothing but the directory (the plan's mark) */
+	snprintf(dir, sizeof dir, "%s.grid", work);
+	if (!RG_SPLIT(a))
+		return mkdir(dir, 0777) < 0 && errno != EEXIST ?
+		    tl_failsys(e, "%s", dir) : 0;
 	if (seg0(a, &rep, ll, &g, &nl, e) < 0 ||
 	    rg_warp_opts(a, &o, vd, sizeof vd, e) < 0)
 		return -1;
-	snprintf(dir, sizeof dir, "%s.grid", work);
 	if (mkdir(dir, 0777) < 0 && errno != EEXIST)
 		return tl_failsys(e, "%s", dir);
 	snprintf(path, sizeof path, "%s/seg0.tif", dir);
