@@ -17,7 +17,8 @@
 static const char usage[] =
     "[-cq] [-e terrarium|mapbox] [-f png|webp] [-m method] [-t 512|256]\n"
     "    [-Z minzoom] [-z maxzoom] [-j jobs] [-u url] [-H datum] "
-    "[-D datum]\n    [-N nodata] [--plan plandir [--part-tiles n]] DEM OUT\n"
+    "[-D datum]\n    [-N nodata] [--plan plandir [--part-tiles n | --parts n]] "
+    "DEM OUT\n"
     "    or, with those options but -u: -o archive DEM\n"
     "  -e encoding   terrarium (default) or mapbox (Terrain-RGB)\n"
     "  -f format     png (default) or webp (lossless)\n"
@@ -40,7 +41,7 @@ static const char usage[] =
     "  --plan plandir  write the work as jobs for make, GNU parallel or\n"
     "                Slurm into plandir instead of doing it (dem2rgb(1),\n"
     "                PLANS); --part-tiles n: about n tiles of the deepest\n"
-    "                zoom a job (default 256)\n"
+    "                zoom a job (default 256); --parts n: n jobs\n"
     "  DEM           any raster GDAL opens, in any CRS\n"
     "  OUT           the tree to make (or replace): OUT/tiles.json,\n"
     "                OUT/{z}/{x}/{y}.png\n"
@@ -48,13 +49,14 @@ static const char usage[] =
     "                one) holding the tree's tiles, tiles.json's fields as\n"
     "                its metadata\n";
 
-enum { OPT_DUMP = 'U', OPT_PLAN = 256, OPT_TILES };
+enum { OPT_DUMP = 'U', OPT_PLAN = 256, OPT_TILES, OPT_PARTS };
 #define NWORDS 64
 
 static const struct option longopts[] = {
 	{ "dump", required_argument, NULL, OPT_DUMP },
 	{ "plan", required_argument, NULL, OPT_PLAN },
 	{ "part-tiles", required_argument, NULL, OPT_TILES },
+	{ "parts", required_argument, NULL, OPT_PARTS },
 	{ NULL, 0, NULL, 0 }
 };
 
@@ -77,11 +79,12 @@ word(const cli *c, const char **w, int *n, int ch, const char *arg)
 }
 
 /* The work of a written as a plan into dir: parts of about `tiles`
- * tiles of the deepest zoom, every job given the options' words w (n of
- * them; jobs: -j, when given). */
+ * tiles of the deepest zoom (or `parts` of them, when not 0), every job
+ * given the options' words w (n of them; jobs: -j, when given). */
 static int
 write_plan(const cli *c, const rg_args *a, const char *dir,
-    long long tiles, const char *const *w, int n, int jobs, tl_err *e)
+    long long tiles, int parts, const char *const *w, int n, int jobs,
+    tl_err *e)
 {
 	plan_rgb_opts o = { .prog = c->prog, .dem = a->dem, .out = a->out,
 		.archive = a->pmtiles, .opt = w, .nopt = n, .jobs = jobs };
@@ -89,6 +92,8 @@ write_plan(const cli *c, const rg_args *a, const char *dir,
 
 	if (rg_plan_parts(a, tiles, &o.nparts, e) < 0)
 		return -1;
+	if (parts > 0)
+		o.nparts = parts;
 	o.bindir = cli_bindir(self, sizeof self);
 	return plan_rgb_write(&o, dir, e);
 }
@@ -102,7 +107,7 @@ main(int argc, char **argv)
 	long long tiles = 256;
 	tl_err e;
 	cli c;
-	int ch, r, quiet = 0, nw = 0, jobs = 0;
+	int ch, r, quiet = 0, nw = 0, jobs = 0, parts = 0;
 
 	cli_init(&c, argv, usage, 0);
 #ifdef __GLIBC__
@@ -127,6 +132,9 @@ main(int argc, char **argv)
 		else if (ch == OPT_TILES)
 			tiles = cli_number(&c, "--part-tiles", optarg, 1,
 			    LLONG_MAX);
+		else if (ch == OPT_PARTS)
+			parts = (int)cli_number(&c, "--parts", optarg, 1,
+			    RG_MAXPARTS);
 		else if ((r = rg_cli_option(&c, &a, ch, optarg, &e)) != 0)
 			return r;
 		else if (ch == 'j')
@@ -149,8 +157,8 @@ main(int argc, char **argv)
 	if (!a.pmtiles)
 		a.out = argv[optind + 1];
 	if (plan != NULL)
-		return cli_exit(&c, write_plan(&c, &a, plan, tiles, w, nw,
-		    jobs, &e), &e);
+		return cli_exit(&c, write_plan(&c, &a, plan, tiles, parts, w,
+		    nw, jobs, &e), &e);
 	r = rg_run(&a, &rep, &e);
 	if (r == 0 && !quiet)
 		rg_cli_report(&c, &rep);

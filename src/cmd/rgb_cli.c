@@ -3,6 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "rgb_cli.h"
 
@@ -82,6 +85,11 @@ rg_cli_option(cli *c, rg_args *a, int ch, const char *arg, tl_err *e)
 	return c->status >= 0 ? c->status : 0;
 }
 
+const char rg_step_warp_usage[] =
+    "[dem2rgb options] dem work\n"
+    "  the plan's first job: dem on the deepest zoom's grid, its voids "
+    "filled,\n  into work.grid/ (nothing for -m average); the options as "
+    "for dem2rgb(1)\n";
 const char rg_step_part_usage[] =
     "[dem2rgb options] k:n dem work\n"
     "  part k of n of dem2rgb's tiles of dem (its range of every zoom's "
@@ -94,9 +102,19 @@ const char rg_step_gather_usage[] =
     "written), or\n  the archive; the report on stderr unless -q; the "
     "options as for dem2rgb(1)\n";
 
-/* The options of both steps into a (-q: *quiet); the status to exit
+/* As dem2rgb: blocks of 128 KiB and more mapped for each use, not kept
+ * resident by the threads' arenas (dem2rgb(1) MEMORY). */
+static void
+mmap_blocks(void)
+{
+#ifdef __GLIBC__
+	mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
+}
+
+/* The options of the steps into a (-q: *quiet); the status to exit
  * with now, or -1 when the step's operands follow (the gather's with -o:
- * one fewer). */
+ * one fewer; gather < 0: the warp's, two). */
 static int
 step_options(cli *c, int argc, char **argv, rg_args *a, int *quiet,
     int gather)
@@ -104,6 +122,7 @@ step_options(cli *c, int argc, char **argv, rg_args *a, int *quiet,
 	tl_err e;
 	int ch, r;
 
+	mmap_blocks();
 	a->dim = 512, a->maxzoom = -1, a->jobs = 0, a->prog = c->prog;
 	while ((ch = cli_next(c, argc, argv, RG_CLI_OPTS "qo:", NULL)) != -1)
 		if (ch == 'q')
@@ -114,8 +133,22 @@ step_options(cli *c, int argc, char **argv, rg_args *a, int *quiet,
 		return c->status;
 	if (a->maxzoom >= 0 && a->minzoom > a->maxzoom)
 		return cli_bad(c, "-Z %d: above -z %d", a->minzoom, a->maxzoom);
-	return argc - optind != (gather && a->pmtiles ? 2 : 3) ?
+	return argc - optind != (gather && a->pmtiles ? 2 : 3) - (gather < 0) ?
 	    cli_usage_error(c) : -1;
+}
+
+int
+rg_step_warp(cli *c, int argc, char **argv)
+{
+	rg_args a = { 0 };
+	int quiet = 0, st;
+	tl_err e;
+
+	if ((st = step_options(c, argc, argv, &a, &quiet, -1)) >= 0)
+		return st;
+	a.dem = argv[optind];
+	a.jobs = a.jobs ? a.jobs : cli_jobs(); /* it runs alone */
+	return cli_exit(c, rg_warp(&a, argv[optind + 1], &e), &e);
 }
 
 int
@@ -146,6 +179,7 @@ rg_step_gather(cli *c, int argc, char **argv)
 	if ((st = step_options(c, argc, argv, &a, &quiet, 1)) >= 0)
 		return st;
 	a.dem = argv[optind];
+	a.jobs = a.jobs ? a.jobs : cli_jobs(); /* it runs alone */
 	if (!a.pmtiles)
 		a.out = argv[optind + 2];
 	r = rg_gather(&a, argv[optind + 1], &rep, &e);

@@ -18,8 +18,10 @@ int rg_cli_option(cli *c, rg_args *a, int ch, const char *arg, tl_err *e);
 /* The per-zoom report on stderr. */
 void rg_cli_report(const cli *c, const rg_report *r);
 
-/* vgis-job rgb-part and rgb-gather (vgis-job(1)). */
-extern const char rg_step_part_usage[], rg_step_gather_usage[];
+/* vgis-job rgb-warp, rgb-part and rgb-gather (vgis-job(1)). */
+extern const char rg_step_warp_usage[], rg_step_part_usage[],
+    rg_step_gather_usage[];
+int rg_step_warp(cli *c, int argc, char **argv);
 int rg_step_part(cli *c, int argc, char **argv);
 int rg_step_gather(cli *c, int argc, char **argv);
 

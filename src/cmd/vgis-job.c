@@ -49,6 +49,7 @@ static const char usage[] =
     "z:i0:i1 dir work\n"
     "       vgis-job terrain-gather [-qz] [-f format] [-j jobs] dir work "
     "outdir\n"
+    "       vgis-job rgb-warp [dem2rgb options] dem work\n"
     "       vgis-job rgb-part [dem2rgb options] k:n dem work\n"
     "       vgis-job rgb-gather [dem2rgb options] [-o archive] dem work "
     "[outdir]\n"
@@ -508,6 +509,7 @@ static const struct {
 	    "  the pieces in work become the pyramid dir, as tilepack -q -g\n" },
 	{ "terrain-part", tr_step_part, 0, tr_step_part_usage },
 	{ "terrain-gather", tr_step_gather, 0, tr_step_gather_usage },
+	{ "rgb-warp", rg_step_warp, 0, rg_step_warp_usage },
 	{ "rgb-part", rg_step_part, 0, rg_step_part_usage },
 	{ "rgb-gather", rg_step_gather, 0, rg_step_gather_usage },
 };

@@ -1,5 +1,6 @@
-# t_rgb_plan - dem2rgb --plan: the raster-dem tiles as jobs of tile
-# ranges (every zoom's tiles cut into parts, then the gather) run by
+# t_rgb_plan - dem2rgb --plan: the raster-dem tiles as jobs (the warp,
+# parts of tile columns, then the gather; t_rgb_plan_split shows the
+# split itself) run by
 # make -j2 and GNU parallel, byte for byte what dem2rgb makes in one
 # process: the tree (diff -r, tiles.json and its measured error
 # included) and the PMTiles archive (cmp), with other options (Terrain-RGB,
@@ -24,7 +25,7 @@ dem2rgb --plan "$P" --part-tiles 1 "$T/srtm.tif" "$T/tree" 2>/dev/null &&
     [ ! -e "$T/tree" ]
 ok $? "the plan is written, nothing made yet"
 n=$(wc -l <"$P/targets1")
-[ "$n" -ge 4 ]; ok $? "$n parts, a job each"
+[ "$n" -ge 2 ]; ok $? "$n parts, a job each"
 # the parts cut the deepest zoom's tiles: each holds some of them
 z=$(sed -n 's/^zoom \([0-9]*\): .*/\1/p' "$T/rep1" | tail -1)
 
@@ -38,8 +39,9 @@ done
 made=$(ls "$P/done" 2>/dev/null | grep -c '^p-')
 [ ! -e "$T/tree" ] && [ "$made" -lt "$n" ]
 ok $? "killed among the parts ($made of $n made): no tree yet"
-# the parts alone: each holds tiles of the deepest zoom, and per zoom the
-# parts' tiles are the tree's, each written once
+# the parts alone: each holds tiles of the deepest zoom, all of them;
+# per zoom each tile in work is a part's, written once (the gather
+# writes those across parts)
 # shellcheck disable=SC2046
 make -s -C "$P" -j2 $(cat "$P/targets1") >/dev/null 2>&1
 ok $? "the parts run again alone: the rest of them"
@@ -51,12 +53,13 @@ done
 for d in "$T/ref"/*/; do
 	zz=$(basename "$d")
 	want=$(find "$d" -type f | wc -l)
-	have=$(find "$P/work/$zz" -type f | wc -l)
+	have=$(find "$P/work/$zz" -type f 2>/dev/null | wc -l)
 	sum=$(cat "$P"/work.parts/* | awk -v z="$zz" \
 	    '$1 == z && NF == 6 { s += $2 } END { print s + 0 }')
-	[ "$want" -eq "$have" ] && [ "$want" -eq "$sum" ] || bad=1
+	[ "$have" -eq "$sum" ] && [ "$have" -le "$want" ] || bad=1
+	[ "$zz" != "$z" ] || [ "$have" -eq "$want" ] || bad=1
 done
-[ $bad -eq 0 ]; ok $? "each part holds tiles of zoom $z; per zoom the parts' tiles are one process's"
+[ $bad -eq 0 ]; ok $? "each part holds tiles of zoom $z, all of them; per zoom the parts' tiles are recorded"
 make -s -C "$P" -j2 >"$T/make.log" 2>&1 && diff -r "$T/ref" "$T/tree" >/dev/null
 ok $? "make -j2 again: the gather; the tree byte for byte one process's"
 [ ! -e "$P/work" ] && [ ! -e "$P/work.parts" ] && no_tmp "$P" && no_tmp "$T/tree"
@@ -112,9 +115,9 @@ ok $? "slurm.sh and parallel.sh parse (sh -n)"
 mkdir "$T/bin" && fake_sbatch "$T/bin"
 SBATCH_OPTS='' PATH=$T/bin:$PATH sh "$P/slurm.sh" >/dev/null 2>&1 &&
     awk -v n="$n" '{ j[NR] = $2 " " $3 " " $4 }
-    END { exit !(NR == 2 && j[1] == "parts - " n && j[2] == "gather 1 -") }' \
-    "$T/bin/jobs" && [ ! -s "$T/bin/failed" ]
-ok $? "slurm.sh: the parts (array 1-$n), the gather (afterok)"
+    END { exit !(NR == 3 && j[1] == "warp - -" && j[2] == "parts 1 " n &&
+    j[3] == "gather 2 -") }' "$T/bin/jobs" && [ ! -s "$T/bin/failed" ]
+ok $? "slurm.sh: the warp, the parts (array 1-$n, afterok), the gather (afterok)"
 
 # the DEM changed after the plan was written: every job refuses it
 cp "$T/srtm.tif" "$T/srtm2.tif" &&

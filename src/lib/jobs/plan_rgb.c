@@ -31,10 +31,11 @@ put_makefile(FILE *f, const void *arg)
 	fprintf(f, "# Made by %s --plan: the raster-dem %s %s\n# of the DEM "
 	    "%s.\n# Run: make -C THIS-DIRECTORY -j N, and again after a "
 	    "failure or a kill:\n# it goes on where it stopped. Each job is "
-	    "a step of vgis-job(1):\n# done/p-K (part K of N: its range of "
-	    "every zoom's tiles into work/),\n# done/gather (work/ becomes "
-	    "the %s).\n", o->prog, o->archive ? "archive" : "tree", c->out,
-	    c->dem, o->archive ? "archive" : "tree");
+	    "a step of vgis-job(1):\n# done/warp (the DEM on the deepest "
+	    "zoom's grid, its voids filled,\n# into work.grid/), done/p-K "
+	    "(part K of N: its tiles into work/), done/gather\n# (work/ "
+	    "becomes the %s).\n", o->prog, o->archive ? "archive" : "tree",
+	    c->out, c->dem, o->archive ? "archive" : "tree");
 	fputs("SHELL = /bin/sh\nB =", f);
 	plan_words(f, &bin, 1, 1);
 	fputs("\nJOB = sh job $(B)\nDEM =", f);
@@ -46,9 +47,11 @@ put_makefile(FILE *f, const void *arg)
 	for (int k = 0; k < o->nparts; k++)
 		fprintf(f, " done/p-%d", k);
 	fputs("\n\n", f);
+	fputs("done/warp:\n\t$(JOB) $@ $(B)/vgis-job rgb-warp $(JOBOPTS) "
+	    "$(OPTS) $(DEM) work\n\n", f);
 	for (int k = 0; k < o->nparts; k++)
-		fprintf(f, "done/p-%d:\n\t$(JOB) $@ $(B)/vgis-job rgb-part "
-		    "$(JOBOPTS) $(OPTS) %d:%d $(DEM) work\n\n", k, k,
+		fprintf(f, "done/p-%d: done/warp\n\t$(JOB) $@ $(B)/vgis-job "
+		    "rgb-part $(JOBOPTS) $(OPTS) %d:%d $(DEM) work\n\n", k, k,
 		    o->nparts);
 	fprintf(f, "done/gather: $(PARTS)\n\t$(JOB) $@ $(B)/vgis-job "
 	    "rgb-gather $(OPTS) %s\n", o->archive ? "-o $(OUT) $(DEM) work" :
@@ -66,14 +69,20 @@ put_job(FILE *f, const void *arg)
 	    "done/.lock-NAME, and not when\n# TARGET was made meanwhile. "
 	    "First the DEM's files are checked as the\n# plan recorded them "
 	    "(dem.stamp).\n"
-	    "# job B --sweep: the markers of parts whose records "
-	    "(work.parts/) or\n# tiles (work/) are gone removed, so that make "
-	    "runs them again; none once\n# the gather is done.\n", f);
+	    "# job B --sweep: the markers of the warp whose grid (work.grid/) "
+	    "and of\n# parts whose records (work.parts/), tiles (work/) or "
+	    "pieces\n# (work.grid/K) are gone removed, so that make runs them "
+	    "again; none\n# once the gather is done.\n", f);
 	plan_job_head(f);
-	fputs("\tfor m in done/p-*; do # p-K: work.parts/K\n"
+	fputs("\tif [ -e done/warp ] && [ ! -d work.grid ]; then\n"
+	    "\t\trm -f done/warp; gone=\"$gone warp\"\n"
+	    "\tfi\n"
+	    "\tfor m in done/p-*; do # p-K: work.parts/K\n"
 	    "\t\t[ -e \"$m\" ] || continue\n"
-	    "\t\t[ -d work ] && [ -e \"work.parts/${m#done/p-}\" ] && "
-	    "continue\n"
+	    "\t\tk=${m#done/p-}\n"
+	    "\t\t[ -d work ] && [ -e \"work.parts/$k\" ] &&\n"
+	    "\t\t    { [ -d \"work.grid/$k\" ] || [ ! -d work.grid/. ] ||\n"
+	    "\t\t    [ ! -e work.grid/seg0.filled ]; } && continue\n"
 	    "\t\trm -f \"$m\"; gone=\"$gone ${m#done/}\"\n"
 	    "\tdone\n", f);
 	plan_job_tail(f, "records", "dem.stamp");
@@ -84,13 +93,14 @@ put_parallel(FILE *f, const void *arg)
 {
 	const ctx *c = arg;
 	fputs("#!/bin/sh\n"
-	    "# GNU parallel, stage by stage: every part, then the gather. Each "
-	    "job is a\n# make target of this directory, so a run again skips "
+	    "# GNU parallel, stage by stage: the warp, every part, then the "
+	    "gather. Each\n# job is a make target of this directory, so a run again skips "
 	    "what is done. Its\n# options come from PARALLEL, e.g. "
 	    "PARALLEL='--sshloginfile hosts -j 4' for\n# machines that share "
 	    "this file system (same paths).\nset -e\nP=", f);
 	plan_word(f, c->dir, 0);
-	fputs("\n" PLAN_PAR ":::: \"$P/targets1\"\n"
+	fputs("\n" PLAN_PAR "::: done/warp\n"
+	    PLAN_PAR ":::: \"$P/targets1\"\n"
 	    PLAN_PAR "::: done/gather\n", f);
 }
 
@@ -99,8 +109,8 @@ put_slurm(FILE *f, const void *arg)
 {
 	const ctx *c = arg;
 	fputs("#!/bin/sh\n"
-	    "# Slurm: the parts as job arrays, the gather after them. Each job "
-	    "is a make\n# target of this directory: submitted again, it skips "
+	    "# Slurm: the warp, the parts as job arrays after it, the gather "
+	    "after them.\n# Each job is a make target of this directory: submitted again, it skips "
 	    "what is done. A failed\n# job cancels the gather. sbatch options "
 	    "(partition, account, time) come\n# from SBATCH_OPTS; arrays have "
 	    "at most TL_SLURM_ARRAY tasks (default 1000:\n# Slurm's default "
@@ -108,7 +118,8 @@ put_slurm(FILE *f, const void *arg)
 	plan_word(f, c->dir, 0);
 	fputs("\n", f);
 	plan_slurm_funcs(f);
-	fputs("a=$(array parts \"\" targets1)\n"
+	fputs("w=$(job warp \"\" 'make done/warp')\n"
+	    "a=$(array parts \"$w\" targets1)\n"
 	    "job gather \"$a\" 'make done/gather'\n", f);
 }
 

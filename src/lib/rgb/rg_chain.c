@@ -4,7 +4,10 @@
  * level 2's, and so on, so that every level streams (a window of rows
  * each, never a level) and every row reaches emit once; with each level
  * row after the first, the zoom's row of pixel centres above it
- * (rg_centre.c: a level holds two rows more). */
+ * (rg_centre.c: a level holds two rows more). A window of the level-0
+ * columns (a plan's part, rg_split.c) runs on those columns alone, the
+ * metric and the filters told where it lies, so that its columns far
+ * enough from its edges come out as the whole grid's. */
 #include <assert.h>
 #include <stdlib.h>
 #include <string.h>
@@ -79,19 +82,21 @@ push(chain *c, int l, tl_err *e)
 }
 
 static int
-setup(chain *c, const georef *g, const geo_ground *m, enum solve_mode mode,
-    tl_err *e)
+setup(chain *c, const georef *g, int x0, int w0, const geo_ground *m,
+    enum solve_mode mode, tl_err *e)
 {
 	const filter_kernel *k = filter_find("binomial");
-	int w0 = g->width, h0 = g->height;
+	int h0 = g->height;
 
 	for (int l = 0; l < c->nl; l++) {
 		int w = geo_level_size(w0, l), h = geo_level_size(h0, l);
 		c->w[l] = w, c->hl[l] = h;
 		if (l > 0 && filter_init(&c->f[l], k, l - 1,
-		    geo_level_size(w0, l - 1), geo_level_size(h0, l - 1), w0,
-		    h0, m, e) < 0)
+		    geo_level_size(w0, l - 1), geo_level_size(h0, l - 1),
+		    g->width, h0, m, e) < 0)
 			return -1;
+		if (l > 0) /* the window's column 0 on level l - 1 */
+			c->f[l].x0 = x0 >> (l - 1);
 		if (solve_init(&c->s[l], mode, l, w, h, m, e) < 0 ||
 		    (c->row[l] = tl_alloc(w, sizeof *c->row[l], e)) == NULL ||
 		    (c->prev[l] = tl_alloc(w, sizeof *c->prev[l], e)) == NULL ||
@@ -106,8 +111,8 @@ setup(chain *c, const georef *g, const geo_ground *m, enum solve_mode mode,
 }
 
 int
-rg_chain(dem *d, int nl, int l0, enum solve_mode mode, rg_emit emit,
-    void *ctx, tl_err *e)
+rg_chain(dem *d, int x0, int n, int nl, int l0, enum solve_mode mode,
+    rg_emit emit, void *ctx, tl_err *e)
 {
 	const georef *g = dem_georef(d);
 	geo_ground m = { 0 };
@@ -117,9 +122,12 @@ rg_chain(dem *d, int nl, int l0, enum solve_mode mode, rg_emit emit,
 	int r = -1;
 
 	assert(nl >= 1 && nl <= RG_SEG + 1);
+	assert(x0 % (1 << (nl - 1)) == 0 && x0 >= 0 && x0 + n <= g->width);
 	if (geo_ground_init(&m, g, e) < 0)
 		return -1;
-	if (setup(&c, g, &m, mode, e) == 0 && fqm0_init(&f0, d, &m, e) == 0) {
+	m.x0 = x0; /* the metric answers in the window's columns */
+	if (setup(&c, g, x0, n, &m, mode, e) == 0 &&
+	    fqm0_init_cols(&f0, d, &m, x0, n, e) == 0) {
 		r = 0;
 		for (int y = 0; r == 0 && y < g->height; y++)
 			if ((r = fqm0_row(&f0, y, c.row[0], e)) == 0)

@@ -1,7 +1,6 @@
 /* rg_grid.c - the Web Mercator grids: the zoom rule, the deepest zoom's
  * pixel grid around a DEM's bounds (its origin aligned for a segment of the
- * chain), the grid of the next segment, and which of a zoom's tiles are a
- * plan's part's (rgb.h, rg_impl.h). */
+ * chain), the grid of the next segment (rgb.h, rg_impl.h). */
 #include <math.h>
 
 #include "rgb/rg_impl.h"
@@ -88,25 +87,4 @@ rg_grid_next(dem_mgrid *n, const dem_mgrid *g, int s, int s2,
 	n->w = geo_level_size(g->w, s) + (int)pad[0];
 	n->h = geo_level_size(g->h, s) + (int)pad[1];
 	n->w = n->w < 3 ? 3 : n->w, n->h = n->h < 3 ? 3 : n->h;
-}
-
-static long long
-floordiv(long long a, int b)
-{
-	return a >= 0 ? a / b : -((-a + b - 1) / b);
-}
-
-/* The zoom's tiles numbered row by row, cut into nparts ranges. */
-int
-rg_part_owns(const rg_args *a, const rg_zoom *zz, int t)
-{
-	long long ty0, nty, T, i;
-
-	if (a->work == NULL || a->nparts <= 1)
-		return 1;
-	ty0 = floordiv(zz->g.y0, a->dim);
-	nty = floordiv(zz->g.y0 + zz->g.h - 1, a->dim) - ty0 + 1;
-	T = nty * zz->ntx, i = (zz->ty - ty0) * zz->ntx + t;
-	return i >= T * a->part / a->nparts &&
-	    i < T * (a->part + 1) / a->nparts;
 }

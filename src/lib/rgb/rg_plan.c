@@ -1,22 +1,22 @@
 /* rg_plan.c - dem2rgb as a plan's jobs (rgb.h): the parts, each writing
- * one range of every zoom's tiles into the shared work tree and a record
- * of its counts, and the gather that joins the records into one
- * process's report and makes the tree (or the archive) appear.
+ * its tiles into the shared work tree and a record of its counts, and
+ * the gather that joins the records into one process's report and makes
+ * the tree (or the archive) appear.
  *
- * Why identical: a part runs rg_run itself, the warp and the chain
- * whole, and only leaves out the encoding of the tiles of other ranges,
- * so every tile it writes holds the bytes one process writes, and the n
- * ranges of a zoom cover its tiles once. The error and the datum are
- * part 0's, which measured as one process does. A range of the chain
- * itself (a window with a halo) would not be the same: the warped
- * grid's voids are filled by the reader's 4-direction fill, which
- * reaches across the whole grid (dem.h).
+ * The work split (QEM-1D, subsample): a part is rg_split.c's band, and
+ * the gather joins the parts' pieces there before the rest (why that is
+ * identical: rg_split.c). -m average: a part runs rg_run itself, the
+ * warp and the means whole, and only leaves out the encoding of the
+ * tiles of other ranges, so every tile it writes holds the bytes one
+ * process writes, and the n ranges of a zoom cover its tiles once; the
+ * error and the datum are part 0's, which measured as one process does.
  *
  * Records are WORK.parts/K, beside the work tree (which becomes OUT,
  * nothing more), text, written under a temporary name and renamed
  * (outfile.h): "tl-rgb-part 1", then "k n minzoom maxzoom segments
- * padx pady", the vertical datum on a line of its own, and per zoom
- * "z tiles bytes samples max rms", the doubles in C99's %a (exact). */
+ * padx pady", the vertical datum on a line of its own, per zoom
+ * "z tiles bytes samples max rms", the doubles in C99's %a (exact), and
+ * for the split work "window x0 x1 of w" (the level-0 columns read). */
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
@@ -42,7 +42,7 @@ int
 rg_plan_parts(const rg_args *a, long long tiles, int *n, tl_err *e)
 {
 	double ll[4], cell;
-	long long pad[2], nt;
+	long long pad[2], nt, nx, ny;
 	dem_mgrid g;
 	int z;
 
@@ -52,15 +52,20 @@ rg_plan_parts(const rg_args *a, long long tiles, int *n, tl_err *e)
 	z = a->maxzoom >= 0 ? a->maxzoom :
 	    rg_maxzoom((ll[1] + ll[3]) / 2, cell, a->dim);
 	rg_grid_of(&g, z, a->dim, ll, 0, pad);
-	nt = (floordiv(g.x0 + g.w - 1, a->dim) - floordiv(g.x0, a->dim) + 1) *
-	    (floordiv(g.y0 + g.h - 1, a->dim) - floordiv(g.y0, a->dim) + 1);
-	nt = tiles > 0 ? (nt + tiles - 1) / tiles : 1;
+	nx = floordiv(g.x0 + g.w - 1, a->dim) - floordiv(g.x0, a->dim) + 1;
+	ny = floordiv(g.y0 + g.h - 1, a->dim) - floordiv(g.y0, a->dim) + 1;
+	if (RG_SPLIT(a)) { /* bands of whole tile columns */
+		long long c = tiles / ny > 0 ? tiles / ny : 1;
+		nt = tiles > 0 ? (nx + c - 1) / c : 1;
+	} else
+		nt = tiles > 0 ? (nx * ny + tiles - 1) / tiles : 1;
 	*n = (int)(nt < 1 ? 1 : nt > RG_MAXPARTS ? RG_MAXPARTS : nt);
 	return 0;
 }
 
 static int
-put_record(const char *work, int k, int n, const rg_report *r, tl_err *e)
+put_record(const char *work, int k, int n, const rg_report *r,
+    const int win[3], tl_err *e)
 {
 	char path[4200];
 	tl_outfile o;
@@ -82,6 +87,8 @@ put_record(const char *work, int k, int n, const rg_report *r, tl_err *e)
 	for (int z = r->minzoom; z <= r->maxzoom; z++)
 		fprintf(f, "%d %lld %lld %lld %a %a\n", z, r->tiles[z],
 		    r->bytes[z], r->n[z], r->max[z], r->rms[z]);
+	if (win != NULL) /* the split work: the columns the part read */
+		fprintf(f, "window %d %d of %d\n", win[0], win[1], win[2]);
 	if (fclose(f) != 0) {
 		tl_out_abort(&o);
 		return tl_failsys(e, "%s", path);
@@ -102,9 +109,15 @@ rg_part(const rg_args *a, const char *work, int k, int n, tl_err *e)
 		return tl_failsys(e, "%s", work);
 	b.work = work, b.part = k, b.nparts = n;
 	b.sink = NULL, b.dump = NULL;
+	if (RG_SPLIT(a)) {
+		int win[3];
+		if (rg_split_part(&b, work, k, n, &r, win, e) < 0)
+			return -1;
+		return put_record(work, k, n, &r, win, e);
+	}
 	if (rg_run(&b, &r, e) < 0)
 		return -1;
-	return put_record(work, k, n, &r, e);
+	return put_record(work, k, n, &r, NULL, e);
 }
 
 /* Record k into r (part 0) or its tiles and bytes added to r's; n:
@@ -270,6 +283,8 @@ rg_gather(const rg_args *a, const char *work, rg_report *r, tl_err *e)
 	if (rg_check_out(a, e) < 0 ||
 	    dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
 		return -1;
+	if (RG_SPLIT(a) && rg_split_gather(a, work, n, r, e) < 0)
+		return -1;
 	j.a = a, j.tree = work;
 	if (a->pmtiles)
 		rv = gather_archive(&j, work, r, ll, e);
@@ -280,6 +295,8 @@ rg_gather(const rg_args *a, const char *work, rg_report *r, tl_err *e)
 	/* the records first: a gather killed before work is gone has the
 	 * plan's sweep run the parts again */
 	snprintf(path, sizeof path, "%s" RECORDS, work);
+	tl_rmtree(path);
+	snprintf(path, sizeof path, "%s.grid", work);
 	tl_rmtree(path);
 	if (a->pmtiles)
 		tl_rmtree(work);

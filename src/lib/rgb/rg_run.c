@@ -63,13 +63,18 @@ emit(void *ctx, int l, int r, const double *h, const double *v, int w,
 	seg *s = ctx;
 	int z = s->zt - l;
 
+	if (!centre && s->j->band != NULL)
+		return l == s->nl - 1 && s->zt - l > s->minz ?
+		    rg_band_next(s->j, r, h, v, e) : 0;
 	if (!centre)
 		return s->next != NULL && l == s->nl - 1 ?
 		    next_row(s, h, v, w, e) : 0;
 	if (s->box != NULL)
 		return rg_box_row(s->box, z, r, h, v, e);
 	if (l >= s->first && z >= s->minz)
-		return rg_zoom_row(s->j, z, r, h, v, e);
+		return s->j->band != NULL ?
+		    rg_band_row(s->j, l, z, r, h, v, e) :
+		    rg_zoom_row(s->j, z, r, h, v, e);
 	return 0;
 }
 
@@ -90,12 +95,13 @@ next_close(seg *s, tl_err *e)
 }
 
 /* Segment k on grid g from the DEM file path (opened with o): its zooms
- * made; the next grid in *ng, or ng->z < 0 after the last. *keep gets the
- * open DEM of segment 0 (the error pass's reference). */
-static int
-segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
-    const dem_opts *o, dem_mgrid *ng, dem **keep, rg_report *rep, tl_err *e)
+ * made; the next grid in *ng, or ng->z < 0 after the last. A plan's
+ * part (j->band): segment 0 on the band's window of the filled grid. */
+int
+rg_segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
+    const dem_opts *o, dem_mgrid *ng, rg_report *rep, tl_err *e)
 {
+	rg_band *b = j->band;
 	int minz = j->a->minzoom, box = j->a->mode == SOLVE_FILTERED;
 	int s1 = box ? 0 : g->z - minz < RG_SEG ? g->z - minz : RG_SEG;
 	int zlo = box ? minz : g->z - s1;
@@ -107,7 +113,8 @@ segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
 	int r = -1;
 
 	ng->z = -1;
-	if ((d = dem_open(path, o, e)) == NULL) {
+	if ((d = b != NULL ? dem_open_filled(path, o, b->filled, e) :
+	    dem_open(path, o, e)) == NULL) {
 		/* the message names the scratch file: name the DEM */
 		char why[sizeof e->msg];
 		const char *m = strstr(e->msg, ".tif: ");
@@ -124,6 +131,9 @@ segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
 	for (int l = s.first; !box && l < s.nl; l++) {
 		dem_mgrid lg = { g->z - l, g->dim, g->x0 >> l, g->y0 >> l,
 		    geo_level_size(g->w, l), geo_level_size(g->h, l) };
+		if (b != NULL) /* the window's columns */
+			lg.x0 = (g->x0 + b->x0) >> l,
+			lg.w = geo_level_size(b->x1 - b->x0, l);
 		if (rg_zoom_open(j, g->z - l, &lg, e) < 0)
 			goto done;
 	}
@@ -134,11 +144,14 @@ segment(rg_job *j, int k, const dem_mgrid *g, const char *path,
 		rg_grid_next(&s.ng, g, s1, s2, s.pad);
 		rep->pad[0] += s.pad[0], rep->pad[1] += s.pad[1];
 		snprintf(p, sizeof p, "%s/seg%d.tif", j->scratch, k + 1);
-		if ((s.nrow = tl_alloc(s.ng.w, sizeof *s.nrow, e)) == NULL ||
-		    (s.next = dem_mwriter_open(p, &s.ng, e)) == NULL)
+		if (b == NULL && ((s.nrow = tl_alloc(s.ng.w, sizeof *s.nrow,
+		    e)) == NULL || (s.next = dem_mwriter_open(p, &s.ng,
+		    e)) == NULL))
 			goto done;
 	}
-	r = rg_chain(d, s.nl, rep->maxzoom - g->z, j->a->mode, emit, &s, e);
+	r = rg_chain(d, b != NULL ? b->x0 : 0, b != NULL ? b->x1 - b->x0 :
+	    dem_georef(d)->width, s.nl, rep->maxzoom - g->z, j->a->mode, emit,
+	    &s, e);
 	if (s.next != NULL && next_close(&s, r < 0 ? &(tl_err){ 0 } : e) < 0)
 		r = -1;
 	if (r == 0 && s.ng.w > 0)
@@ -152,10 +165,7 @@ done:
 		rep->tiles[z] = j->zoom[z].tiles;
 		rep->bytes[z] = j->zoom[z].bytes;
 	}
-	if (r == 0 && k == 0)
-		*keep = d;
-	else
-		dem_close(d);
+	dem_close(d);
 	return r;
 }
 
@@ -208,8 +218,8 @@ rg_check_out(const rg_args *a, tl_err *e)
 
 /* The options the warped DEM is opened with: the source's vertical
  * datum (the warp drops it), heights orthometric unless -H says. */
-static int
-warp_opts(const rg_args *a, dem_opts *o, char *vd, size_t n, tl_err *e)
+int
+rg_warp_opts(const rg_args *a, dem_opts *o, char *vd, size_t n, tl_err *e)
 {
 	dem_opts io = a->dopt;
 	dem *d;
@@ -229,8 +239,8 @@ warp_opts(const rg_args *a, dem_opts *o, char *vd, size_t n, tl_err *e)
 	return 0;
 }
 
-static int
-job_init(rg_job *j, const rg_args *a, tl_err *e)
+int
+rg_job_init(rg_job *j, const rg_args *a, tl_err *e)
 {
 	j->a = a;
 	if ((j->pool = tl_pool_new(a->jobs, e)) == NULL)
@@ -249,8 +259,8 @@ job_init(rg_job *j, const rg_args *a, tl_err *e)
 	return 0;
 }
 
-static void
-job_free(rg_job *j)
+void
+rg_job_free(rg_job *j)
 {
 	for (int z = 0; z <= RG_MAXZOOM; z++)
 		if (j->zoom[z].on)
@@ -273,17 +283,13 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 {
 	const rg_args *a = j->a;
 	char path[4200], vd[256];
-	dem_opts o, so;
+	dem_opts o;
 	dem_mgrid g = *g0, ng;
-	dem *ref = NULL;
-	/* the widest grid: a later segment's is at most w / 32 + 2 wide
-	 * plus under 32 of alignment */
-	int rw = g.w > 64 ? g.w : 64, r;
+	int r;
 
 	snprintf(path, sizeof path, "%s/seg0.tif", j->scratch);
-	if (warp_opts(a, &o, vd, sizeof vd, e) < 0 ||
-	    (j->row = tl_alloc(rw, sizeof *j->row, e)) == NULL ||
-	    (j->code = tl_alloc(rw, sizeof *j->code, e)) == NULL ||
+	if (rg_warp_opts(a, &o, vd, sizeof vd, e) < 0 ||
+	    rg_rows_alloc(j, g.w, e) < 0 ||
 	    dem_warp_mercator(a->dem, a->dopt.has_nodata, a->dopt.nodata,
 	    &g, a->cubic, a->jobs, path, e) < 0)
 		return -1;
@@ -292,20 +298,45 @@ build(rg_job *j, const dem_mgrid *g0, const double ll[4], rg_report *rep,
 	 * rather than held resident through the chain */
 	malloc_trim(0);
 #endif
-	r = segment(j, 0, &g, path, &o, &ng, &ref, rep, e);
+	r = rg_segment(j, 0, &g, path, &o, &ng, rep, e);
 	rep->segments = 1;
+	return rg_finish(j, r, &ng, &o, ll, rep, e);
+}
+
+/* A row of the widest grid: a later segment's is at most w / 32 + 2
+ * wide plus under 32 of alignment. */
+int
+rg_rows_alloc(rg_job *j, int w, tl_err *e)
+{
+	int rw = w > 64 ? w : 64;
+
+	if ((j->row = tl_alloc(rw, sizeof *j->row, e)) == NULL ||
+	    (j->code = tl_alloc(rw, sizeof *j->code, e)) == NULL)
+		return -1;
+	return 0;
+}
+
+/* After segment 0 (r its result, ng the next grid, o the options it
+ * was opened with): the later segments, the error pass, tiles.json. */
+int
+rg_finish(rg_job *j, int r, const dem_mgrid *ng0, const dem_opts *o0,
+    const double ll[4], rg_report *rep, tl_err *e)
+{
+	const rg_args *a = j->a;
+	char path[4200];
+	dem_opts o = *o0, so;
+	dem_mgrid g, ng = *ng0;
+	dem *ref = NULL;
+
 	/* the error's reference: the DEM itself, read as the warp read it,
 	 * its heights converted as the tiles' are */
 	so = o, so.has_nodata = a->dopt.has_nodata, so.nodata = a->dopt.nodata;
-	if (ref != NULL)
-		dem_close(ref);
-	ref = NULL;
 	/* the later segments' heights are converted already */
 	o.heights = NULL, o.vdatum = rep->vdatum[0] ? rep->vdatum : NULL;
 	for (int k = 1; r == 0 && ng.z >= 0; k++) {
 		g = ng;
 		snprintf(path, sizeof path, "%s/seg%d.tif", j->scratch, k);
-		r = segment(j, k, &g, path, &o, &ng, &ref, rep, e);
+		r = rg_segment(j, k, &g, path, &o, &ng, rep, e);
 		rep->segments++;
 	}
 	/* a plan's job: part 0 alone measures, the gather writes
@@ -365,18 +396,13 @@ archive(rg_job *j, const dem_mgrid *g, const double ll[4], rg_report *rep,
 }
 
 int
-rg_run(const rg_args *a, rg_report *rep, tl_err *e)
+rg_grid0(const rg_args *a, rg_report *rep, double ll[4], dem_mgrid *g,
+    tl_err *e)
 {
-	rg_job j = { 0 };
-	tl_outfile od = { 0 };
-	rg_scratch sc;
-	double ll[4], cell;
-	dem_mgrid g;
-	int r = -1, s;
+	double cell;
+	int s;
 
-	memset(rep, 0, sizeof *rep);
-	if ((a->work == NULL && rg_check_out(a, e) < 0) ||
-	    dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
+	if (dem_extent_wgs84(a->dem, ll, &cell, e) < 0)
 		return -1;
 	rep->maxzoom = a->maxzoom >= 0 ? a->maxzoom :
 	    rg_maxzoom((ll[1] + ll[3]) / 2, cell, a->dim);
@@ -386,7 +412,24 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 		    rep->maxzoom);
 	s = rep->maxzoom - rep->minzoom < RG_SEG ?
 	    rep->maxzoom - rep->minzoom : RG_SEG;
-	rg_grid_of(&g, rep->maxzoom, a->dim, ll, s, rep->pad);
+	rg_grid_of(g, rep->maxzoom, a->dim, ll, s, rep->pad);
+	return 0;
+}
+
+int
+rg_run(const rg_args *a, rg_report *rep, tl_err *e)
+{
+	rg_job j = { 0 };
+	tl_outfile od = { 0 };
+	rg_scratch sc;
+	double ll[4];
+	dem_mgrid g;
+	int r = -1;
+
+	memset(rep, 0, sizeof *rep);
+	if ((a->work == NULL && rg_check_out(a, e) < 0) ||
+	    rg_grid0(a, rep, ll, &g, e) < 0)
+		return -1;
 	if (a->dump != NULL && mkdir(a->dump, 0777) < 0 && errno != EEXIST)
 		return tl_failsys(e, "%s", a->dump);
 	if (rg_scratch_begin(&sc, e) < 0)
@@ -394,12 +437,12 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 	j.scratch = sc.sc.path;
 	if (a->work != NULL) { /* a plan's job, into the shared work tree */
 		j.tree = a->work;
-		if (job_init(&j, a, e) == 0)
+		if (rg_job_init(&j, a, e) == 0)
 			r = build(&j, &g, ll, rep, e);
 	} else if (a->pmtiles) {
-		if (job_init(&j, a, e) == 0)
+		if (rg_job_init(&j, a, e) == 0)
 			r = archive(&j, &g, ll, rep, e);
-	} else if (job_init(&j, a, e) == 0 &&
+	} else if (rg_job_init(&j, a, e) == 0 &&
 	    tl_outdir_begin(&od, a->out, e) == 0) {
 		j.tree = od.tmp;
 		r = build(&j, &g, ll, rep, e);
@@ -408,7 +451,7 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 		if (r < 0)
 			tl_outdir_abort(&od);
 	}
-	job_free(&j);
+	rg_job_free(&j);
 	rg_scratch_end(&sc);
 	return r;
 }

@@ -3,7 +3,8 @@
  * rows of the tile columns covering the zoom's grid is complete, its
  * tiles cut from that file and encoded on the pool's threads (a row of
  * dim codes held a thread, never the band), written in order; the
- * intended heights dumped for the tests (rg_impl.h). */
+ * intended heights dumped for the tests (rg_impl.h); a plan's part's
+ * rows (rg_split.c): its columns into its tiles and its pieces. */
 #include <assert.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -125,7 +126,7 @@ encode_tiles(void *arg, int k, int t0, int t1)
 		uint32_t any = 0, *line = j->line[k];
 
 		j->img[t] = NULL;
-		if (j->tfail[k] || !rg_part_owns(j->a, zz, t))
+		if (j->tfail[k] || !rg_part_owns(j, zz, t))
 			continue;
 		for (int r = 0; r < dim; r++) {
 			if (tile_row(j, zz, t, r, line, &j->terr[k]) < 0) {
@@ -207,6 +208,25 @@ flush(rg_job *j, int z, tl_err *e)
 	return r;
 }
 
+int
+rg_zoom_cut(rg_job *j, int z, tl_err *e)
+{
+	rg_zoom *zz = &j->zoom[z];
+	const dem_mgrid *g = &zz->g;
+	int dim = j->a->dim, r = 0;
+
+	for (long long ty = floordiv(g->y0, dim); r == 0 &&
+	    ty <= floordiv(g->y0 + g->h - 1, dim); ty++) {
+		long long y0 = ty * dim > g->y0 ? ty * dim : g->y0;
+		long long y1 = (ty + 1) * dim < g->y0 + g->h ? (ty + 1) * dim :
+		    g->y0 + g->h;
+		zz->ty = ty;
+		zz->rlo = (int)(y0 - ty * dim), zz->rhi = (int)(y1 - ty * dim);
+		r = flush(j, z, e);
+	}
+	return r;
+}
+
 static int
 range_fail(const rg_job *j, int z, int r, int i, double h, tl_err *e)
 {
@@ -255,4 +275,41 @@ rg_zoom_row(rg_job *j, int z, int r, const double *h, const double *v,
 	if (zz->rhi < dim && r < g->h - 1)
 		return 0;
 	return flush(j, z, e);
+}
+
+int
+rg_band_row(rg_job *j, int l, int z, int r, const double *h,
+    const double *v, tl_err *e)
+{
+	rg_band *b = j->band;
+	int o = b->x0 >> l, lo = b->lo[l] - o, hi = b->hi[l] - o;
+	int w = j->zoom[z].g.w;
+
+	/* only the owned columns encoded: the others may be wrong (the
+	 * window's edges), and no owned tile reads them */
+	for (int i = 0; i < w; i++) {
+		int in = i >= lo && i < hi;
+		b->h[i] = in ? h[i] : 0, b->v[i] = in ? v[i] : 0;
+	}
+	if (rg_zoom_row(j, z, r, b->h, b->v, e) < 0)
+		return -1;
+	/* j->code: the row's codes, as rg_zoom_row left them */
+	return tl_pwrite(b->fd[l], j->code + lo, (size_t)(hi - lo) *
+	    sizeof *j->code, (long long)r * (hi - lo) *
+	    (long long)sizeof *j->code, "piece", e);
+}
+
+int
+rg_band_next(rg_job *j, int r, const double *h, const double *v,
+    tl_err *e)
+{
+	rg_band *b = j->band;
+	int t = b->nl - 1, o = b->x0 >> t, n = b->hi[t] - b->lo[t];
+
+	for (int i = 0; i < n; i++) {
+		int c = b->lo[t] - o + i;
+		b->f[i] = v[c] > 0 ? (float)h[c] : NAN;
+	}
+	return tl_pwrite(b->nfd, b->f, (size_t)n * sizeof *b->f,
+	    (long long)r * n * (long long)sizeof *b->f, "piece", e);
 }

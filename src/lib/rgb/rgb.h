@@ -74,19 +74,30 @@ typedef struct {
 
 int rg_run(const rg_args *a, rg_report *r, tl_err *e);
 
-/* --- a plan's jobs (rg_plan.c; dem2rgb(1), PLANS) -------------------
- * Part k of n: each zoom's tiles (those of the tile columns and rows
- * covering its grid, row by row) cut into n ranges as even as integers
- * allow; part k writes those of range k (and only those) into the tree
- * work, exactly as one process writes them, running the warp and the
- * chain whole (every value computed as in one process), and records
- * its counts (part 0: also the error) in WORK.parts/K. The gather joins
- * the n records into one process's report, writes tiles.json into work
- * and installs work as a->out (or, a->pmtiles, writes the archive from
- * work's tiles and removes work): byte for byte rg_run's output. */
+/* --- a plan's jobs (rg_plan.c, rg_split.c; dem2rgb(1), PLANS) -------
+ * The work split (QEM-1D, -m subsample): the warp job (rg_warp) puts the
+ * DEM on the deepest zoom's grid once and fills its voids, into
+ * WORK.grid/. Part k of n owns range k of the deepest zoom's tile
+ * columns (n ranges as even as integers allow) and, at each zoom of the
+ * chain's first segment (maxzoom .. maxzoom - 5), the tile columns whose
+ * first pixel on the grid lies in that range: it runs that segment on a
+ * window of the grid's columns (its own and a halo), writes its tiles
+ * into the tree work exactly as one process writes them, and leaves its
+ * columns of the zooms' codes and of the next segment's grid in
+ * WORK.grid/K/. The gather joins them, runs the later segments (a grid
+ * 32 times narrower) and the error pass as one process does.
+ * -m average: each part runs the warp and the means whole and writes
+ * range k of each zoom's tiles (row by row); part 0 measures the error.
+ * Either way each part records its counts in WORK.parts/K; the gather
+ * joins the n records into one process's report, writes tiles.json into
+ * work and installs work as a->out (or, a->pmtiles, writes the archive
+ * from work's tiles and removes work): byte for byte rg_run's output. */
 #define RG_MAXPARTS 100000
-/* The parts for about `tiles` tiles of the deepest zoom each; a->out
- * checked as rg_run checks it. */
+#define RG_SPLIT(a) ((a)->mode != SOLVE_FILTERED) /* the work split */
+int rg_warp(const rg_args *a, const char *work, tl_err *e);
+/* The parts for about `tiles` tiles of the deepest zoom each (the work
+ * split: whole columns of them, at least one); a->out checked as rg_run
+ * checks it. */
 int rg_plan_parts(const rg_args *a, long long tiles, int *n, tl_err *e);
 int rg_part(const rg_args *a, const char *work, int k, int n, tl_err *e);
 int rg_gather(const rg_args *a, const char *work, rg_report *r,
