@@ -235,20 +235,33 @@ const pyramid_block *
 tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
     const double **lat, tl_err *e)
 {
-	int s = (bi * 7 + bj * 13 + l * 31) & (TR_CACHE - 1);
-	pyramid_block *b = &w->cache[s];
+	int s = 0;
+	pyramid_block *b;
 	double *x, *y;
 
+	/* the block held, else the slot used least recently (a strip's
+	 * blocks stay while the next strip, going the other way, comes
+	 * back past them: tr_tile_at) */
+	for (int k = 0; k < w->ncache; k++) {
+		if (w->cused[k] == 1 && w->ckey[k][0] == l &&
+		    w->ckey[k][1] == bi && w->ckey[k][2] == bj) {
+			w->cstamp[k] = ++w->clock;
+			*lon = w->clon[k], *lat = w->clat[k];
+			return &w->cache[k];
+		}
+		if (w->cstamp[k] < w->cstamp[s])
+			s = k;
+	}
+	b = &w->cache[s];
+	w->cstamp[s] = ++w->clock;
 	*lon = w->clon[s], *lat = w->clat[s];
-	if (w->cused[s] == 1 && w->ckey[s][0] == l && w->ckey[s][1] == bi &&
-	    w->ckey[s][2] == bj)
-		return b;
 	if (w->cused[s] == 0) {
 		if (pyramid_block_alloc(b, 0, e) < 0)
 			return NULL;
 		w->cused[s] = 2; /* allocated, holding nothing */
-		w->clon[s] = malloc(PYRAMID_N * sizeof *w->clon[s]);
-		w->clat[s] = malloc(PYRAMID_N * sizeof *w->clat[s]);
+		size_t nv = w->g->projected ? PYRAMID_N : BT_SIZE;
+		w->clon[s] = malloc(nv * sizeof *w->clon[s]);
+		w->clat[s] = malloc(nv * sizeof *w->clat[s]);
 		if (!w->clon[s] || !w->clat[s])
 			return tl_fail(e, "block cache: out of memory"), NULL;
 	}
@@ -260,7 +273,7 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 	if (pyramid_block_load(w->dir, w->ix, b, e) < 0)
 		return NULL;
 	x = w->clon[s], y = w->clat[s];
-	/* geographic: a column's longitude, a row's latitude, once */
+	/* geographic: a column's longitude, a row's latitude */
 	int n = w->g->projected ? PYRAMID_N : BT_SIZE;
 	for (int k = 0; k < n; k++) {
 		x[k] = (double)(bi * BT_CELLS + k % BT_SIZE) * (1 << l);
@@ -269,10 +282,6 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 	}
 	if (tr_lonlat(w->g, &w->proj, &w->ix->geo, x, y, n, e) < 0)
 		return NULL;
-	for (int k = PYRAMID_N - 1; n == BT_SIZE && k >= BT_SIZE; k--)
-		x[k] = x[k % BT_SIZE], y[k] = y[k / BT_SIZE];
-	for (int k = BT_SIZE - 1; n == BT_SIZE && k > 0; k--)
-		y[k] = y[0];
 	w->cused[s] = 1;
 	w->ckey[s][0] = l, w->ckey[s][1] = bi, w->ckey[s][2] = bj;
 	*lon = x, *lat = y;

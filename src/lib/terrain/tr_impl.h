@@ -12,7 +12,9 @@
 #include "terrain/terrain.h"
 
 #define QM_MAX 32767 /* u, v, height quantised to 0 .. QM_MAX */
-#define TR_CACHE 16  /* blocks a thread holds (a power of 2) */
+#define TR_CACHE 64  /* blocks a thread holds: geographic DEMs */
+#define TR_CACHE_PROJ 16 /* projected DEMs (a longitude, latitude each
+                          * vertex: 3 times the bytes a block) */
 #define TR_RMIN 6335439.0 /* m: WGS 84's least radius of curvature */
 
 /* --- the encoder's pieces (qm_encode.c), exposed for the unit test --- */
@@ -85,6 +87,8 @@ typedef struct {
 	pyramid_block cache[TR_CACHE];
 	double *clon[TR_CACHE], *clat[TR_CACHE]; /* per block vertex */
 	int ckey[TR_CACHE][3], cused[TR_CACHE];
+	unsigned long cstamp[TR_CACHE], clock; /* least recently used goes */
+	int ncache;             /* slots in use: TR_CACHE or TR_CACHE_PROJ */
 	tr_tri *sel;            /* the selection over the tile */
 	int nsel, csel;
 	int *row;               /* those meeting a row of cells (csel) */
@@ -113,9 +117,23 @@ typedef struct {
 } tr_choice;
 
 /* Block (bi, bj) of pyramid level l through the thread's cache, with
- * its vertices' longitudes and latitudes (*lon, *lat: 129 x 129). */
+ * its vertices' longitudes and latitudes (*lon, *lat: 129 x 129 for a
+ * projected DEM; a geographic one's: 129 each, per column and per row;
+ * tr_vlon, tr_vlat read either). */
 const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj,
     const double **lon, const double **lat, tl_err *e);
+
+static inline double
+tr_vlon(const tr_grid *g, const double *lon, int r, int c)
+{
+	return g->projected ? lon[r * BT_SIZE + c] : lon[c];
+}
+
+static inline double
+tr_vlat(const tr_grid *g, const double *lat, int r, int c)
+{
+	return g->projected ? lat[r * BT_SIZE + c] : lat[r];
+}
 
 /* The lon/lat rectangle of tile (z, x, y): west, south, east, north;
  * lattice line k of the tile (0 .. n) along x and y, exact for all
@@ -125,9 +143,9 @@ double tr_lattice_lon(int z, int x, int n, int k);
 double tr_lattice_lat(int z, int y, int n, int k);
 /* Tile i (0 .. nx ny - 1) of a level's nx x ny in the order the threads
  * take them: strips of tile columns about one level-0 block wide, each
- * row by row, so that consecutive tiles read the blocks the thread's
- * cache holds (row-major order reread every block once per row of
- * tiles). Every order writes the same files. */
+ * row by row, every second one bottom up, so that consecutive tiles read
+ * the blocks the thread's cache holds (row-major order reread every
+ * block once per row of tiles). Every order writes the same files. */
 void tr_tile_at(const tr_grid *g, int z, int nx, int ny, int i, int *x,
     int *y);
 

@@ -436,36 +436,46 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
 {
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
-	int hint = -1;
+	int hint = -1, col[BT_SIZE], ncol = 0, nI = BT_SIZE;
 	double d0 = d[0], d1 = d[1];
 
+	if (g->w0 - bi * BT_CELLS < nI)
+		nI = g->w0 - bi * BT_CELLS;
 	/* a geographic grid: latitude per row, longitude per column, so the
 	 * normals' sines and cosines per row and column (as geo_ellipsoid
-	 * computes them) */
+	 * computes them), and the columns in the tile listed once, the rows
+	 * out of it skipped whole: the same samples in the same order as
+	 * the test of each */
 	for (int k = 0; !g->projected && k < BT_SIZE; k++) {
-		double a = lat[k * BT_SIZE] * (M_PI / 180), o = lon[k] *
+		double a = lat[k] * (M_PI / 180), o = lon[k] *
 		    (M_PI / 180);
 		sl[k] = sin(a), cl[k] = cos(a), so[k] = sin(o), co[k] = cos(o);
 		nn[k] = 6378137.0 / sqrt(1 - e2 * sl[k] * sl[k]);
+		if (k < nI && !(lon[k] < t[0] || lon[k] > t[2]))
+			col[ncol++] = k;
 	}
+	for (int I = 0; g->projected && I < nI; I++)
+		col[ncol++] = I;
 	for (int J = 0; J < BT_SIZE; J++) {
 		if (bj * BT_CELLS + J >= g->h0)
 			break;
-		for (int I = 0; I < BT_SIZE && bi * BT_CELLS + I < g->w0;
-		    I++) {
-			int k = J * BT_SIZE + I;
-			double f[3], up[3];
-			if (lon[k] < t[0] || lon[k] > t[2] || lat[k] < t[1] ||
-			    lat[k] > t[3])
+		if (!g->projected && (lat[J] < t[1] || lat[J] > t[3]))
+			continue;
+		for (int ci = 0; ci < ncol; ci++) {
+			int I = col[ci], k = J * BT_SIZE + I;
+			double f[3], up[3], x = tr_vlon(g, lon, J, I);
+			double y = tr_vlat(g, lat, J, I);
+			if (g->projected && (x < t[0] || x > t[2] || y < t[1] ||
+			    y > t[3]))
 				continue;
-			int q = hint = locate(l, (lon[k] - r[0]) / wd * QM_MAX,
-			    (lat[k] - r[1]) / wd * QM_MAX, hint);
+			int q = hint = locate(l, (x - r[0]) / wd * QM_MAX,
+			    (y - r[1]) / wd * QM_MAX, hint);
 			if (q < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
 			const double *n = l->plane + 4 * q;
 			if (g->projected)
-				geo_ellipsoid(lon[k], lat[k], f, up);
+				geo_ellipsoid(x, y, f, up);
 			else {
 				f[0] = nn[J] * cl[J] * co[I];
 				f[1] = nn[J] * cl[J] * so[I];
@@ -477,7 +487,7 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
 			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
 			/* past a projected DEM's footprint, the sample itself */
 			d0 = dmax(d0, fabs(hs - (rim && rim[q] ?
-			    b->z[k] : flat(l, q, lon[k], lat[k]))));
+			    b->z[k] : flat(l, q, x, y))));
 			d1 = dmax(d1, fabs(hs - b->z[k]));
 		}
 	}

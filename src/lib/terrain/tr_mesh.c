@@ -51,7 +51,9 @@ tr_tile_at(const tr_grid *g, int z, int nx, int ny, int i, int *x, int *y)
 	int sw = s < 1 ? 1 : s > nx ? nx : (int)s, k = i / (sw * ny);
 	int r = i % (sw * ny), n = nx - k * sw < sw ? nx - k * sw : sw;
 
-	*x = k * sw + r % n, *y = r / n;
+	/* odd strips bottom up: the blocks of the rows a strip ended on
+	 * are still cached when the next begins */
+	*x = k * sw + r % n, *y = k % 2 ? ny - 1 - r / n : r / n;
 }
 
 /* --- the selection over the tile ----------------------------------- */
@@ -94,8 +96,8 @@ split(void *ctx, int gi, int gj)
 	 * drops it and all it holds alike, and those that meet the tile
 	 * are cut as before, in the same order */
 	if (s->dx > 0) {
-		double h = sqrt(hyp2(c, r) / 8) + 1, x = s->lon[r * BT_SIZE + c];
-		double y = s->lat[r * BT_SIZE + c], ex = h * s->dx + 1e-9;
+		double h = sqrt(hyp2(c, r) / 8) + 1, x = s->lon[c];
+		double y = s->lat[r], ex = h * s->dx + 1e-9;
 		double ey = h * s->dy + 1e-9;
 		if (x + ex < s->r[0] || x - ex > s->r[2] || y + ey < s->r[1] ||
 		    y - ey > s->r[3])
@@ -121,7 +123,7 @@ emit(void *ctx, const int t[3][2])
 	for (int k = 0; k < 3; k++) {
 		int c = t[k][0] - s->b->bi * BT_CELLS;
 		int r = t[k][1] - s->b->bj * BT_CELLS;
-		q.x[k] = s->lon[r * BT_SIZE + c], q.y[k] = s->lat[r * BT_SIZE + c];
+		q.x[k] = s->lon[c], q.y[k] = s->lat[r]; /* geographic */
 		q.h[k] = s->b->z[r * BT_SIZE + c];
 		lo[0] = fmin(lo[0], q.x[k]), hi[0] = fmax(hi[0], q.x[k]);
 		lo[1] = fmin(lo[1], q.y[k]), hi[1] = fmax(hi[1], q.y[k]);

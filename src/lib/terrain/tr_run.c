@@ -177,6 +177,7 @@ workers(tr_export *x, tl_err *e)
 	for (; x->failed && ready < x->nt; ready++) {
 		x->w[ready].ix = &x->ix, x->w[ready].dir = x->a->dir;
 		x->w[ready].g = &x->g;
+		x->w[ready].ncache = x->g.projected ? TR_CACHE_PROJ : TR_CACHE;
 		if (x->g.projected && geo_proj_open(&x->w[ready].proj,
 		    &x->ix.geo, e) < 0)
 			break;
