@@ -6,6 +6,7 @@
 #include <malloc.h>
 #include <pthread.h>
 #include <stdlib.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include "jobs/inproc.h"
@@ -19,11 +20,21 @@ typedef struct {
 	int n;
 } job;
 
+/* The thread named after the program whose work it does (the threads it
+ * starts inherit the name): per-stage CPU in top -H, ps -L and
+ * scripts/peakrss, as the processes' route has it per process. */
+static void
+named(const char *prog)
+{
+	prctl(PR_SET_NAME, prog, 0, 0, 0);
+}
+
 static int
 level0(void *arg, tl_err *e)
 {
 	job *j = arg;
 
+	named("dem2fqm");
 	return j->w->level0(j->w->ctx, j->path, e);
 }
 
@@ -32,6 +43,7 @@ filter(void *arg, tl_err *e)
 {
 	job *j = arg;
 
+	named("fqmfilter");
 	return j->w->filter(j->w->ctx, e);
 }
 
@@ -40,6 +52,7 @@ solve(void *arg, tl_err *e)
 {
 	job *j = arg;
 
+	named("fqmsolve");
 	return j->w->solve(j->w->ctx, "-", e);
 }
 
@@ -48,6 +61,7 @@ pack(void *arg, tl_err *e)
 {
 	job *j = arg;
 
+	named("tilepack");
 	return j->w->pack(j->w->ctx, j->path, j->out, j->vmaps, j->n, e);
 }
 
