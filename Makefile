@@ -198,7 +198,13 @@ $(NODE_DEPS): tests/js/package.json tests/js/package-lock.json
 
 tests: all $(TESTBIN) $(TOOLBIN) $(FUZZREPLAY) $(NODE_DEPS)
 
-check: tests
+# The builds of check, check-tsan, check-asan and fuzz on every CPU when
+# make itself was given no -j (CI runs them one after the other, each
+# build otherwise on one CPU of the machine's).
+NPROC := $(shell nproc 2>/dev/null || echo 2)
+PAR = $(if $(filter -j% --jobserver%,$(MAKEFLAGS)),,-j$(NPROC))
+check:
+	@$(MAKE) --no-print-directory $(PAR) tests
 	@sh tests/run
 
 example: all $(TOOLBIN)
@@ -228,7 +234,7 @@ clean:
 # dem2vgis and the stages it runs (tests/tsan), not every program
 TSAN_PROGS = dem2vgis dem2fqm fqmfilter fqmsolve tilepack vgis-job
 check-tsan:
-	$(MAKE) B=build-tsan CFLAGS='-O1 -g -fsanitize=thread' \
+	$(MAKE) $(PAR) B=build-tsan CFLAGS='-O1 -g -fsanitize=thread' \
 	    CXXFLAGS='-O1 -g -fsanitize=thread' LDFLAGS=-fsanitize=thread \
 	    $(TSAN_PROGS:%=build-tsan/%)
 	sh tests/tsan build-tsan
@@ -240,7 +246,7 @@ FZ_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
 # the programs leaves out; the dynamic types checked would be GDAL's.
 FZ_CXXFLAGS = $(FZ_FLAGS) -fno-sanitize=vptr
 fuzz:
-	$(MAKE) B=build-fuzz CC=clang CXX=clang++ \
+	$(MAKE) $(PAR) B=build-fuzz CC=clang CXX=clang++ \
 	    CFLAGS='$(FZ_FLAGS) -fsanitize=fuzzer-no-link' \
 	    CXXFLAGS='$(FZ_CXXFLAGS) -fsanitize=fuzzer-no-link' \
 	    LDFLAGS='-fsanitize=address,undefined' fuzz-targets
@@ -260,7 +266,7 @@ $(B)/fuzz/fz_%: tests/fuzz/fz_%.c tests/fuzz/fuzz.c tests/fuzz/fuzz.h \
 ASAN_FLAGS = -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined \
              -fno-sanitize-recover=undefined
 check-asan:
-	$(MAKE) B=build-asan CFLAGS='$(ASAN_FLAGS)' CXXFLAGS='$(ASAN_FLAGS)' \
+	$(MAKE) $(PAR) B=build-asan CFLAGS='$(ASAN_FLAGS)' CXXFLAGS='$(ASAN_FLAGS)' \
 	    LDFLAGS='-fsanitize=address,undefined' tests
 	ASAN_OPTIONS=abort_on_error=0:exitcode=66:suppressions=$(CURDIR)/tests/asan.supp \
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \

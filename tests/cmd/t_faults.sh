@@ -7,6 +7,13 @@
 . "$(dirname "$0")/../lib.sh"
 
 dem=$DATA/N44W072.hgt
+# under the sanitizers a 601x601 crop: its outputs are still megabytes,
+# far beyond the 256 KiB disk below, the faults' code paths the same
+if [ -n "${TL_QUICK:-}" ]; then
+	gdal_translate -q -srcwin 300 300 601 601 "$dem" "$T/crop.tif" ||
+	    { ok 1 "a crop"; done_testing; exit 1; }
+	dem=$T/crop.tif
+fi
 /usr/bin/python3 "$TOP/tests/tools/mkbad.py" "$T" >/dev/null 2>&1 || { ok 1 "fixtures"; done_testing; exit 1; }
 small=$T/hills.tif
 dem2fqm "$small" "$T/l0.exr" && fqmsolve "$T/l0.exr" - >"$T/v0.fqm" || ok 1 "fixture maps"
@@ -18,7 +25,7 @@ while [ $l -lt "$levels" ]; do
 	fqmfilter "$f" "$T/l$((l + 1)).exr" 2>/dev/null; f=$T/l$((l + 1)).exr; l=$((l + 1))
 done
 
-dem2fqm "$dem" "$T/big0.exr"	# 1201 x 1201: outputs far beyond 256 KiB
+dem2fqm "$dem" "$T/big0.exr"	# outputs far beyond 256 KiB
 empty() { [ -z "$(ls -A "$1")" ]; }
 
 # --- disk full, TMPDIR full, read-only: tmpfs mounts need root -----------
@@ -92,7 +99,6 @@ pipe ends "tilecheck" tilecheck --dem "$small" "$T/pp"
 # --- SIGKILL of tilepack at ten moments, over an old pyramid -------------
 dem2vgis -q "$dem" "$T/old"
 dem2vgis -q -3 "$dem" "$T/new"	# what the runs below build
-full=$( { /usr/bin/time -f %e dem2vgis -q -3 "$dem" "$T/timing"; } 2>&1 | tail -1)
 dem2fqm "$dem" - | fqmfilter - - >/dev/null	# warm
 for k in 1 2 3 4 5 6 7 8 9 10; do
 	rm -rf "$T/p"; cp -r "$T/old" "$T/p"

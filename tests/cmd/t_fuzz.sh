@@ -10,6 +10,9 @@ if ! sh "$TOP/tests/fuzz/seeds" "$B" "$T/seeds" >"$T/seeds.log" 2>&1; then
 	ok 1 "seeds made from ../shared/data"
 	done_testing; exit 1
 fi
+# the targets' scratch (fuzz.c: $TMPDIR/tlfuzz.*, kept for the process's
+# life, as libFuzzer needs) in $T, not left in /tmp
+mkdir "$T/tmp" && TMPDIR=$T/tmp && export TMPDIR
 for f in "$TOP"/tests/fuzz/fz_*.c; do
 	t=$(basename "$f" .c); t=${t#fz_}
 	set -- "$T/seeds/$t"/* "$TOP/tests/fuzz/regress/$t"/*

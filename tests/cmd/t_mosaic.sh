@@ -16,6 +16,18 @@ export GDAL_PAM_ENABLED
 DEM=$DATA/N44W072.tif HGT=$DATA/N44W072.hgt
 D=$T/t	# the tiles, their list and VRT
 mkdir -p "$D"
+# side: a tile's (the uncut DEM is 2 side - 1 square); last: a tile's
+# last sample; mid: its middle one. Under TL_QUICK (the sanitizers) the
+# uncut DEM is a 601x601 crop of N44W072.tif, its tiles 301 square: the
+# same code, a quarter of the samples.
+side=601
+if [ -n "${TL_QUICK:-}" ]; then
+	side=301
+	gdal_translate -q -srcwin 0 0 601 601 "$DEM" "$T/uncut.tif" ||
+	    { ok 1 "a crop"; done_testing; exit 1; }
+	DEM=$T/uncut.tif
+fi
+N=$((2 * side - 1)) last=$((side - 1)) mid=$((side / 2))
 
 # same_blocks A B: the same block files (*/*.exr), each byte-identical
 same_blocks() {
@@ -34,16 +46,16 @@ mklist() {
 }
 
 # --- the tiles ------------------------------------------------------------
-# a b / c d, 601 x 601 each, a's last column b's first, a's last row c's
-for t in "a 0 0" "b 600 0" "c 0 600" "d 600 600"; do
+# a b / c d, side x side each, a's last column b's first, a's last row c's
+for t in "a 0 0" "b $last 0" "c 0 $last" "d $last $last"; do
 	set -- $t
-	gdal_translate -q -srcwin "$2" "$3" 601 601 "$DEM" "$D/$1.tif" || break
+	gdal_translate -q -srcwin "$2" "$3" $side $side "$DEM" "$D/$1.tif" || break
 done
-[ "$(gdallocationinfo -valonly "$D/a.tif" 600 300)" = "$(gdallocationinfo -valonly "$D/b.tif" 0 300)" ] &&
-    [ "$(gdallocationinfo -valonly "$D/a.tif" 300 600)" = "$(gdallocationinfo -valonly "$D/c.tif" 300 0)" ] &&
-    gdalinfo "$D/d.tif" | grep -q '^Size is 601, 601' &&
+[ "$(gdallocationinfo -valonly "$D/a.tif" $last $mid)" = "$(gdallocationinfo -valonly "$D/b.tif" 0 $mid)" ] &&
+    [ "$(gdallocationinfo -valonly "$D/a.tif" $mid $last)" = "$(gdallocationinfo -valonly "$D/c.tif" $mid 0)" ] &&
+    gdalinfo "$D/d.tif" | grep -q "^Size is $side, $side" &&
     gdalinfo "$D/a.tif" | grep -q 'AREA_OR_POINT=Point'
-ok $? "4 tiles of 601 x 601, edges shared, pixel-is-point (gdallocationinfo, gdalinfo)" ||
+ok $? "4 tiles of $side x $side, edges shared, pixel-is-point (gdallocationinfo, gdalinfo)" ||
     { done_testing; exit 1; }
 mklist tiles.txt a.tif b.tif c.tif d.tif
 (cd "$D" && gdalbuildvrt -q m.vrt a.tif b.tif c.tif d.tif) &&
@@ -54,7 +66,7 @@ ok $? "gdalbuildvrt's VRT of the tiles (which drops AREA_OR_POINT)"
 # from another directory: the list's entries are relative to the list
 dem2fqm -I "$DEM" >"$T/u.I"
 (cd "$T" && dem2fqm -I t/tiles.txt) >"$T/l.I" 2>"$T/l.err"
-diff "$T/u.I" "$T/l.I" >"$T/l.diff" && grep -q '^size 1201 1201$' "$T/l.I"
+diff "$T/u.I" "$T/l.I" >"$T/l.diff" && grep -q "^size $N $N\$" "$T/l.I"
 ok $? "dem2fqm -I of the list: the uncut DEM's size, georeferencing, levels ($(head -c 200 "$T/l.diff" "$T/l.err" | tr '\n' ' '))"
 printf '  a.tif \r\n\t# b.tif\r\nb.tif\r\n\r\nc.tif\r\n\td.tif\n' >"$D/crlf.txt" &&
     dem2fqm -I "$D/crlf.txt" >"$T/crlf.I" && diff "$T/u.I" "$T/crlf.I" >/dev/null
@@ -89,11 +101,11 @@ ok $? "QEM-3D: the list's pyramid byte-identical to the uncut DEM's"
 
 # --- refusals: exit 1, the file named ---------------------------------------
 # other pixel size; other CRS; origin 0.3 pixel east; one shared sample
-gdal_translate -q -outsize 300 300 "$D/b.tif" "$D/b_res.tif"
+gdal_translate -q -outsize $mid $mid "$D/b.tif" "$D/b_res.tif"
 gdal_translate -q -a_srs EPSG:4269 "$D/b.tif" "$D/b_crs.tif"
 set -- $(origin "$D/b.tif") $(px "$D/b.tif")
 gdal_translate -q -a_ullr $(awk -v x="$1" -v y="$2" -v dx="$3" -v dy="$4" \
-    'BEGIN { x += 0.3 * dx; printf "%.15f %.15f %.15f %.15f", x, y, x + 601 * dx, y + 601 * dy }') \
+    -v k=$side 'BEGIN { x += 0.3 * dx; printf "%.15f %.15f %.15f %.15f", x, y, x + k * dx, y + k * dy }') \
     "$D/b.tif" "$D/b_off.tif"
 gdal_translate -q -ot Float32 "$D/b.tif" "$D/b_f32.tif"
 gdal_translate -q -a_nodata -9999 "$D/b.tif" "$D/b_nd.tif"
@@ -101,15 +113,16 @@ cp "$D/b.tif" "$D/b_edge.tif" && $PY -c 'import sys
 from osgeo import gdal
 ds = gdal.Open(sys.argv[1], gdal.GA_Update)
 b = ds.GetRasterBand(1)
-a = b.ReadAsArray(0, 300, 1, 1)
+r = int(sys.argv[2])
+a = b.ReadAsArray(0, r, 1, 1)
 a[0, 0] += 1
-b.WriteArray(a, 0, 300)' "$D/b_edge.tif"
-[ "$(gdallocationinfo -valonly "$D/b_edge.tif" 0 300)" -eq $(( $(gdallocationinfo -valonly "$D/a.tif" 600 300) + 1 )) ] &&
-    gdalinfo "$D/b_res.tif" | grep -q 'Size is 300, 300' &&
+b.WriteArray(a, 0, r)' "$D/b_edge.tif" $mid
+[ "$(gdallocationinfo -valonly "$D/b_edge.tif" 0 $mid)" -eq $(( $(gdallocationinfo -valonly "$D/a.tif" $last $mid) + 1 )) ] &&
+    gdalinfo "$D/b_res.tif" | grep -q "Size is $mid, $mid" &&
     gdalsrsinfo -o epsg "$D/b_crs.tif" | grep -q 4269 &&
     [ "$(origin "$D/b_off.tif" | cut -d' ' -f2)" = "$(origin "$D/b.tif" | cut -d' ' -f2)" ] &&
     [ "$(origin "$D/b_off.tif")" != "$(origin "$D/b.tif")" ]
-ok $? "misfits of b.tif: 300x300, EPSG:4269, origin moved east, one edge sample +1 (GDAL)"
+ok $? "misfits of b.tif: ${mid}x$mid, EPSG:4269, origin moved east, one edge sample +1 (GDAL)"
 for m in "res pixel size" "crs CRS" "off origin off" "f32 Float32 samples" \
     "nd nodata -9999"; do
 	k=${m%% *} why=${m#* }
@@ -119,11 +132,11 @@ for m in "res pixel size" "crs CRS" "off origin off" "f32 Float32 samples" \
 done
 mklist l_edge.txt a.tif b_edge.tif c.tif d.tif
 fails "a shared edge that differs: exit 1, the sample and both files named" 1 \
-    "^dem2fqm: [^ ]*b_edge.tif: sample 0,300 is [0-9]+ where it overlaps [^ ]*a.tif, whose sample 600,300" \
+    "^dem2fqm: [^ ]*b_edge.tif: sample 0,$mid is [0-9]+ where it overlaps [^ ]*a.tif, whose sample $last,$mid" \
     dem2fqm "$D/l_edge.txt" "$T/edge.fqm"
 [ ! -e "$T/edge.fqm" ]; ok $? "... and no output left"
 fails "dem2vgis with that tile: exit 1, dem2fqm's message" 1 \
-    "^dem2fqm: [^ ]*b_edge.tif: sample 0,300 " \
+    "^dem2fqm: [^ ]*b_edge.tif: sample 0,$mid " \
     dem2vgis -q "$D/a.tif" "$D/b_edge.tif" "$D/c.tif" "$D/d.tif" "$T/pe"
 [ ! -e "$T/pe" ]; ok $? "... and no pyramid"
 fails "dem2vgis with a missing tile: exit 1, named" 1 \
@@ -146,7 +159,7 @@ fails "a text file naming no file: not a raster nor a list" 1 \
 mklist l3.txt a.tif b.tif c.tif
 for t in a b c; do
 	set -- $(origin "$D/$t.tif") $(px "$D/$t.tif")
-	echo "$1 $2 $3 $4 601 601"
+	echo "$1 $2 $3 $4 $side $side"
 done >"$T/ext"
 want=$(awk 'NR == 1 { x0 = $1; y0 = $2; dx = $3; dy = $4 }
     { c0[NR] = int(($1 - x0) / dx + 0.5); r0[NR] = int(($2 - y0) / dy + 0.5)
@@ -164,7 +177,7 @@ b = ds.GetRasterBand(1)
 print(int((b.ReadAsArray() == b.GetNoDataValue()).sum()))' "$DEM")
 set -- $want
 dem2fqm -II "$D/l3.txt" >"$T/l3.I" 2>"$T/l3.err"
-[ "$1 $2" = "1201 1201" ] && [ "$own" = 0 ] &&
+[ "$1 $2" = "$N $N" ] && [ "$own" = 0 ] &&
     grep -q "^size $1 $2\$" "$T/l3.I" && grep -q "^voids $3\$" "$T/l3.I" &&
     grep -q '^nodata -32768$' "$T/l3.I"
 ok $? "3 tiles of 4: -II voids $3 (awk: ${1}x$2, $own of its own; got $(grep -E '^(size|voids)' "$T/l3.I" | tr '\n' ' ')$(head -c 100 "$T/l3.err"))"

@@ -31,8 +31,12 @@ both() {
 	    diff -r "$T/$_nm.1" "$T/$_nm.p" >/dev/null
 	ok $? "$_nm: one process and processes, byte-identical (exit $_s1 $_sp)"
 }
-both n44 "$DATA/N44W072.hgt"
-both n44-3d -3 "$DATA/N44W072.hgt"
+# (under the sanitizers the crop and the mosaic alone: the same routes on
+# real DEMs, N44W072 whole four runs more of the same code)
+if [ -z "${TL_QUICK:-}" ]; then
+	both n44 "$DATA/N44W072.hgt"
+	both n44-3d -3 "$DATA/N44W072.hgt"
+fi
 both crop "$c"
 both crop-3d -3 "$c"
 both mosaic "$a" "$b"

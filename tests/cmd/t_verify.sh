@@ -49,10 +49,17 @@ verify() {
 
 # Every DEM in ../shared/data, QEM-1D and QEM-3D levels, through the
 # driver. (The .tif copies of the .hgt tiles give the same pyramids but
-# for their vertical-datum attribute: checked once each, in 1D; not
+# for their vertical-datum attribute, t_pipeline proves their level-0
+# quadrics identical: each checked once, in 1D, on a 601x601 crop, the
+# container and its attributes being the subject, not the size; not
 # N48W125.tif, 13 M samples whose .hgt twin is checked in both modes.)
+# Under TL_QUICK (the sanitizers) N44W072.hgt is left out too: another
+# 1201x1201 geographic tile, through N42E001's code paths (which has
+# voids besides); make check runs it.
 for f in N42E001.hgt N44W072.hgt N48W125.hgt bigtujunga.tif fuji.png; do
 	big $f && { ok 0 "# SKIP $f under TL_QUICK"; continue; }
+	[ -n "${TL_QUICK:-}" ] && [ $f = N44W072.hgt ] &&
+	    { ok 0 "# SKIP $f under TL_QUICK (make check runs it)"; continue; }
 	o=""; case $f in fuji.png) o="-s 60" ;; esac
 	# shellcheck disable=SC2086
 	verify "$f-1d" "$DATA/$f" $o
@@ -61,7 +68,9 @@ for f in N42E001.hgt N44W072.hgt N48W125.hgt bigtujunga.tif fuji.png; do
 	rm -rf "$T/$f-1d" "$T/$f-3d"
 done
 for f in N42E001.tif N44W072.tif; do
-	verify "$f-1d" "$DATA/$f"
-	rm -rf "$T/$f-1d"
+	gdal_translate -q -srcwin 300 300 601 601 "$DATA/$f" "$T/$f" ||
+	    { ok 1 "$f: a crop"; continue; }
+	verify "$f-1d" "$T/$f"
+	rm -rf "$T/$f-1d" "$T/$f"
 done
 done_testing
