@@ -126,6 +126,26 @@ row0(const solve_state *s, int j)
 	return (double)j * (double)(1L << s->level);
 }
 
+/* 1 when the metric of a row is bounded (on_grid's condition). */
+static int
+bounded(const double *sx, const double *y, int w)
+{
+	for (int i = 0; i < w; i++)
+		if (!(fabs(sx[i]) <= 1e100 && fabs(y[i]) <= 1e100))
+			return 0;
+	return 1;
+}
+
+/* 1 when every offset of a row is zero. */
+static int
+zero_row(const solve_vertex *o, int w)
+{
+	for (int i = 0; i < w; i++)
+		if (o[i].x != 0 || o[i].y != 0)
+			return 0;
+	return 1;
+}
+
 /* The metric at the vertices of rows j-2 .. j+2, once per row: the fold
  * fix asks for it a hundred times per vertex. Rows come in order, so
  * four of the five are the previous row's, moved up. */
@@ -136,8 +156,10 @@ cache_ground(solve_state *s, int j)
 
 	if (j > 0) {
 		double *x = s->msx[0], *y = s->my[0];
-		for (int r = 0; r < 4; r++)
+		for (int r = 0; r < 4; r++) {
 			s->msx[r] = s->msx[r + 1], s->my[r] = s->my[r + 1];
+			s->mfin[r] = s->mfin[r + 1];
+		}
 		s->msx[4] = x, s->my[4] = y;
 		r0 = 4;
 	}
@@ -149,6 +171,7 @@ cache_ground(solve_state *s, int j)
 			s->msx[r][i] = geo_on_row(s->m, sx, row0(s, i));
 			s->my[r][i] = geo_y(s->m, row0(s, i), J);
 		}
+		s->mfin[r] = bounded(s->msx[r], s->my[r], s->w);
 	}
 }
 
@@ -528,18 +551,14 @@ on_grid(const solve_state *s, int j, const solve_vertex *cur)
 {
 	if (!s->known || !(s->shrink >= 0 && s->shrink <= 1))
 		return 0;
-	for (int r = 0; r <= 2 && r <= j; r++) {
-		const solve_vertex *o = r == 0 ? cur : s->hist[r - 1];
-		for (int i = 0; i < s->w; i++)
-			if (o[i].x != 0 || o[i].y != 0)
-				return 0;
-	}
+	/* the earlier rows' and the metric's, as they were stored */
+	for (int r = 1; r <= 2 && r <= j; r++)
+		if (!s->hzero[r - 1])
+			return 0;
 	for (int r = 0; r < 5; r++)
-		for (int i = 0; i < s->w; i++)
-			if (!(fabs(s->msx[r][i]) <= 1e100 &&
-			    fabs(s->my[r][i]) <= 1e100))
-				return 0;
-	return 1;
+		if (!s->mfin[r])
+			return 0;
+	return zero_row(cur, s->w);
 }
 
 /* mark_bad after a round that changed only the vertices marked in
@@ -696,6 +715,8 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 		s->hist[1] = s->hist[0];
 		s->hist[0] = t;
 		memcpy(s->hist[0], out, (size_t)s->w * sizeof *out);
+		s->hzero[1] = s->hzero[0];
+		s->hzero[0] = zero_row(out, s->w);
 	}
 }
 

@@ -25,6 +25,8 @@ typedef struct {
 	solve_vertex *grid;    /* 3D: a row of zero offsets (later rows) */
 	double *msx[5], *my[5]; /* 3D: geo_sx and geo_y at the vertices of
 	                         * rows j-2 .. j+2 (the fold fix's reach) */
+	int mfin[5];            /* 3D: each of those rows bounded (1e100) */
+	int hzero[2];           /* 3D: hist[k]'s offsets all zero */
 	double *mbuf;           /* their memory */
 	unsigned char *mark; /* 3D: the fold fix's marks, this round's and the last's */
 	struct tl_pool *pool; /* 3D: the placements and the fold checks on
