@@ -2,6 +2,7 @@
 #include "qem/quadric.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 void
@@ -152,14 +153,15 @@ quadric_eigen(const double a[6], double w[3], double V[3][3])
 		w[k] = m[k][k];
 }
 
-int
-quadric_min_3d(const quadric *q, double rel, double v[3])
+/* quadric_min_3d from A's eigen-decomposition. */
+static int
+min_3d(const quadric *q, double rel, const double w[3],
+    const double V[3][3], double v[3])
 {
-	double w[3], V[3][3], wmax = 0;
+	double wmax = 0;
 	int rank = 0;
 
 	v[0] = v[1] = v[2] = 0;
-	quadric_eigen(q->a, w, V);
 	for (int k = 0; k < 3; k++)
 		if (w[k] > wmax)
 			wmax = w[k];
@@ -176,4 +178,111 @@ quadric_min_3d(const quadric *q, double rel, double v[3])
 		rank++;
 	}
 	return rank;
+}
+
+int
+quadric_min_3d(const quadric *q, double rel, double v[3])
+{
+	double w[3], V[3][3];
+
+	quadric_eigen(q->a, w, V);
+	return min_3d(q, rel, w, V, v);
+}
+
+typedef quadric_v2 v2;
+typedef quadric_m2 m2;
+
+static inline v2
+v2_abs(v2 x)
+{
+	return (v2)((m2)x & (m2){ INT64_MAX, INT64_MAX });
+}
+
+/* Lane by lane: a where k, else b. */
+static inline v2
+v2_sel(m2 k, v2 a, v2 b)
+{
+	return (v2)(((m2)a & k) | ((m2)b & ~k));
+}
+
+/* quadric_eigen on two lanes: a lane's rotations are those of its own
+ * call (a lane past its own convergence, or whose pivot is 0, keeps its
+ * values), each rotation's operations those of the scalar code. */
+static void
+eigen2(const double *a0, const double *a1, v2 w[3], v2 V[3][3])
+{
+	static const int ix[3][3] = {
+		{ QUADRIC_A11, QUADRIC_A12, QUADRIC_A13 },
+		{ QUADRIC_A12, QUADRIC_A22, QUADRIC_A23 },
+		{ QUADRIC_A13, QUADRIC_A23, QUADRIC_A33 },
+	};
+	v2 m[3][3];
+	m2 live = { -1, -1 };
+
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			m[i][j] = (v2){ a0[ix[i][j]], a1[ix[i][j]] };
+			V[i][j] = (v2){ i == j, i == j };
+		}
+	for (int sweep = 0; sweep < 32; sweep++) {
+		v2 off = v2_abs(m[0][1]) + v2_abs(m[0][2]) + v2_abs(m[1][2]);
+		v2 scale = v2_abs(m[0][0]) + v2_abs(m[1][1]) + v2_abs(m[2][2]);
+		live &= ~((off <= 1e-15 * scale) | (off == 0));
+		if (!(live[0] | live[1]))
+			break;
+		for (int p = 0; p < 2; p++)
+			for (int r = p + 1; r < 3; r++) {
+				m2 go = live & (m[p][r] != 0);
+				v2 t, c, s, theta;
+				if (!(go[0] | go[1]))
+					continue;
+				theta = (m[r][r] - m[p][p]) / (2 * m[p][r]);
+				t = v2_sel(theta >= 0, (v2){ 1, 1 },
+				    (v2){ -1, -1 }) / (v2_abs(theta) +
+				    quadric_v2_sqrt(theta * theta + 1));
+				c = 1 / quadric_v2_sqrt(t * t + 1);
+				s = t * c;
+				for (int k = 0; k < 3; k++) { /* m = J' m J */
+					v2 mkp = m[k][p], mkr = m[k][r];
+					m[k][p] = v2_sel(go, c * mkp - s * mkr,
+					    mkp);
+					m[k][r] = v2_sel(go, s * mkp + c * mkr,
+					    mkr);
+				}
+				for (int k = 0; k < 3; k++) {
+					v2 mpk = m[p][k], mrk = m[r][k];
+					m[p][k] = v2_sel(go, c * mpk - s * mrk,
+					    mpk);
+					m[r][k] = v2_sel(go, s * mpk + c * mrk,
+					    mrk);
+				}
+				for (int k = 0; k < 3; k++) {
+					v2 vkp = V[k][p], vkr = V[k][r];
+					V[k][p] = v2_sel(go, c * vkp - s * vkr,
+					    vkp);
+					V[k][r] = v2_sel(go, s * vkp + c * vkr,
+					    vkr);
+				}
+			}
+	}
+	for (int k = 0; k < 3; k++)
+		w[k] = m[k][k];
+}
+
+void
+quadric_min_3d2(const quadric *q0, const quadric *q1, double rel,
+    double v0[3], double v1[3])
+{
+	v2 w[3], V[3][3];
+	double wl[3], Vl[3][3];
+
+	eigen2(q0->a, q1->a, w, V);
+	for (int l = 0; l < 2; l++) {
+		for (int i = 0; i < 3; i++) {
+			wl[i] = w[i][l];
+			for (int k = 0; k < 3; k++)
+				Vl[i][k] = V[i][k][l];
+		}
+		min_3d(l ? q1 : q0, rel, wl, Vl, l ? v1 : v0);
+	}
 }

@@ -131,5 +131,9 @@ int quadric_min_3d(const quadric *q, double rel, double v[3]);
 /* Eigen-decomposition of the symmetric 3x3 A (Jacobi): eigenvalues w[k],
  * unit eigenvectors in columns V[.][k]. */
 void quadric_eigen(const double a[6], double w[3], double V[3][3]);
+/* quadric_min_3d of two quadrics at once (a Jacobi sweep on both lanes):
+ * the very values of two calls. */
+void quadric_min_3d2(const quadric *q0, const quadric *q1, double rel,
+    double v0[3], double v1[3]);
 
 #endif

@@ -1,5 +1,5 @@
-/* solve.c - per-level vertex placement, and the streaming fold fix of the
- * 3D mode (see solve.h).
+/* solve.c - per-level vertex placement (the streaming fold fix of the
+ * 3D mode is solve_fold.c; see solve.h).
  *
  * A vertex goes where its filtered quadric is least: the optimal
  * placement of M. Garland and P. S. Heckbert ("Surface Simplification
@@ -12,6 +12,7 @@
  * (1D displacement, the grid kept) or in x, y, z (3D). The comparison
  * modes are the paper's baseline: heights filtered, or sub-sampled. */
 #include "qem/solve.h"
+#include "qem/solve_fold.h"
 #include "base/pool.h"
 
 #include <assert.h>
@@ -61,14 +62,15 @@ solve_init(solve_state *s, enum solve_mode mode, int level, int w, int h,
 		return 0;
 	s->hist[0] = tl_alloc(w, sizeof *s->hist[0], e);
 	s->hist[1] = tl_alloc(w, sizeof *s->hist[1], e);
-	s->mark = tl_alloc(w, 1, e);
+	s->mark = tl_alloc(2 * (size_t)w, 1, e); /* and the last round's */
 	s->mbuf = tl_alloc((size_t)10 * w, sizeof *s->mbuf, e);
+	s->grid = tl_alloc(w, sizeof *s->grid, e); /* zeroed: +0 */
 	for (int r = 0; s->mbuf != NULL && r < 5; r++) {
 		s->msx[r] = s->mbuf + (size_t)r * w;
 		s->my[r] = s->mbuf + (size_t)(5 + r) * w;
 	}
 	if (s->hist[0] == NULL || s->hist[1] == NULL || s->mark == NULL ||
-	    s->mbuf == NULL) {
+	    s->mbuf == NULL || s->grid == NULL) {
 		solve_free(s);
 		return -1;
 	}
@@ -90,15 +92,10 @@ void
 solve_free(solve_state *s)
 {
 	free(s->hist[0]), free(s->hist[1]), free(s->mark), free(s->mbuf);
-	free(s->markt);
+	free(s->markt), free(s->grid);
+	s->grid = NULL;
 	s->hist[0] = s->hist[1] = NULL, s->mark = NULL, s->mbuf = NULL;
 	s->markt = NULL;
-}
-
-static double
-cross(const double o[2], const double a[2], const double b[2])
-{
-	return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
 int
@@ -117,11 +114,14 @@ solve_cell_ok(const double p[4][2], const double g[4][2], double min)
 	return 1;
 }
 
-/* Level-0 row (or column) of level row (column) j. */
-static double
-row0(const solve_state *s, int j)
+/* 1 when the metric of a row is bounded (on_grid's condition). */
+static int
+bounded(const double *sx, const double *y, int w)
 {
-	return (double)j * (double)(1L << s->level);
+	for (int i = 0; i < w; i++)
+		if (!(fabs(sx[i]) <= 1e100 && fabs(y[i]) <= 1e100))
+			return 0;
+	return 1;
 }
 
 /* The metric at the vertices of rows j-2 .. j+2, once per row: the fold
@@ -134,236 +134,62 @@ cache_ground(solve_state *s, int j)
 
 	if (j > 0) {
 		double *x = s->msx[0], *y = s->my[0];
-		for (int r = 0; r < 4; r++)
+		for (int r = 0; r < 4; r++) {
 			s->msx[r] = s->msx[r + 1], s->my[r] = s->my[r + 1];
+			s->mfin[r] = s->mfin[r + 1];
+		}
 		s->msx[4] = x, s->my[4] = y;
 		r0 = 4;
 	}
 	for (int r = r0; r < 5; r++) {
-		double J = row0(s, j - 2 + r);
+		double J = row0(s, j - 2 + r), sx[GEO_MAX_NODES];
+		/* geo_sx bit for bit, the row's interpolation once */
+		geo_row_sx(s->m, J, sx);
 		for (int i = 0; i < s->w; i++) {
-			s->msx[r][i] = geo_sx(s->m, row0(s, i), J);
+			s->msx[r][i] = geo_on_row(s->m, sx, row0(s, i));
 			s->my[r][i] = geo_y(s->m, row0(s, i), J);
 		}
+		s->mfin[r] = bounded(s->msx[r], s->my[r], s->w);
 	}
 }
 
-/* The triangles the fold fix keeps positive: those of the bintree that
- * vertices moving up to half a cell can fold, i.e. the four of each cell
- * (both diagonals) and the two-cell triangles of scale-1 edge diamonds
- * (height one cell); larger ones need moves of over half a cell. As
- * (di, dj) offsets from an anchor vertex. */
-static const int celltri[4][3][2] = {
-	{ { 0, 0 }, { 1, 0 }, { 1, 1 } }, { { 0, 0 }, { 1, 1 }, { 0, 1 } },
-	{ { 0, 0 }, { 1, 0 }, { 0, 1 } }, { { 1, 0 }, { 1, 1 }, { 0, 1 } },
-};
-/* around an edge vertex (c, r) of scale 1: hypotenuse horizontal (c odd,
- * r even) or vertical (c even, r odd) */
-static const int edgetri[2][2][3][2] = {
-	{ { { -1, 0 }, { 1, 0 }, { 0, -1 } }, { { -1, 0 }, { 1, 0 }, { 0, 1 } } },
-	{ { { 0, -1 }, { 0, 1 }, { -1, 0 } }, { { 0, -1 }, { 0, 1 }, { 1, 0 } } },
-};
-
-/* The offsets of vertex (i, r) while row j is being fixed: earlier rows
- * as final, row j as now, later rows on the grid. */
-static const solve_vertex *
-at(const solve_state *s, int j, const solve_vertex *cur, int i, int r)
-{
-	if (r == j)
-		return &cur[i];
-	assert(i >= 0 && i < s->w);
-	if (r < j && j - r <= 2)
-		return &s->hist[j - r - 1][i];
-	return NULL;
-}
-
-/* 1 when triangle v[] (level vertices) keeps at least `shrink` of its
- * grid area with the same orientation. */
+/* 1 when vertex in's minimiser is known: b = 0 (every vertex of level
+ * 0: its planes pass through it), +0 in each coordinate, which is what
+ * quadric_min_3d gives bit for bit (+0 - (u.b / w) u with u.b = ±0, A's
+ * eigenvectors finite), without its eigen-decomposition. */
 static int
-tri_ok(const solve_state *s, int j, const solve_vertex *cur, const int v[3][2])
+known_min(const solve_state *s, const fqm_vertex *in)
 {
-	double g[3][2], p[3][2], ga, pa;
-	int i0 = v[0][0], r0 = v[0][1] - j + 2;
-
-	assert(r0 >= 0 && r0 < 5);
-	for (int k = 0; k < 3; k++) {
-		const solve_vertex *o = at(s, j, cur, v[k][0], v[k][1]);
-		int r = v[k][1] - j + 2;
-		/* the metric cache holds rows j-2 .. j+2 */
-		assert(r >= 0 && r < 5);
-		/* in the frame of v[0], as geo_local puts it (georef.h) */
-		g[k][0] = (row0(s, v[k][0]) - row0(s, i0)) * s->msx[r][i0];
-		g[k][1] = s->my[r][i0] - s->my[r0][i0];
-		p[k][0] = g[k][0] + (o ? o->x : 0);
-		p[k][1] = g[k][1] + (o ? o->y : 0);
-	}
-	ga = cross(g[0], g[1], g[2]);
-	pa = cross(p[0], p[1], p[2]);
-	return ga > 0 ? pa >= s->shrink * ga : pa <= s->shrink * ga;
+	return s->known && in->q.b[0] == 0 && in->q.b[1] == 0 &&
+	    in->q.b[2] == 0;
 }
 
-/* Checks one triangle (anchor + offsets) touching row j; marks its row-j
- * vertices when it breaks the invariant. */
-static int
-check(const solve_state *s, int j, const solve_vertex *cur, int ci, int cj,
-    const int (*t)[2], unsigned char *mark)
+/* fmax(-h, fmin(h, v)), inline where no zero can tie (h > 0, and so -h
+ * < 0 < h) and no NaN enters: then fmin and fmax pick the smaller and
+ * larger of two numbers, and equal ones are the same number. */
+static inline double
+clamp(double v, double h)
 {
-	int v[3][2], touches = 0;
-
-	for (int k = 0; k < 3; k++) {
-		v[k][0] = ci + t[k][0], v[k][1] = cj + t[k][1];
-		if (v[k][0] < 0 || v[k][0] >= s->w || v[k][1] < 0 ||
-		    v[k][1] >= s->h)
-			return 0;
-		touches |= v[k][1] == j;
-	}
-	if (!touches || tri_ok(s, j, cur, v))
-		return 0;
-	for (int k = 0; k < 3; k++)
-		if (v[k][1] == j)
-			mark[v[k][0]] = 1;
-	return 1;
+	if (h > 0 && v == v)
+		return v < -h ? -h : v > h ? h : v;
+	return fmax(-h, fmin(h, v));
 }
 
-/* The triangles anchored in columns i0 .. i1-1 (a pool's range k),
- * their row-j vertices that break the invariant marked in `mark`. */
-typedef struct {
-	const solve_state *s;
-	int j;
-	const solve_vertex *cur;
-	unsigned char *mark[TL_POOL_MAXTHREADS];
-	int bad[TL_POOL_MAXTHREADS];
-} marking;
-
-static void
-mark_range(void *arg, int k, int i0, int i1)
-{
-	marking *m = arg;
-	const solve_state *s = m->s;
-	int j = m->j, bad = 0;
-
-	for (int cj = j - 1; cj <= j; cj++)
-		for (int ci = i0; ci < i1 && ci + 1 < s->w; ci++)
-			for (int t = 0; t < 4; t++)
-				bad += check(s, j, m->cur, ci, cj, celltri[t],
-				    m->mark[k]);
-	for (int r = j - 1; r <= j + 1; r++)
-		for (int c = i0; c < i1; c++) {
-			int kind = (c & 1) && !(r & 1) ? 0 :
-			    !(c & 1) && (r & 1) ? 1 : -1;
-			if (kind < 0)
-				continue;
-			for (int t = 0; t < 2; t++)
-				bad += check(s, j, m->cur, c, r,
-				    edgetri[kind][t], m->mark[k]);
-		}
-	m->bad[k] = bad;
-}
-
-/* Marks the vertices of row j in triangles that break the invariant:
- * every checked triangle with a vertex in row j is positive with earlier
- * rows final and later rows on the grid. Then the next row can always be
- * fixed by moving only itself (on the grid, it meets this very test), so
- * rows are final as soon as they are fixed. Returns the failures. On a
- * pool each range marks its own copy, then the copies are merged: a
- * mark is a set, so the result is the same. */
-static int
-mark_bad(solve_state *s, int j, const solve_vertex *cur)
-{
-	marking m = { s, j, cur, { 0 }, { 0 } };
-	int n = s->pool != NULL ? tl_pool_threads(s->pool) : 1, bad = 0;
-
-	memset(s->mark, 0, s->w);
-	if (n == 1) {
-		m.mark[0] = s->mark;
-		mark_range(&m, 0, 0, s->w);
-		return m.bad[0];
-	}
-	memset(s->markt, 0, (size_t)n * s->w);
-	for (int k = 0; k < n; k++)
-		m.mark[k] = s->markt + (size_t)k * s->w;
-	tl_pool_for(s->pool, s->w, mark_range, &m);
-	for (int k = 0; k < n; k++) {
-		bad += m.bad[k];
-		for (int i = 0; i < s->w; i++)
-			s->mark[i] |= m.mark[k][i];
-	}
-	return bad;
-}
-
-/* The free 3D minimiser, clamped to half a cell, boundary vertices kept
+/* The free 3D minimiser v, clamped to half a cell, boundary vertices kept
  * on their boundary. */
 static void
-place3d(const solve_state *s, int i, int j, const fqm_vertex *in,
+clamp3d(const solve_state *s, int i, int j, const double v[3],
     solve_vertex *o)
 {
-	double v[3], hx, hy, up, down;
+	double hx, hy, up, down;
 	long step = 1L << s->level;
 
-	/* b = 0 (every vertex of level 0: its planes pass through it): the
-	 * minimiser is known, +0 in each coordinate, which is what
-	 * quadric_min_3d gives bit for bit (+0 - (u.b / w) u with u.b = ±0,
-	 * A's eigenvectors finite), without its eigen-decomposition */
-	if (s->known && in->q.b[0] == 0 && in->q.b[1] == 0 &&
-	    in->q.b[2] == 0)
-		v[0] = v[1] = v[2] = 0;
-	else
-		quadric_min_3d(&in->q, s->rel, v);
 	hx = 0.5 * (double)step * s->msx[2][i];
 	up = j > 0 ? s->my[2][i] - s->my[1][i] : INFINITY;
 	down = s->my[3][i] - s->my[2][i];
 	hy = 0.5 * (up < down ? up : down);
-	o->x = i == 0 || i == s->w - 1 ? 0 : fmax(-hx, fmin(hx, v[0]));
-	o->y = j == 0 || j == s->h - 1 ? 0 : fmax(-hy, fmin(hy, v[1]));
-}
-
-/* 1 when the fold fix is known to change nothing on row j: the offsets
- * of rows j-2 .. j all zero, so every checked triangle is its grid
- * triangle (p = g + 0 has g's values, and so pa = ga), which keeps
- * `shrink` (0 .. 1) of its area whenever ga is a number; the metric's
- * cached rows bounded make it one. Level 0's rows are of this kind. */
-static int
-on_grid(const solve_state *s, int j, const solve_vertex *cur)
-{
-	if (!s->known || !(s->shrink >= 0 && s->shrink <= 1))
-		return 0;
-	for (int r = 0; r <= 2 && r <= j; r++) {
-		const solve_vertex *o = r == 0 ? cur : s->hist[r - 1];
-		for (int i = 0; i < s->w; i++)
-			if (o[i].x != 0 || o[i].y != 0)
-				return 0;
-	}
-	for (int r = 0; r < 5; r++)
-		for (int i = 0; i < s->w; i++)
-			if (!(fabs(s->msx[r][i]) <= 1e100 &&
-			    fabs(s->my[r][i]) <= 1e100))
-				return 0;
-	return 1;
-}
-
-static void
-fix_folds(solve_state *s, int j, solve_vertex *cur)
-{
-	if (on_grid(s, j, cur))
-		return;
-	/* Halving converges on the grid, where every invariant holds; after
-	 * a few halvings, put the stubborn vertices on the grid. Each round
-	 * puts at least one more vertex there, so this ends. */
-	for (int round = 0; round <= 6 + s->w; round++) {
-		if (mark_bad(s, j, cur) == 0)
-			return;
-		for (int i = 0; i < s->w; i++) {
-			if (!s->mark[i])
-				continue;
-			if (round < 6) {
-				cur[i].x *= 0.5, cur[i].y *= 0.5;
-				s->reduced += round == 0;
-			} else {
-				s->zeroed += cur[i].x != 0 || cur[i].y != 0;
-				cur[i].x = cur[i].y = 0;
-			}
-		}
-	}
+	o->x = i == 0 || i == s->w - 1 ? 0 : clamp(v[0], hx);
+	o->y = j == 0 || j == s->h - 1 ? 0 : clamp(v[1], hy);
 }
 
 /* The free placements of vertices i0 .. i1-1 of the row (a pool's
@@ -380,8 +206,24 @@ place_range(void *arg, int k, int i0, int i1)
 {
 	const placing *p = arg;
 
-	for (int i = i0; i < i1; i++)
-		place3d(p->s, i, p->j, &p->in[i], &p->out[i]);
+	const solve_state *s = p->s;
+	double v[2][3];
+
+	for (int i = i0; i < i1; i++) {
+		if (known_min(s, &p->in[i])) {
+			v[0][0] = v[0][1] = v[0][2] = 0;
+		} else if (i + 1 < i1 && !known_min(s, &p->in[i + 1])) {
+			/* two unknowns: one eigen-decomposition on both */
+			quadric_min_3d2(&p->in[i].q, &p->in[i + 1].q, s->rel,
+			    v[0], v[1]);
+			clamp3d(s, i, p->j, v[0], &p->out[i]);
+			i++;
+			clamp3d(s, i, p->j, v[1], &p->out[i]);
+			continue;
+		} else
+			quadric_min_3d(&p->in[i].q, s->rel, v[0]);
+		clamp3d(s, i, p->j, v[0], &p->out[i]);
+	}
 }
 
 /* 1 when every vertex of the row has b = 0 (place3d's known minimiser). */
@@ -391,7 +233,7 @@ known_row(const solve_state *s, const fqm_vertex *in)
 	if (!s->known)
 		return 0;
 	for (int i = 0; i < s->w; i++)
-		if (in[i].q.b[0] != 0 || in[i].q.b[1] != 0 || in[i].q.b[2] != 0)
+		if (!known_min(s, &in[i]))
 			return 0;
 	return 1;
 }
@@ -427,7 +269,7 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 			tl_pool_for(s->pool, s->w, place_range, &p);
 		else
 			place_range(&p, 0, 0, s->w);
-		fix_folds(s, j, out);
+		solve_fix_folds(s, j, out);
 	}
 	if (s->mode == SOLVE_QEM1D || s->mode == SOLVE_QEM3D)
 		for (int i = 0; i < s->w; i++) {
@@ -442,6 +284,8 @@ solve_row(solve_state *s, const fqm_vertex *in, solve_vertex *out)
 		s->hist[1] = s->hist[0];
 		s->hist[0] = t;
 		memcpy(s->hist[0], out, (size_t)s->w * sizeof *out);
+		s->hzero[1] = s->hzero[0];
+		s->hzero[0] = solve_zero_row(out, s->w);
 	}
 }
 

@@ -22,10 +22,13 @@ typedef struct {
 	int level, w, h;
 	const geo_ground *m;
 	solve_vertex *hist[2]; /* 3D: the two previous rows (j-1, j-2), final */
+	solve_vertex *grid;    /* 3D: a row of zero offsets (later rows) */
 	double *msx[5], *my[5]; /* 3D: geo_sx and geo_y at the vertices of
 	                         * rows j-2 .. j+2 (the fold fix's reach) */
+	int mfin[5];            /* 3D: each of those rows bounded (1e100) */
+	int hzero[2];           /* 3D: hist[k]'s offsets all zero */
 	double *mbuf;           /* their memory */
-	unsigned char *mark;
+	unsigned char *mark; /* 3D: the fold fix's marks, this round's and the last's */
 	struct tl_pool *pool; /* 3D: the placements and the fold checks on
 	                       * its threads, or NULL: this one; set with
 	                       * solve_pool */
