@@ -1,5 +1,5 @@
 // maplibre.js [--pmtiles FILE.pmtiles] [--shot OUT.png] [--size WxH]
-//     [--samples FILE] TREE: raster-dem tiles as MapLibre GL JS's terrain
+//     [--view ZOOM,PITCH,BEARING] [--samples FILE] TREE: raster-dem tiles as MapLibre GL JS's terrain
 // (npm maplibre-gl, maplibre.html) in headless Chromium with software
 // WebGL, served as plain files from a free localhost port: the tree TREE
 // (tiles.json and its {z}/{x}/{y} tiles) and, with --pmtiles, the archive
@@ -15,27 +15,30 @@
 // loaded tile. One line per failure on stderr ("maplibre.js: ..."); exit
 // 1 when a check fails, 2 on usage or a broken browser. --shot: a
 // picture of the tree's terrain, pitched, hillshaded (--size, default
-// 480x270). CHROMIUM: the browser (default /usr/bin/chromium).
+// 480x270; --view, default the maxzoom + 0.5, 60 and 30 degrees). CHROMIUM: the browser (default /usr/bin/chromium).
 'use strict';
 const http = require('http');
 const fs = require('fs');
 const path = require('path');
 const { chromium } = require('playwright-core');
 
-const usage = 'usage: maplibre.js [--pmtiles FILE] [--shot OUT.png] [--size WxH] [--samples FILE] TREE';
+const usage = 'usage: maplibre.js [--pmtiles FILE] [--shot OUT.png] [--size WxH] [--view Z,P,B] [--samples FILE] TREE';
 const a = process.argv.slice(2);
-const opt = { pmtiles: null, shot: null, samples: null, size: [480, 270] };
+const opt = { pmtiles: null, shot: null, samples: null, size: [480, 270],
+    view: null };
 while (a.length && a[0].startsWith('--')) {
 	const o = a.shift();
 	if (o === '--pmtiles' && a.length) opt.pmtiles = path.resolve(a.shift());
 	else if (o === '--shot' && a.length) opt.shot = a.shift();
 	else if (o === '--samples' && a.length) opt.samples = a.shift();
 	else if (o === '--size' && a.length) opt.size = a.shift().split('x').map(Number);
+	else if (o === '--view' && a.length) opt.view = a.shift().split(',').map(Number);
 	else { console.error(usage); process.exit(2); }
 }
 if (a.length !== 1 || !fs.existsSync(path.join(a[0], 'tiles.json')) ||
     (opt.pmtiles && !fs.existsSync(opt.pmtiles)) ||
-    opt.size.length !== 2 || !opt.size.every((v) => v >= 16)) {
+    opt.size.length !== 2 || !opt.size.every((v) => v >= 16) ||
+    (opt.view && (opt.view.length !== 3 || opt.view.some(isNaN)))) {
 	console.error(usage); process.exit(2);
 }
 const tree = path.resolve(a[0]);
@@ -118,7 +121,7 @@ async function route(browser, name) {
 	}
 	if (opt.shot && name === 'tree') {
 		const png = await page.evaluate((v) => window.picture(...v),
-		    [c[0], c[1], tj.maxzoom + 0.5, 60, 30]);
+		    [c[0], c[1], ...(opt.view || [tj.maxzoom + 0.5, 60, 30])]);
 		fs.writeFileSync(opt.shot, Buffer.from(png.split(',')[1], 'base64'));
 	}
 	console.log(`${name}: ${fetched} raster-dem responses, ${samples.length} samples, ${errors.length} errors`);
