@@ -68,11 +68,21 @@ i=0	# until a band has started
 while [ $i -lt 1200 ] && [ -z "$(ls "$T/plan-k/done" 2>/dev/null | grep b-)" ]
 do sleep 0.02; i=$((i + 1)); done
 /bin/kill -KILL -- -"$mk" 2>/dev/null; wait "$mk" 2>/dev/null
+# the jobs' stages run in their own process groups and end on SIGTERM
+# when their supervisor dies (graph_child.c): the killed run is over
+# when the last of them has cleaned up (plan-[k]: not grep itself)
+i=0
+while [ $i -lt 1500 ] &&
+    grep -qs -- "$T/plan-[k]" /proc/[0-9]*/cmdline 2>/dev/null
+do sleep 0.02; i=$((i + 1)); done
 [ ! -e "$T/out-k" ] && [ ! -e "$T/plan-k/done/chain" ]
 ok $? "killed while the bands ran: no chain, no pyramid yet"
-make -s -C "$T/plan-k" -j2 >/dev/null 2>&1 &&
-    diff -r "$T/ref-flip" "$T/out-k" >/dev/null && no_tmp "$T/plan-k"
-ok $? "run again: it finishes, byte for byte, no temporary left"
+make -s -C "$T/plan-k" -j2 >"$T/rerun.err" 2>&1 &&
+    diff -r "$T/ref-flip" "$T/out-k" >"$T/rerun.diff" 2>&1 && no_tmp "$T/plan-k"
+s=$?
+[ $s -eq 0 ] || { tail -5 "$T/rerun.err"; head -5 "$T/rerun.diff"
+	find "$T/plan-k" -name '.*.??????'; } 2>/dev/null | sed 's/^/#   /'
+ok $s "run again: it finishes, byte for byte, no temporary left"
 
 # GNU parallel and Slurm run the stages as separate makes: each goal
 # makes itself alone, not the chain after it
