@@ -378,6 +378,18 @@ raise4(const sink *o, gather *g, int leaves, int cx, int stride, v4d err)
 			raise1(o, g, leaves, cx + k * stride, err[k]);
 }
 
+/* The centres first, first + stride, ... below end whose template t's
+ * vertices are in the window: end lowered, first raised by whole strides. */
+static inline void
+window(const state *s, const tmpl *t, int *first, int *end, int stride)
+{
+	if (*end > s->cend - t->xmax)
+		*end = s->cend - t->xmax;
+	if (*first < s->c0 - t->xmin)
+		*first += (s->c0 - t->xmin - *first + stride - 1) / stride *
+		    stride;
+}
+
 /* Template t at centres first, first + stride, ... below end, each
  * raising its sink: the range where it is on the grid found once, short
  * chords inside the DEM row LANES centres at a time. Raising by each
@@ -394,11 +406,7 @@ scan_template_body(const state *s, const double *dd, const tmpl *t,
 	if (!t->ok || t->n2 == 0)
 		return;
 	/* the centres whose vertices are in the window */
-	if (end > s->cend - t->xmax)
-		end = s->cend - t->xmax;
-	if (first < s->c0 - t->xmin)
-		first += (s->c0 - t->xmin - first + stride - 1) / stride *
-		    stride;
+	window(s, t, &first, &end, stride);
 	cx = first;
 	if (t->hi - t->lo < SHORT) {
 		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
@@ -452,11 +460,7 @@ scan_pair_body(const state *s, const double *dd, const tmpl *t,
 	gather g = { o, -1, { 0, 0, 0, 0 } };
 	int cx;
 
-	if (end > s->cend - t->xmax)
-		end = s->cend - t->xmax;
-	if (first < s->c0 - t->xmin)
-		first += (s->c0 - t->xmin - first + stride - 1) / stride *
-		    stride;
+	window(s, t, &first, &end, stride);
 	cx = first;
 	for (; cx < end && (long)cx * S + lo < s->d0; cx += stride)
 		for (int k = 0; k < 2; k++)

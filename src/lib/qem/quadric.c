@@ -205,6 +205,17 @@ v2_sel(m2 k, v2 a, v2 b)
 	return (v2)(((m2)a & k) | ((m2)b & ~k));
 }
 
+/* One Jacobi rotation of the pair (*x, *y) where go: c x - s y, s x + c y,
+ * the scalar code's operations. */
+static inline void
+rot2(v2 *x, v2 *y, v2 c, v2 s, m2 go)
+{
+	v2 a = *x, b = *y;
+
+	*x = v2_sel(go, c * a - s * b, a);
+	*y = v2_sel(go, s * a + c * b, b);
+}
+
 /* quadric_eigen on two lanes: a lane's rotations are those of its own
  * call (a lane past its own convergence, or whose pivot is 0, keeps its
  * values), each rotation's operations those of the scalar code. */
@@ -242,27 +253,12 @@ eigen2(const double *a0, const double *a1, v2 w[3], v2 V[3][3])
 				    quadric_v2_sqrt(theta * theta + 1));
 				c = 1 / quadric_v2_sqrt(t * t + 1);
 				s = t * c;
-				for (int k = 0; k < 3; k++) { /* m = J' m J */
-					v2 mkp = m[k][p], mkr = m[k][r];
-					m[k][p] = v2_sel(go, c * mkp - s * mkr,
-					    mkp);
-					m[k][r] = v2_sel(go, s * mkp + c * mkr,
-					    mkr);
-				}
-				for (int k = 0; k < 3; k++) {
-					v2 mpk = m[p][k], mrk = m[r][k];
-					m[p][k] = v2_sel(go, c * mpk - s * mrk,
-					    mpk);
-					m[r][k] = v2_sel(go, s * mpk + c * mrk,
-					    mrk);
-				}
-				for (int k = 0; k < 3; k++) {
-					v2 vkp = V[k][p], vkr = V[k][r];
-					V[k][p] = v2_sel(go, c * vkp - s * vkr,
-					    vkp);
-					V[k][r] = v2_sel(go, s * vkp + c * vkr,
-					    vkr);
-				}
+				for (int k = 0; k < 3; k++) /* m = J' m J */
+					rot2(&m[k][p], &m[k][r], c, s, go);
+				for (int k = 0; k < 3; k++)
+					rot2(&m[p][k], &m[r][k], c, s, go);
+				for (int k = 0; k < 3; k++)
+					rot2(&V[k][p], &V[k][r], c, s, go);
 			}
 	}
 	for (int k = 0; k < 3; k++)
