@@ -1,8 +1,8 @@
 /* dem_gdal.h - inside the DEM reader, the GDAL side: what the files that
  * talk to GDAL share (dem_gdal_env.c, dem_pam.cpp, dem_gdal.c, dem_vrt.c,
- * dem_mosaic.c). Only they include it, and only they include GDAL's
- * headers: the rest of the reader reaches GDAL through the adapter's
- * methods (dem_gdal_adapter, dem_impl.h). */
+ * dem_mosaic.c, dem_warp.c, dem_warp_list.c). Only they include it, and
+ * only they include GDAL's headers: the rest of the reader reaches GDAL
+ * through the adapter's methods (dem_gdal_adapter, dem_impl.h). */
 #ifndef TL_DEM_GDAL_H
 #define TL_DEM_GDAL_H
 
@@ -55,6 +55,25 @@ typedef struct {
  * asked (dem_vrt_tiles). */
 int dem_read_dataset(dem_load *L, georef *g, GDALDatasetH ds,
     const dem_tiles *t, const dem_opts *o, tl_err *e);
+
+/* --- mosaics (dem_mosaic.c) and dem2rgb's input (dem_warp_list.c) ------- */
+
+/* The n DEM files paths as one in-memory VRT, after the checks of
+ * dem_read_mosaic (dem_impl.h: one CRS, one grid, samples that agree;
+ * with samples, their overlaps compared sample by sample); dt: what
+ * the tiles agree on. what names the mosaic in messages. NULL with e
+ * set naming the file at fault. The reader of a list reads this VRT;
+ * dem2rgb(1) warps it. */
+GDALDatasetH dem_mosaic_vrt(char *const *paths, int n, const dem_opts *o,
+    int samples, const char *what, dem_tiles *dt, tl_err *e);
+
+/* The DEM path as one GDAL dataset, for dem2rgb(1)'s warp and extent
+ * (dem_warp.c): what GDAL opens, else a list of DEM files (dem2fqm(1),
+ * MOSAICS) as the VRT the reader makes of it (dem_mosaic_vrt: the same
+ * entries, checks, order and nodata; o: -N). GDAL's messages are kept
+ * from the caller's catch. NULL with e set. */
+GDALDatasetH dem_warp_open(const char *path, const dem_opts *o, int samples,
+    tl_err *e);
 
 /* --- tiles and VRT sources (dem_vrt.c) ------------------------------------ */
 

@@ -145,6 +145,12 @@ extern const dem_adapter dem_gdal_adapter;  /* dem_gdal.c: what GDAL reads */
 extern const dem_adapter dem_list_adapter;  /* dem_list.c: a list of DEMs */
 extern const dem_adapter dem_oiio_adapter;  /* dem_oiio.c: EXR */
 
+/* The entries of the list of DEM files path, resolved and checked as
+ * its reading checks them (a missing file, a directory, a FIFO refused,
+ * naming the line), into *paths (n, each malloc'd, the array too): 0,
+ * -1, or 1 when path is no list (dem_list.c). */
+int dem_list_paths(const char *path, char ***paths, int *n, tl_err *e);
+
 /* 1 when GDAL identifies the file path as a VRT (dem_gdal.c). */
 int dem_gdal_is_vrt(const char *path);
 

@@ -8,7 +8,8 @@
  * least names an existing file; every entry must then. So a text file
  * that is no list still says "not a raster", and a list with a bad line
  * says which. An entry that is not a regular file (a FIFO, on which GDAL
- * would wait for ever) is refused at once; /vsi paths are GDAL's. */
+ * would wait for ever) is refused at once; /vsi paths are GDAL's. The
+ * same entries, so checked, are dem2rgb(1)'s (dem_list_paths). */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -143,6 +144,20 @@ list_dir(const char *path, tl_err *e)
 	return d;
 }
 
+/* The first entry that names no regular file, refused: what names the
+ * list. */
+static int
+bad_entry(const entries *l, const char *what, tl_err *e)
+{
+	char name[DEM_NAME];
+
+	dem_name(l->bad, name);
+	errno = l->bad_errno;
+	return l->bad_why != NULL ? tl_fail(e, "%s: line %d: %s: %s", what,
+	    l->bad_line, name, l->bad_why) :
+	    tl_failsys(e, "%s: line %d: %s", what, l->bad_line, name);
+}
+
 /* dem_adapter's read: path as a list of DEM files (dem2fqm(1) says what
  * is one), read as their mosaic; 1 when it is no list. */
 static int
@@ -162,14 +177,9 @@ read_list(dem_load *L, georef *g, const char *path, const char *base,
 		goto out;
 	if (l.found == 0) /* text, but no list */
 		r = 1;
-	else if (l.bad_line > 0) {
-		char name[DEM_NAME];
-		dem_name(l.bad, name);
-		errno = l.bad_errno;
-		r = l.bad_why != NULL ? tl_fail(e, "%s: line %d: %s: %s",
-		    L->what, l.bad_line, name, l.bad_why) :
-		    tl_failsys(e, "%s: line %d: %s", L->what, l.bad_line, name);
-	} else
+	else if (l.bad_line > 0)
+		r = bad_entry(&l, L->what, e);
+	else
 		r = dem_read_mosaic(L, g, l.paths, l.n, o, e);
 out:
 	entries_free(&l);
@@ -177,11 +187,12 @@ out:
 	return r;
 }
 
-/* dem_adapter's files: the list's entries, resolved as read_list
- * resolves them. */
+/* The list's entries, resolved as read_list resolves them (strict: a
+ * bad entry refused as read_list refuses it); 1 when it is no list. */
 static int
-list_files(const char *path, char ***paths, int *n, tl_err *e)
+entries_of(const char *path, char ***paths, int *n, int strict, tl_err *e)
 {
+	char what[DEM_NAME];
 	entries l = { 0 };
 	char *dir = NULL;
 	int r = 1;
@@ -190,6 +201,8 @@ list_files(const char *path, char ***paths, int *n, tl_err *e)
 		return 1;
 	if ((dir = list_dir(path, e)) == NULL || parse(&l, dir, e) < 0)
 		r = -1;
+	else if (l.found > 0 && strict && l.bad_line > 0)
+		r = bad_entry(&l, dem_name(path, what), e);
 	else if (l.found > 0) {
 		*paths = l.paths, *n = l.n, r = 0;
 		l.paths = NULL, l.n = 0;
@@ -197,6 +210,19 @@ list_files(const char *path, char ***paths, int *n, tl_err *e)
 	entries_free(&l);
 	free(dir);
 	return r;
+}
+
+/* dem_adapter's files: every entry, even one that names no file. */
+static int
+list_files(const char *path, char ***paths, int *n, tl_err *e)
+{
+	return entries_of(path, paths, n, 0, e);
+}
+
+int
+dem_list_paths(const char *path, char ***paths, int *n, tl_err *e)
+{
+	return entries_of(path, paths, n, 1, e);
 }
 
 const dem_adapter dem_list_adapter = {

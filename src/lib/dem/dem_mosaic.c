@@ -14,7 +14,8 @@
  * pool of open sources, which GDAL bounds.
  *
  * Here dem_read_mosaic and its checks of the tiles' headers, of files
- * listed twice and of gaps, then the VRT they vouch for; the samples of
+ * listed twice and of gaps, then the VRT they vouch for (dem_mosaic_vrt,
+ * which dem2rgb's warp reads too: dem_warp_list.c); the samples of
  * overlapping tiles compared in dem_mosaic_overlap.c; a tile opened in
  * dem_mosaic_tile.c (dem_mosaic.h). */
 #include <math.h>
@@ -414,37 +415,50 @@ vrt_build(char *const *paths, int n, const dem_head *r, int gaps,
 	return vrt;
 }
 
-int
-dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
-    const dem_opts *o, tl_err *e)
+GDALDatasetH
+dem_mosaic_vrt(char *const *paths, int n, const dem_opts *o, int samples,
+    const char *what, dem_tiles *dt, tl_err *e)
 {
 	tile *tl = tl_alloc((size_t)n, sizeof *tl, e);
 	char **once = tl_alloc((size_t)n, sizeof *once, e);
 	GDALDatasetH vrt = NULL;
-	dem_tiles dt = { 0 };
 	dem_head r = { 0 };
-	int gaps, rc = -1, m = 0;
+	int gaps, m = 0;
 
 	dem_gdal_init();
+	memset(dt, 0, sizeof *dt);
 	if (tl == NULL || once == NULL || n < 1 ||
-	    check_all(paths, n, tl, &r, &dt, o, e) < 0 ||
+	    check_all(paths, n, tl, &r, dt, o, e) < 0 ||
 	    mark_dups(tl, n, e) < 0 || (gaps = has_gaps(tl, n, e)) < 0)
 		goto out;
 	/* -I reads no sample: the overlaps wait for the samples' reading */
-	if (!L->info && dem_mosaic_overlaps(tl, n, &r, o, e) < 0)
+	if (samples && dem_mosaic_overlaps(tl, n, &r, o, e) < 0)
 		goto out;
 	/* a file listed again paints what it painted (overlaps agree) */
 	for (int k = 0; k < n; k++)
 		if (tl[k].dup < 0)
 			once[m++] = paths[k];
-	if ((vrt = vrt_build(once, m, &r, gaps, o, L->what, e)) != NULL)
-		rc = dem_read_dataset(L, g, vrt, &dt, o, e);
+	vrt = vrt_build(once, m, &r, gaps, o, what, e);
 out:
-	if (vrt != NULL)
-		GDALClose(vrt);
 	if (r.srs != NULL)
 		OSRDestroySpatialReference(r.srs);
 	free(tl);
 	free(once);
+	return vrt;
+}
+
+int
+dem_read_mosaic(dem_load *L, georef *g, char *const *paths, int n,
+    const dem_opts *o, tl_err *e)
+{
+	dem_tiles dt;
+	GDALDatasetH vrt;
+	int rc;
+
+	if ((vrt = dem_mosaic_vrt(paths, n, o, !L->info, L->what, &dt,
+	    e)) == NULL)
+		return -1;
+	rc = dem_read_dataset(L, g, vrt, &dt, o, e);
+	GDALClose(vrt);
 	return rc;
 }

@@ -63,13 +63,11 @@ dem_warp_mercator(const char *path, int has_nodata, double nodata,
 	    "COMPRESS=NONE", "-co", "BIGTIFF=IF_SAFER", "-wm", "16", "-et", "0",
 	    "-multi", "-wo", nt, "-q",
 	    has_nodata ? "-srcnodata" : NULL, nd, NULL };
+	/* a list: its tiles' overlaps compared, as its reading does */
+	if ((src = dem_warp_open(path, &(dem_opts){ .has_nodata = has_nodata,
+	    .nodata = nodata }, 1, e)) == NULL)
+		return -1;
 	dem_gdal_catch(&m);
-	src = dem_gdal_open(path);
-	if (src == NULL) {
-		dem_gdal_release();
-		return tl_fail(e, "%s: %s", path, m.msg[0] ? m.msg :
-		    "GDAL cannot open it");
-	}
 	wo = GDALWarpAppOptionsNew((char **)argv, NULL);
 	if (wo != NULL)
 		dst = GDALWarp(out, NULL, 1, &src, wo, &usage);
@@ -147,16 +145,13 @@ dem_extent_wgs84(const char *path, double ll[4], double *cell, tl_err *e)
 	if (kind == DEM_IN_EXR)
 		return tl_fail(e, "%s: an EXR carries no georeferencing GDAL "
 		    "reads: dem2rgb needs a DEM GDAL opens, with a CRS", path);
-	dem_gdal_init();
+	/* the header only: -N (not known here) changes no place, and the
+	 * tiles' nodata is checked by the reading of its header that
+	 * follows (rg_warp_opts) */
+	if ((ds = dem_warp_open(path, &(dem_opts){ .has_nodata = 1 }, 0,
+	    e)) == NULL)
+		return -1;
 	dem_gdal_catch(&m);
-	if ((ds = dem_gdal_open(path)) == NULL) {
-		dem_gdal_release();
-		/* a list (dem2fqm(1)'s mosaics) is not a GDAL dataset */
-		return tl_fail(e, "%s: %s (dem2rgb reads one dataset GDAL "
-		    "opens: a list of DEMs must be made a VRT first, "
-		    "gdalbuildvrt -input_file_list)", path, m.msg[0] ? m.msg :
-		    "GDAL cannot open it");
-	}
 	w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
 	r = GDALGetGeoTransform(ds, gt) == CE_None ? 0 : -1;
 	/* the outline (N points a side) and the centre cell's steps */

@@ -24,7 +24,8 @@ typedef struct {
 /* The grid's pixel size in metres of EPSG:3857. */
 double dem_mgrid_res(const dem_mgrid *g);
 
-/* The DEM path (any dataset GDAL opens; a source nodata, when
+/* The DEM path (any dataset GDAL opens, or a list of DEM files read as
+ * the reader reads it, dem2fqm(1) MOSAICS; a source nodata, when
  * has_nodata, overriding the file's) warped by GDAL onto g, bilinear
  * (cubic: 1), its validity kept (nodata and mask: GDAL's warper weights
  * only valid samples; a vertex with none is NaN), into the GeoTIFF out,
