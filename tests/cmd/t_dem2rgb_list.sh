@@ -45,8 +45,10 @@ dem2rgb -q -j 2 "$T/crop.tif" "$T/ct" && diff -r "$T/lt" "$T/ct" >/dev/null
 ok $? "... the crop's tree byte for byte (Terrarium PNG, tiles.json)"
 n=$(find "$T/lt" -name '*.png' | wc -l)
 [ "$n" -ge 10 ]; ok $? "... $n tiles"
-dem2rgb -q -j 1 "$T/rev.txt" "$T/rt" && diff -r "$T/rt" "$T/ct" >/dev/null
-ok $? "the list reversed, one thread: the same tree"
+dem2rgb -q -z 11 "$T/crop.tif" "$T/c11" &&
+    dem2rgb -q -j 1 -z 11 "$T/rev.txt" "$T/rt" &&
+    diff -r "$T/rt" "$T/c11" >/dev/null
+ok $? "the list reversed, one thread, -z 11: the crop's tree"
 opts="-e mapbox -f webp -z 11"
 # shellcheck disable=SC2086
 dem2rgb -q $opts -o "$T/l.pmtiles" "$T/l/list.txt" &&
@@ -61,8 +63,7 @@ dem2rgb -q -z 11 "$T/three.txt" "$T/ht" &&
     dem2rgb -q -z 11 "$T/three.vrt" "$T/hv" &&
     diff -r "$T/ht" "$T/hv" >/dev/null
 ok $? "three pieces, a hole: the tree of their VRT"
-dem2rgb -q -z 11 "$T/crop.tif" "$T/c11" &&
-    ! diff -r "$T/ht" "$T/c11" >/dev/null
+! diff -r "$T/ht" "$T/c11" >/dev/null
 ok $? "... not the whole crop's"
 
 # UTM zone 10: pieces of the crop warped there
