@@ -14,7 +14,8 @@
 # tiles.json declares measured again by the decoder's surface over both
 # sides; tiles.json and the PMTiles header's bounds the world's
 # longitudes (TileJSON 3.0.0: bounds must not wrap); the plan's jobs
-# byte for byte one process's, the split parts sharing zoom 0's tile.
+# byte for byte one process's (the split parts sharing zoom 0's tile;
+# -m average).
 . "$(dirname "$0")/../lib.sh"
 
 TOOLS=$TOP/tests/tools
@@ -182,7 +183,7 @@ for c in utm pdc; do
 done
 
 # the plan: zoom 0 in the split segment (its one tile from both ends)
-for o in "-t 256 -z 3" "-z 10"; do
+for o in "-t 256 -z 3" "-z 10" "-m average -z 6"; do
 	# shellcheck disable=SC2086
 	dem2rgb -q -j 2 $o "$T/am.tif" "$T/ref" &&
 	    dem2rgb $o --plan "$T/plan" --part-tiles 1 "$T/am.tif" \
