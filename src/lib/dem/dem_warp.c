@@ -110,23 +110,69 @@ to_wgs84(GDALDatasetH ds, double *x, double *y, int n)
 	return ok ? 0 : -1;
 }
 
-/* Whether the outline (n points a side, the sides interleaved: point k
- * of side s at k 4 + s) crosses the antimeridian: jumps across it between
- * neighbours (a CRS whose longitudes wrap there: its grid would span the
- * world), or goes past 180 degrees (its grid would run off the world's
- * east edge) and is not the whole world (a global grid a half cell past
- * its seam: clamped). */
-static int
-crosses(const double *x, int n, const double ll[4])
+static void
+box(const double *x, const double *y, int n, double ll[4])
 {
-	int past = 0;
+	ll[0] = ll[1] = HUGE_VAL, ll[2] = ll[3] = -HUGE_VAL;
+	for (int i = 0; i < n; i++) {
+		ll[0] = fmin(ll[0], x[i]), ll[2] = fmax(ll[2], x[i]);
+		ll[1] = fmin(ll[1], y[i]), ll[3] = fmax(ll[3], y[i]);
+	}
+}
+
+/* The outline's longitudes (n points a side, the sides interleaved:
+ * point k of side s at k 4 + s, each side starting where the one before
+ * ends) made continuous around it, then moved whole by 360 so that its
+ * west lies in -180 .. 180; the 3 centre points after them moved by 360
+ * to lie nearest the outline's middle. */
+static void
+unwrap(double *x, int n)
+{
+	double prev = x[0], lo = HUGE_VAL, hi = -HUGE_VAL, d = 0;
+
+	for (int s = 0; s < 4; s++)
+		for (int k = 0; k < n; k++) {
+			double *p = &x[k * 4 + s];
+			*p += 360 * round((prev - *p) / 360);
+			prev = *p, lo = fmin(lo, *p), hi = fmax(hi, *p);
+		}
+	while (lo + d < -180)
+		d += 360;
+	while (lo + d >= 180)
+		d -= 360;
+	for (int i = 0; i < n * 4; i++)
+		x[i] += d;
+	for (int i = n * 4; i < n * 4 + 3; i++)
+		x[i] += 360 * round(((lo + hi) / 2 + d - x[i]) / 360);
+}
+
+/* The outline's bounds: clamped to the world (a global grid a half cell
+ * past its seam too); a DEM across the antimeridian (longitudes jumping
+ * there between neighbours, a CRS whose longitudes wrap there, or past
+ * 180 either way) unwrapped: its west in -180 .. 180, its east past
+ * 180, the points moved with it. */
+static int
+bounds(const char *path, double *x, const double *y, int n, double ll[4],
+    tl_err *e)
+{
+	int jumps = 0, past = 0;
 
 	for (int k = 0; k < n * 4; k++) {
-		if (k + 4 < n * 4 && fabs(x[k] - x[k + 4]) > 180)
-			return 1;
+		jumps |= k + 4 < n * 4 && fabs(x[k] - x[k + 4]) > 180;
 		past |= fabs(x[k]) > 180 + 1e-9;
 	}
-	return past && ll[2] - ll[0] < 359.9;
+	box(x, y, n * 4, ll);
+	if (!jumps && (!past || ll[2] - ll[0] >= 359.9)) {
+		ll[0] = fmax(ll[0], -180), ll[2] = fmin(ll[2], 180);
+		return 0;
+	}
+	unwrap(x, n);
+	box(x, y, n * 4, ll);
+	if (ll[2] - ll[0] >= 359.9)
+		return tl_fail(e, "%s: spans the whole world across the "
+		    "antimeridian (180 degrees): not supported; give it in a "
+		    "CRS whose longitudes run -180 .. 180", path);
+	return 0;
 }
 
 int
@@ -175,16 +221,8 @@ dem_extent_wgs84(const char *path, double ll[4], double *cell, tl_err *e)
 	if (r < 0)
 		return tl_fail(e, "%s: no georeferencing GDAL can take to "
 		    "WGS84 (dem2rgb needs a CRS)", path);
-	ll[0] = ll[1] = HUGE_VAL, ll[2] = ll[3] = -HUGE_VAL;
-	for (int i = 0; i < N * 4; i++) {
-		ll[0] = fmin(ll[0], x[i]), ll[2] = fmax(ll[2], x[i]);
-		ll[1] = fmin(ll[1], y[i]), ll[3] = fmax(ll[3], y[i]);
-	}
-	if (crosses(x, N, ll))
-		return tl_fail(e, "%s: lies across or past the antimeridian (180 "
-		    "degrees): not supported; cut it there (gdalwarp -te) "
-		    "and make each side apart", path);
-	ll[0] = fmax(ll[0], -180), ll[2] = fmin(ll[2], 180);
+	if (bounds(path, x, y, N, ll, e) < 0)
+		return -1;
 	/* ground metres on a sphere of the mean radius: only for the rule */
 	{
 		const double R = 6371008.8, d = M_PI / 180;

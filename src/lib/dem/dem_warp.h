@@ -36,7 +36,11 @@ int dem_warp_mercator(const char *path, int has_nodata, double nodata,
 
 /* The DEM's bounds in degrees of WGS84 (west, south, east, north), its
  * centre latitude and its cell in ground metres there (the smaller of
- * the two steps), from its header: for the zoom rule. */
+ * the two steps), from its header: for the zoom rule. West lies in
+ * -180 .. 180; east past 180 when the DEM lies across the antimeridian
+ * (its longitudes past 180 either way, or wrapping there), the grids
+ * around it then running past the world's east edge (the warp takes
+ * EPSG:3857 x past PI R as longitudes past 180). */
 int dem_extent_wgs84(const char *path, double ll[4], double *cell,
     tl_err *e);
 

@@ -12,6 +12,26 @@ floordiv(long long a, long long b)
 	return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
+/* The split work's owner of tile t of zoom zz's band: that of its
+ * column, or where the whole grid (j->wrap) has the same tile a world
+ * east or west, theirs when the same, else the gather's (-1). */
+static int
+owner(const rg_job *j, const rg_zoom *zz, int t)
+{
+	const rg_band *b = j->band;
+	int l = b->maxz - zz->g.z, o;
+	long long x = zz->tx0 + t, n = 1LL << zz->g.z;
+	long long c0 = b->gx0 >> l, c1 = c0 + geo_level_size(b->gw, l) - 1;
+	long long t0 = floordiv(c0, b->dim), t1 = floordiv(c1, b->dim);
+
+	o = rg_band_owner(b, l, x);
+	if (j->wrap && x + n <= t1 && rg_band_owner(b, l, x + n) != o)
+		return -1;
+	if (j->wrap && x - n >= t0 && rg_band_owner(b, l, x - n) != o)
+		return -1;
+	return o;
+}
+
 /* The zoom's tiles numbered row by row, cut into nparts ranges (-m
  * average's parts); the split work's parts, by the band's rule. */
 int
@@ -21,8 +41,7 @@ rg_part_owns(const rg_job *j, const rg_zoom *zz, int t)
 	long long ty0, nty, T, i;
 
 	if (j->band != NULL)
-		return rg_band_owner(j->band, j->band->maxz - zz->g.z,
-		    zz->tx0 + t) == j->band->k;
+		return owner(j, zz, t) == j->band->k;
 	if (a->work == NULL || a->nparts <= 1)
 		return 1;
 	ty0 = floordiv(zz->g.y0, a->dim);

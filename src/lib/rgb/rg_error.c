@@ -32,6 +32,10 @@ typedef struct {
 	const double *px, *py; /* deepest zoom's pixel-corner coordinates */
 	double ylo, yhi;       /* of the row's valid samples */
 	double res;            /* the deepest zoom's pixel, metres */
+	double wx0, ww;        /* the grid's first column and the world's
+	                        * width: a sample is placed in the world
+	                        * from wx0 east (across the antimeridian,
+	                        * or given past 180) */
 	const float *dz;
 	const unsigned char *dv;
 } pass;
@@ -157,6 +161,10 @@ place(pass *p, const georef *g, geo_proj *pj, double *x, double *y,
 		return -1;
 	for (int i = 0; i < p->w; i++) {
 		x[i] = rg_merc_x(x[i], res), y[i] = rg_merc_y(y[i], res);
+		if (x[i] < p->wx0)
+			x[i] += p->ww;
+		else if (x[i] >= p->wx0 + p->ww)
+			x[i] -= p->ww;
 		if (p->dv[i] && isfinite(x[i]) && isfinite(y[i]))
 			p->ylo = fmin(p->ylo, y[i]), p->yhi = fmax(p->yhi, y[i]);
 		else
@@ -203,8 +211,9 @@ rg_error(rg_job *j, dem *src, rg_report *rep, tl_err *e)
 	zerr *ze = tl_alloc(nz, sizeof *ze, e);
 	float *dz = tl_alloc(w, sizeof *dz, e);
 	unsigned char *dv = tl_alloc(w, 1, e);
-	pass p = { j, ze, w, NULL, NULL, 0, 0,
-	    dem_mgrid_res(&j->zoom[rep->maxzoom].g), dz, dv };
+	const dem_mgrid *g = &j->zoom[rep->maxzoom].g;
+	pass p = { j, ze, w, NULL, NULL, 0, 0, dem_mgrid_res(g),
+	    (double)g->x0, ldexp(g->dim, g->z), dz, dv };
 
 	if (ze == NULL || dz == NULL || dv == NULL)
 		r = -1;

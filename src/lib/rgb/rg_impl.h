@@ -79,12 +79,18 @@ typedef struct {
 	tl_pool *pool;
 	int nt;
 	unsigned char **rgb;      /* per thread: dim x dim x 3 */
-	uint32_t **line;          /* per thread: a tile row's dim codes */
+	uint32_t **line;          /* per thread: a tile row's dim codes,
+	                           * and dim more (the other end's) */
 	unsigned char **img;      /* per tile of a band: the encoded file */
 	size_t *imgn;
 	int nimg;
 	tl_err *terr;             /* per thread: a failure */
 	int *tfail;
+	int wrap;                 /* the grids run past the world's east
+	                           * edge (a DEM across the antimeridian):
+	                           * tile column x >= 2^z written as x - 2^z,
+	                           * a zoom's two ends merged where they
+	                           * share a tile (rg_tiles.c) */
 	float *row;               /* a grid row of the widest zoom */
 	uint32_t *code;           /* its codes */
 	rg_zoom zoom[RG_MAXZOOM + 1];
@@ -184,6 +190,11 @@ int rg_pmtiles_close(pm_writer *w, const rg_job *j, const rg_report *rep,
 /* rg_band.c: whether tile column t of zoom zz's band (row zz->ty) is
  * the part's (always, outside a plan's job); rg_run.c: OUT checked. */
 int rg_part_owns(const rg_job *j, const rg_zoom *zz, int t);
+/* rg_tiles.c: the tiles a band of zoom zz writes (its tile columns, at
+ * most the world's 2^z when j->wrap), and the column tile t of the band
+ * is written as. */
+int rg_zoom_ntiles(const rg_job *j, const rg_zoom *zz);
+long long rg_zoom_column(const rg_job *j, const rg_zoom *zz, int t);
 int rg_check_out(const rg_args *a, tl_err *e);
 
 /* rg_run.c, shared with a plan's jobs (rg_split.c): the zooms and the

@@ -30,19 +30,36 @@ centre_zoom(const rg_report *rep)
 	return rep->minzoom + (rep->maxzoom - rep->minzoom) / 2;
 }
 
+/* The bounds and centre said of the DEM's bounds ll: across the
+ * antimeridian (east past 180), the world's longitudes (TileJSON 3.0.0:
+ * bounds "MUST NOT wrap around the ante-meridian"; MapLibre's
+ * TileBounds loads nothing when west > east) and the centre's longitude
+ * within -180 .. 180. */
+static void
+said(const double ll[4], double b[4], double c[2])
+{
+	memcpy(b, ll, 4 * sizeof *b);
+	c[0] = (ll[0] + ll[2]) / 2, c[1] = (ll[1] + ll[3]) / 2;
+	if (ll[2] <= 180)
+		return;
+	b[0] = -180, b[2] = 180;
+	c[0] = c[0] >= 180 ? c[0] - 360 : c[0];
+}
+
 /* The fields after "tiles", in tiles.json's order; NULL: no memory. */
 static json_t *
-fields(const rg_job *j, const rg_report *rep, const double ll[4])
+fields(const rg_job *j, const rg_report *rep, const double ll0[4])
 {
 	const rg_args *a = j->a;
+	double ll[4], c[2];
 
+	said(ll0, ll, c);
 	return json_pack("{s:s,s:i,s:i,s:[f,f,f,f],s:[f,f,i],"
 	    "s:s,s:i,s:s,s:s,s:s,s:s,s:o}",
 	    "scheme", "xyz",
 	    "minzoom", rep->minzoom, "maxzoom", rep->maxzoom,
 	    "bounds", ll[0], ll[1], ll[2], ll[3],
-	    "center", (ll[0] + ll[2]) / 2, (ll[1] + ll[3]) / 2,
-	    centre_zoom(rep),
+	    "center", c[0], c[1], centre_zoom(rep),
 	    "encoding", rg_encoding_name(a->enc), "tileSize", a->dim,
 	    "vertical_datum", rep->vdatum[0] ? rep->vdatum :
 	    "not declared (heights as the DEM holds them)",
@@ -86,13 +103,14 @@ rg_pmtiles_close(pm_writer *w, const rg_job *j, const rg_report *rep,
     const double ll[4], tl_err *e)
 {
 	pm_meta m = { j->a->fmt == RG_WEBP ? PM_WEBP : PM_PNG,
-	    rep->minzoom, rep->maxzoom, { ll[0], ll[1], ll[2], ll[3] },
-	    { (ll[0] + ll[2]) / 2, (ll[1] + ll[3]) / 2 }, centre_zoom(rep),
+	    rep->minzoom, rep->maxzoom, { 0 }, { 0 }, centre_zoom(rep),
 	    NULL };
 	json_t *f = fields(j, rep, ll);
 	char *s = f != NULL ? json_dumps(f, JSON_COMPACT |
 	    JSON_PRESERVE_ORDER) : NULL;
 	int r;
+
+	said(ll, m.bounds, m.center);
 
 	json_decref(f);
 	if (s == NULL) {

@@ -253,7 +253,7 @@ rg_job_init(rg_job *j, const rg_args *a, tl_err *e)
 		return -1;
 	for (int k = 0; k < j->nt; k++)
 		if ((j->rgb[k] = tl_alloc((size_t)a->dim * a->dim, 3, e)) ==
-		    NULL || (j->line[k] = tl_alloc(a->dim, sizeof **j->line,
+		    NULL || (j->line[k] = tl_alloc(2 * a->dim, sizeof **j->line,
 		    e)) == NULL)
 			return -1;
 	return 0;
@@ -434,7 +434,7 @@ rg_run(const rg_args *a, rg_report *rep, tl_err *e)
 		return tl_failsys(e, "%s", a->dump);
 	if (rg_scratch_begin(&sc, e) < 0)
 		return -1;
-	j.scratch = sc.sc.path;
+	j.scratch = sc.sc.path, j.wrap = ll[2] > 180;
 	if (a->work != NULL) { /* a plan's job, into the shared work tree */
 		j.tree = a->work;
 		if (rg_job_init(&j, a, e) == 0)

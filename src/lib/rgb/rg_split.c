@@ -163,6 +163,7 @@ rg_split_part(const rg_args *a, const char *work, int k, int n,
 	if (rg_scratch_begin(&sc, e) < 0)
 		return -1;
 	j.scratch = sc.sc.path, j.tree = work, j.band = &b;
+	j.wrap = ll[2] > 180;
 	if (rg_job_init(&j, a, e) == 0 &&
 	    part_open(&j, work, g.z - (nl - 1) > a->minzoom, e) == 0)
 		r = rg_segment(&j, 0, &g, path, &o, &ng, rep, e);
@@ -311,7 +312,7 @@ rg_split_gather(const rg_args *a, const char *work, int n, rg_report *rep,
 	b.work = work, b.part = 0, b.sink = NULL, b.dump = NULL;
 	if (rg_scratch_begin(&sc, e) < 0)
 		return -1;
-	j.scratch = sc.sc.path, j.tree = work;
+	j.scratch = sc.sc.path, j.tree = work, j.wrap = ll[2] > 180;
 	if (rg_job_init(&j, &b, e) == 0 && rg_rows_alloc(&j, g.w, e) == 0) {
 		r = joins(&j, work, &g, nl, n, &ng, rep, e);
 		j.band = NULL; /* the later segments whole */

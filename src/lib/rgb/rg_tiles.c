@@ -80,32 +80,73 @@ typedef struct {
 	int z;
 } band;
 
+int
+rg_zoom_ntiles(const rg_job *j, const rg_zoom *zz)
+{
+	long long n = 1LL << zz->g.z;
+
+	return j->wrap && zz->ntx > n ? (int)n : zz->ntx;
+}
+
+long long
+rg_zoom_column(const rg_job *j, const rg_zoom *zz, int t)
+{
+	long long x = zz->tx0 + t, n = 1LL << zz->g.z;
+
+	return j->wrap && x >= n ? x - n : x;
+}
+
+/* The grid's columns c0 .. c0 + dim - 1 of row gr read into line (those
+ * on the grid, k0 .. k1 - 1; false when none is). */
+static int
+span(const rg_zoom *zz, long long gr, long c0, int dim, uint32_t *line,
+    long *k0, long *k1, tl_err *e)
+{
+	int w = zz->g.w;
+
+	*k0 = c0 < 0 ? 0 : c0, *k1 = c0 + dim < w ? c0 + dim : w;
+	if (*k0 >= *k1)
+		return 0;
+	if (tl_pread(zz->fd, line + (*k0 - c0), (size_t)(*k1 - *k0) *
+	    sizeof *line, (gr * w + *k0) * (long long)sizeof *line, "scratch",
+	    e) < 0)
+		return -1;
+	return 1;
+}
+
 /* Row y (0 .. dim - 1) of tile t of the band into line: the grid's
  * codes, those of a row or column past the grid its nearest one's, not
- * valid (the band's rows are rlo .. rhi - 1 of the tile row). */
+ * valid (the band's rows are rlo .. rhi - 1 of the tile row); where the
+ * grid runs on past the world's east edge into the same tile (j->wrap),
+ * the columns a world east (past the grid's first end, or valid where
+ * that end's are not) in their place. */
 static int
 tile_row(const rg_job *j, const rg_zoom *zz, int t, int y, uint32_t *line,
     tl_err *e)
 {
-	int dim = j->a->dim, w = zz->g.w;
+	int dim = j->a->dim;
 	int from = y < zz->rlo ? zz->rlo : y >= zz->rhi ? zz->rhi - 1 : y;
 	long long gr = zz->ty * dim + from - zz->g.y0;
 	/* the tile's first column on the grid, and the span it covers */
-	long c0 = (long)(zz->tx0 * dim - zz->g.x0) + (long)t * dim;
-	long k0 = c0 < 0 ? 0 : c0, k1 = c0 + dim < w ? c0 + dim : w;
+	long c0 = (long)(zz->tx0 * dim - zz->g.x0) + (long)t * dim, k0, k1;
+	long cw = c0 + (long)((long long)dim << zz->g.z), kw0, kw1;
 	uint32_t mask = from == y ? ~0u : ~RG_VALID;
+	int r = span(zz, gr, c0, dim, line, &k0, &k1, e), rw = 0;
 
-	assert(k0 < k1);
-	if (tl_pread(zz->fd, line + (k0 - c0), (size_t)(k1 - k0) *
-	    sizeof *line, (gr * w + k0) * (long long)sizeof *line, "scratch",
-	    e) < 0)
+	assert(r != 0);
+	if (r > 0 && j->wrap)
+		rw = span(zz, gr, cw, dim, line + dim, &kw0, &kw1, e);
+	if (r < 0 || rw < 0)
 		return -1;
 	for (long i = 0; i < dim; i++) {
-		long k = c0 + i;
+		long k = c0 + i, kw = cw + i;
 		if (k < k0)
 			line[i] = line[k0 - c0] & ~RG_VALID;
 		else if (k >= k1)
 			line[i] = line[k1 - 1 - c0] & ~RG_VALID;
+		if (rw > 0 && kw >= kw0 && kw < kw1 && (k < k0 || k >= k1 ||
+		    (line[dim + i] & ~line[i] & RG_VALID)))
+			line[i] = line[dim + i];
 		line[i] &= mask;
 	}
 	return 0;
@@ -178,28 +219,28 @@ flush(rg_job *j, int z, tl_err *e)
 	int r = 0;
 
 	memset(j->tfail, 0, j->nt * sizeof *j->tfail);
-	tl_pool_for(j->pool, zz->ntx, encode_tiles, &b);
+	tl_pool_for(j->pool, rg_zoom_ntiles(j, zz), encode_tiles, &b);
 	for (int k = 0; k < j->nt; k++)
 		if (j->tfail[k] && r == 0)
 			*e = j->terr[k], r = -1;
-	for (int t = 0; t < zz->ntx; t++) {
+	for (int t = 0; t < rg_zoom_ntiles(j, zz); t++) {
+		long long x = rg_zoom_column(j, zz, t);
 		if (j->img[t] == NULL)
 			continue;
 		if (r == 0 && j->tree != NULL) {
-			snprintf(p, sizeof p, "%s/%d/%lld", j->tree, z,
-			    zz->tx0 + t);
+			snprintf(p, sizeof p, "%s/%d/%lld", j->tree, z, x);
 			if (mkdir(p, 0777) < 0 && errno != EEXIST)
 				r = tl_failsys(e, "%s", p);
 		}
 		if (r == 0 && j->tree != NULL) {
 			snprintf(p, sizeof p, "%s/%d/%lld/%lld.%s", j->tree, z,
-			    zz->tx0 + t, zz->ty, rg_format_ext(j->a->fmt));
+			    x, zz->ty, rg_format_ext(j->a->fmt));
 			r = write_file(p, j->img[t], j->imgn[t], e);
 		}
 		if (r == 0)
 			zz->tiles++, zz->bytes += (long long)j->imgn[t];
 		if (r == 0 && j->a->sink != NULL)
-			r = j->a->sink(j->a->sink_ctx, z, zz->tx0 + t, zz->ty,
+			r = j->a->sink(j->a->sink_ctx, z, x, zz->ty,
 			    j->img[t], j->imgn[t], e);
 		free(j->img[t]);
 		j->img[t] = NULL;
