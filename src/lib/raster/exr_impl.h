@@ -11,18 +11,44 @@
 
 #include "raster/rs_impl.h"
 
-/* Shared by reader and writer: what the callbacks need. */
+/* Shared by reader and writer: what the callbacks need. OpenEXRCore
+ * reads and writes a header attribute, a chunk's leader and the chunk
+ * table a few bytes at a time (about 250 writes and 22 reads of a
+ * pyramid block): the bytes go through a window in memory instead.
+ * Writing, win holds the file's bytes wbase .. wbase+wlen, none of them
+ * in the file yet (the file ends at or before wbase); reading, the
+ * first wlen bytes of a small file, read whole. */
 struct rs_exr_io {
 	int fd;
 	long long base; /* where the EXR begins in fd */
 	long long size; /* its length (reading) */
 	char msg[512];  /* OpenEXRCore's first complaint since last cleared */
+	unsigned char *win;
+	size_t wcap, wlen; /* allocated, held: wlen <= wcap <= RS_EXR_WINDOW */
+	long long wbase;
+	int werr;       /* a write failed (errno): every later one fails */
 };
+
+/* The window's bound: memory per open EXR file, whatever its size. A
+ * pyramid block (129x129 vertices, a few channels, compressed) is far
+ * below it, so it is written with one write(2) and read with one
+ * read(2); a larger file (a level's vertex or quadric map) goes out in
+ * pieces of up to this size, and is read as OpenEXRCore asks. */
+#define RS_EXR_WINDOW (1 << 20)
 
 /* A context initializer whose I/O goes through io's descriptor (pread
  * from io->base, or pwrite) and whose errors are kept in io->msg. */
 void rs_exr_init_read(exr_context_initializer_t *init, struct rs_exr_io *io);
 void rs_exr_init_write(exr_context_initializer_t *init, struct rs_exr_io *io);
+/* Reading: a file of at most RS_EXR_WINDOW bytes is read whole now and
+ * served from memory (best effort: on any failure the reads go to the
+ * descriptor as they would have, and fail there the same way). */
+void rs_exr_preload(struct rs_exr_io *io);
+/* Writing: the window's bytes into the file; -1 with io->msg set if a
+ * write failed, now or before. */
+int rs_exr_flush(struct rs_exr_io *io);
+/* Frees the window. */
+void rs_exr_io_free(struct rs_exr_io *io);
 
 /* "name: what: why", why being OpenEXRCore's message or its code's;
  * clears io->msg; returns -1. */

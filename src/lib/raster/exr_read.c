@@ -181,6 +181,7 @@ exr_close_r(rs_reader *r)
 	if (x->ctx != NULL)
 		exr_finish(&x->ctx);
 	free(x->chunk);
+	rs_exr_io_free(&x->io);
 	free(x);
 	r->impl = NULL;
 }
@@ -238,6 +239,7 @@ rs_exr_open_read(rs_reader *r, long long base, tl_err *e)
 	x->io.base = base;
 	x->io.size = (long long)st.st_size - base;
 	rs_exr_init_read(&init, &x->io);
+	rs_exr_preload(&x->io);
 	if ((rv = exr_start_read(&x->ctx, r->name, &init))) {
 		x->ctx = NULL;
 		return rs_exr_fail(e, &x->io, rv, r->name,

@@ -259,6 +259,7 @@ exr_abort_w(rs_writer *w)
 	if (x == NULL)
 		return;
 	wr_end(x);
+	rs_exr_io_free(&x->io);
 	tl_out_abort(&x->o);
 	free(x);
 	w->impl = NULL;
@@ -274,11 +275,13 @@ exr_finish_w(rs_writer *w, tl_err *e)
 		exr_abort_w(w);
 		return -1;
 	}
-	if ((rv = wr_end(x))) {
-		rs_exr_fail(e, &x->io, rv, w->name, "finish");
+	if ((rv = wr_end(x)) || rs_exr_flush(&x->io) < 0) {
+		rs_exr_fail(e, &x->io, rv ? rv : EXR_ERR_WRITE_IO, w->name,
+		    "finish");
 		exr_abort_w(w);
 		return -1;
 	}
+	rs_exr_io_free(&x->io);
 	rv = tl_out_commit(&x->o, e);
 	free(x);
 	w->impl = NULL;
