@@ -22,6 +22,11 @@ typedef struct {
 	const char *filled;    /* vgis-job level0 -F: the samples from this
 	                        * filled DEM (filled(5)), or NULL */
 	int win[2], has_win;   /* vgis-job level0 -w: columns a .. b-1 */
+	/* dem2vgis's threads: the DEM, opened once for the chain and
+	 * tilepack's work, from open(open_ctx) (NULL and e: its failure),
+	 * neither opened nor closed here; or open NULL */
+	dem *(*open)(void *open_ctx, tl_err *e);
+	void *open_ctx;
 } stage_level0;
 
 int stage_dem2fqm(const cli *c, const stage_level0 *o, tl_err *e);

@@ -1,6 +1,7 @@
 /* stage_inproc.c - the stages' work for dem2vgis's threads
  * (stage_inproc.h): the options its command lines would carry, and the
  * message each program would print on failure. */
+#include <assert.h>
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,6 +28,43 @@ said(const cli *c, int r, tl_err *e)
 	return tl_fail(e, "%s: %s%s", c->prog, m, hint);
 }
 
+/* pipeline_work's open: the DEM the chain and tilepack's work share. */
+static void
+dem_begin(void *ctx, const char *path)
+{
+	stage_dem *sd = &((stage_inproc *)ctx)->dem;
+
+	assert(!sd->named && !sd->done);
+	/* too long a name: each stage converts it, as before */
+	sd->named = (size_t)snprintf(sd->path, sizeof sd->path, "%s", path) <
+	    sizeof sd->path;
+}
+
+/* stage_level0's open: the DEM converted, once (a second call, after a
+ * failure: its answer again). */
+static dem *
+dem_get(void *ctx, tl_err *e)
+{
+	stage_inproc *p = ctx;
+	stage_dem *sd = &p->dem;
+
+	if (!sd->done)
+		sd->d = dem_open(sd->path, &p->c[0].dem, &sd->err);
+	sd->done = 1;
+	if (sd->d == NULL)
+		*e = sd->err;
+	return sd->d;
+}
+
+static void
+dem_end(void *ctx)
+{
+	stage_dem *sd = &((stage_inproc *)ctx)->dem;
+
+	dem_close(sd->d);
+	memset(sd, 0, sizeof *sd);
+}
+
 static int
 level0(void *ctx, const char *path, tl_err *e)
 {
@@ -34,6 +72,8 @@ level0(void *ctx, const char *path, tl_err *e)
 	stage_level0 o = p->l0;
 
 	o.in = path;
+	if (p->dem.named && strcmp(path, p->dem.path) == 0)
+		o.open = dem_get, o.open_ctx = p;
 	return said(&p->c[0], stage_dem2fqm(&p->c[0], &o, e), e);
 }
 
@@ -66,6 +106,9 @@ pack(void *ctx, const char *path, const char *out, char *const *vmaps, int n,
 	int r = -1;
 
 	a.dem_path = path, a.dir = out, a.levels = vmaps, a.nlevels = n;
+	/* the chain's DEM, converted once (its options: the same cli) */
+	if (p->dem.done && p->dem.d != NULL && strcmp(path, p->dem.path) == 0)
+		a.opened = p->dem.d;
 	if (stage_pack_guard(&a, NULL, e) < 0)
 		return said(&p->c[3], -1, e);
 	if ((lev = tl_alloc((size_t)n, sizeof *lev, e)) == NULL)
@@ -111,7 +154,7 @@ stage_inproc_init(stage_inproc *p, const cli *c, const pipeline_opts *o,
 	p->pk.part_samples = 1LL << 30;
 	p->pk.prog = p->c[3].prog;
 	p->quiet = o->quiet;
-	p->w = (pipeline_work){ .ctx = p, .level0 = level0, .filter = filter,
-	    .solve = solve, .pack = pack };
+	p->w = (pipeline_work){ .ctx = p, .open = dem_begin, .close = dem_end,
+	    .level0 = level0, .filter = filter, .solve = solve, .pack = pack };
 	return 0;
 }

@@ -8,6 +8,16 @@
 #include "jobs/pipeline.h"
 #include "stage.h"
 
+/* The DEM converted once, by dem2fqm's work, and kept open for
+ * tilepack's (pipeline_work's open and close). */
+typedef struct {
+	char path[4096];      /* the DEM pipeline_work's open named */
+	int named;            /* path holds it */
+	int done;             /* d or err is the conversion's answer */
+	dem *d;               /* the open DEM, or NULL: err says why */
+	tl_err err;
+} stage_dem;
+
 typedef struct {
 	cli c[4];             /* as dem2fqm, fqmfilter, fqmsolve, tilepack */
 	stage_level0 l0;
@@ -15,6 +25,7 @@ typedef struct {
 	stage_solve s;
 	pack_args pk;
 	int quiet;
+	stage_dem dem;
 	pipeline_work w;
 } stage_inproc;
 

@@ -77,7 +77,9 @@ stage_dem2fqm(const cli *c, const stage_level0 *o, tl_err *e)
 		return -1;
 	/* -I reads the header only; -II and the conversion every sample;
 	 * -F the header, the samples from the filled DEM */
-	if (o->info == 1)
+	if (o->open != NULL)
+		d = o->open(o->open_ctx, e);
+	else if (o->info == 1)
 		d = dem_open_info(o->in, &c->dem, e);
 	else if (o->filled != NULL)
 		d = dem_open_filled(o->in, &c->dem, o->filled, e);
@@ -86,6 +88,7 @@ stage_dem2fqm(const cli *c, const stage_level0 *o, tl_err *e)
 	if (d == NULL)
 		return -1;
 	r = o->info ? dem_info_print(d, stdout, e) : convert(c, o, d, e);
-	dem_close(d);
+	if (o->open == NULL)
+		dem_close(d);
 	return r;
 }

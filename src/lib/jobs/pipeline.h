@@ -28,9 +28,14 @@
  * each runs in a thread of its own whose "-" is a ring of rows, and on
  * failure fills e with the message its program would print ("prog:
  * why"). level0: dem2fqm DEM -; filter: fqmfilter - -; solve: fqmsolve
- * - out; pack: tilepack DEM OUT vmaps. */
+ * - out; pack: tilepack DEM OUT vmaps. open (or NULL) names the DEM
+ * before the chain: level0 converts it, and pack uses that conversion
+ * instead of its own (the same DEM, the same options); close, after
+ * pack or a failure, closes it. */
 typedef struct {
 	void *ctx;
+	void (*open)(void *ctx, const char *dem);
+	void (*close)(void *ctx);
 	int (*level0)(void *ctx, const char *dem, tl_err *e);
 	int (*filter)(void *ctx, tl_err *e);
 	int (*solve)(void *ctx, const char *out, tl_err *e);

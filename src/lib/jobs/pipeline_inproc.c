@@ -1,7 +1,8 @@
 /* pipeline_inproc.c - a run's stages as threads of this process
  * (pipeline.h, o->work; inproc.h): the quadric chain with rings for its
  * pipes and tees, each level's vertex map the stream into the scratch
- * file the processes' route writes, then tilepack's work over them. */
+ * file the processes' route writes, then tilepack's work over them,
+ * the DEM converted once for both (pipeline_work's open). */
 #include <fcntl.h>
 #include <malloc.h>
 #include <pthread.h>
@@ -124,6 +125,9 @@ pipeline_inproc(const pipeline_opts *o, const char *dem, int levels,
 
 	*status = 1;
 	tl_progress_sink(progress, m);
+	/* the DEM converted once, for the chain and tilepack's work */
+	if (o->work->open != NULL)
+		o->work->open(o->work->ctx, dem);
 	if ((p = inproc_new(o->prog, e)) != NULL &&
 	    chain(p, o, dem, levels, vpath, jobs, e) == 0)
 		r = inproc_run(p, 1, s, status, e);
@@ -141,6 +145,8 @@ pipeline_inproc(const pipeline_opts *o, const char *dem, int levels,
 		inproc_free(p);
 	} else if (r == 0)
 		r = -1;
+	if (o->work->close != NULL)
+		o->work->close(o->work->ctx);
 	tl_progress_sink(NULL, NULL);
 	return r;
 }

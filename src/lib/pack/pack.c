@@ -452,8 +452,8 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 	int r = -1;
 
 	assert(a->nlevels >= 1 && a->jobs >= 1);
-	if (pack_check_dir(a->dir, a->force, e) < 0 ||
-	    (d = dem_open(a->dem_path, &a->dem, e)) == NULL)
+	if (pack_check_dir(a->dir, a->force, e) < 0 || (d = a->opened ?
+	    a->opened : dem_open(a->dem_path, &a->dem, e)) == NULL)
 		return -1;
 	memset(out, 0, (size_t)a->nlevels * sizeof *out);
 	ix.version = VGIS_VERSION;
@@ -478,7 +478,8 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 done:
 	if (r < 0)
 		tl_outdir_abort(&dir);
-	dem_close(d);
+	if (d != a->opened)
+		dem_close(d);
 	geo_ground_free(&m);
 	pyramid_index_free(&ix);
 	return r;

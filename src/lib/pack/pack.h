@@ -31,6 +31,10 @@ typedef struct {
 	const char *prog;     /* names the progress line, or NULL: none */
 	enum rs_compression comp; /* the blocks' EXR compression: RS_ZIP
 	                           * (0, the default) unless tilepack -z */
+	dem *opened;          /* pack_run: dem_path already open with dem
+	                       * (dem2vgis converts it once for its chain and
+	                       * tilepack's work), used and not closed; or
+	                       * NULL: opened here */
 } pack_args;
 
 /* What a level came to. */
