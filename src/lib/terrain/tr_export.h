@@ -77,6 +77,14 @@ int tr_batch(tr_export *x, const char *tmp, int z1, tr_part *p, tl_err *e);
 /* The deepest level that tr_batch takes: of TR_BATCH tiles or fewer,
  * as are all those above it. */
 int tr_batch_depth(const tr_export *x);
+/* Levels g .. maxz, whole, into tmp at try 0 in one sweep over the DEM
+ * (each tile with its ancestor at g, whose blocks a thread's cache
+ * holds), then from try 1 on, one at a time, the levels that did not
+ * hold; p[z] as tr_settle. The same files and parts as tr_settle level
+ * by level. */
+int tr_sweep(tr_export *x, const char *tmp, int g, tr_part *p, tl_err *e);
+/* The first level tr_sweep takes (maxz + 1: none). */
+int tr_sweep_level(const tr_export *x);
 
 /* Level z's line of the report from its parts at one try. */
 void tr_report_level(const tr_export *x, int z, const tr_part *p,

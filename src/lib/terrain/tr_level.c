@@ -4,7 +4,9 @@
  * the level's choice of pyramid level and tau, its directories, and the
  * settling of a level's tries. The run in one process (tr_run.c) and a
  * plan's jobs (tr_plan.c) make the same units. */
+#include <assert.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,15 +34,16 @@ write_file(const char *path, const tr_work *w, tl_err *e)
 /* Tile (x, y)'s distances d, or, while tiles are kept for one pass
  * (tr_batch), d 0 and the tile kept, measured at once past x->keep. */
 static int
-measure(tr_export *j, tr_work *w, int x, int y, double d[2], tl_err *e)
+measure(tr_export *j, tr_work *w, int z, int x, int y, double d[2],
+    tl_err *e)
 {
 	tr_kept *k;
 	int r;
 
 	if (j->keep == 0)
-		return tr_measure(w, j->c.z, x, y, d, e);
+		return tr_measure(w, z, x, y, d, e);
 	d[0] = d[1] = 0;
-	if (tr_keep(w, j->c.z, x, y, &k, e) < 0)
+	if (tr_keep(w, z, x, y, &k, e) < 0)
 		return -1;
 	if (k == NULL)
 		return 0;
@@ -55,7 +58,7 @@ measure(tr_export *j, tr_work *w, int x, int y, double d[2], tl_err *e)
 			w->kept = p, w->ckept = n;
 		}
 		w->kbytes += tr_kept_bytes(k);
-		w->kept[w->nkept].k = k, w->kept[w->nkept++].z = j->c.z;
+		w->kept[w->nkept].k = k, w->kept[w->nkept++].z = z;
 		return 0;
 	}
 	r = tr_kept_walk(w, k, d, e);
@@ -63,25 +66,27 @@ measure(tr_export *j, tr_work *w, int x, int y, double d[2], tl_err *e)
 	return r;
 }
 
+/* Tile (x, y) of level c->z at c's try. */
 static int
-one_tile(tr_export *j, tr_work *w, int x, int y, tl_err *e)
+one_tile(tr_export *j, const tr_choice *c, tr_work *w, int x, int y,
+    tl_err *e)
 {
 	char path[4096];
 	float lo, hi;
 	double d[2];
 
-	if (tr_mesh_tile(w, &j->c, x, y, e) < 0 ||
-	    tr_quantise(w, j->c.z, x, y, &lo, &hi, e) < 0 ||
-	    measure(j, w, x, y, d, e) < 0 ||
-	    (j->t3 ? t3t_glb(w, j->t3, j->c.z, x, y, lo, hi, e) :
+	if (tr_mesh_tile(w, c, x, y, e) < 0 ||
+	    tr_quantise(w, c->z, x, y, &lo, &hi, e) < 0 ||
+	    measure(j, w, c->z, x, y, d, e) < 0 ||
+	    (j->t3 ? t3t_glb(w, j->t3, c->z, x, y, lo, hi, e) :
 	    qm_encode(w, lo, hi, j->a->gzip, e)) < 0)
 		return -1;
 	w->err = fmax(w->err, d[0]), w->direct = fmax(w->direct, d[1]);
 	w->tiles++, w->tris += w->m.nt, w->bytes += (long long)w->nbuf;
-	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", j->tmp, j->c.z, x,
+	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", j->tmp, c->z, x,
 	    y);
 	if (j->t3)
-		t3t_path(path, sizeof path, j->tmp, j->c.z, x, y);
+		t3t_path(path, sizeof path, j->tmp, c->z, x, y);
 	return write_file(path, w, e);
 }
 
@@ -98,7 +103,8 @@ run_range(void *arg, int k, int i0, int i1)
 			y += j->i0 / j->nx;
 		} else
 			x = (j->i0 + i) % j->nx, y = (j->i0 + i) / j->nx;
-		if (one_tile(j, &j->w[k], j->x0 + x, j->y0 + y, &j->err[k]) < 0)
+		if (one_tile(j, &j->c, &j->w[k], j->x0 + x, j->y0 + y,
+		    &j->err[k]) < 0)
 			j->failed[k] = 1;
 	}
 }
@@ -239,4 +245,147 @@ tr_report_level(const tr_export *x, int z, const tr_part *p,
 	rep->err[z] = fmax(c.tau, c.base) + p->err;
 	rep->direct[z] = p->direct, rep->plevel[z] = c.p;
 	rep->tau[z] = c.tau, rep->tries[z] = p->t + 1;
+}
+
+/* --- the deep levels in one sweep (tr_sweep) ----------------------- */
+
+/* Levels g .. x->maxz at try 0, tile (z, x, y) with its ancestor
+ * (x, y) >> (z - g) at level g: the ancestors' rows from the south,
+ * every second one east to west, and each ancestor's tiles level by
+ * level, row by row. An ancestor's blocks fit the thread's cache
+ * (tr_sweep_level), so its tiles of every level read each of them once
+ * and the next ancestor finds the blocks they share still cached. */
+typedef struct {
+	tr_export *x;
+	int g, nx;              /* first level; ancestors in a row */
+	int d;                  /* tiles an ancestor spans, all levels */
+	tr_choice c[TR_MAXZ + 1];
+	tr_part *p;             /* per thread, per level */
+} sweep;
+
+/* Place i of the sweep: 1 and its tile, or 0 where the ancestor's
+ * square of level z reaches past av[z]. */
+static int
+sweep_tile(const sweep *s, int i, int *z, int *x, int *y)
+{
+	const int (*av)[4] = (const int (*)[4])s->x->av;
+	int a = i / s->d, l = i % s->d, row = a / s->nx, col = a % s->nx;
+	int k = 0, n = 1;
+
+	if (row % 2)
+		col = s->nx - 1 - col;
+	while (l >= n)
+		l -= n, n *= 4, k++;
+	*z = s->g + k;
+	*x = ((av[s->g][0] + col) << k) + l % (1 << k);
+	*y = ((av[s->g][1] + row) << k) + l / (1 << k);
+	return *x >= av[*z][0] && *x <= av[*z][2] && *y >= av[*z][1] &&
+	    *y <= av[*z][3];
+}
+
+static void
+sweep_range(void *arg, int k, int i0, int i1)
+{
+	sweep *s = arg;
+	tr_export *j = s->x;
+	tr_work *w = &j->w[k];
+
+	for (int i = i0; i < i1 && !j->failed[k]; i++) {
+		int z, x, y;
+		if (!sweep_tile(s, i, &z, &x, &y))
+			continue;
+		tr_part *p = &s->p[(size_t)k * (TR_MAXZ + 1) + z];
+		w->err = w->direct = 0, w->tiles = w->tris = w->bytes = 0;
+		if (one_tile(j, &s->c[z], w, x, y, &j->err[k]) < 0) {
+			j->failed[k] = 1;
+			break;
+		}
+		p->err = fmax(p->err, w->err);
+		p->direct = fmax(p->direct, w->direct);
+		p->tiles += w->tiles, p->tris += w->tris, p->bytes += w->bytes;
+	}
+}
+
+/* Sweep places of levels g .. maxz, or -1 when the levels' rectangles
+ * are not within their ancestors' at g or the count passes an int. */
+static long long
+sweep_size(const tr_export *x, int g, int *d)
+{
+	long long n = 0;
+
+	*d = 0;
+	for (int z = g; z <= x->maxz; z++) {
+		const int *a = x->av[z], *b = x->av[g], k = z - g;
+		if (a[0] >> k < b[0] || a[2] >> k > b[2] || a[1] >> k < b[1] ||
+		    a[3] >> k > b[3] || k > 12)
+			return -1;
+		*d += 1 << 2 * k;
+	}
+	n = tr_count(x, g) * *d;
+	return n > 0 && n <= INT_MAX ? n : -1;
+}
+
+int
+tr_sweep_level(const tr_export *x)
+{
+	const tr_grid *g = &x->g;
+	double res = g->projected ? g->cell / 111320.0 : fmax(fabs(g->bx),
+	    fabs(g->by));
+	int z = 1, d;
+
+	/* the first level whose tile, with a block either side, spans no
+	 * more blocks than a thread's cache holds */
+	while (z <= x->maxz) {
+		double b = ldexp(180, -z) / (BT_CELLS * res) + 2;
+		if (b * b <= x->w[0].ncache)
+			break;
+		z++;
+	}
+	return z <= x->maxz && sweep_size(x, z, &d) > 0 ? z : x->maxz + 1;
+}
+
+int
+tr_sweep(tr_export *x, const char *tmp, int g, tr_part *p, tl_err *e)
+{
+	sweep s = { .x = x, .g = g };
+	int n = (int)sweep_size(x, g, &s.d), r = -1;
+
+	assert(n > 0);
+	s.nx = x->av[g][2] - x->av[g][0] + 1;
+	if ((s.p = tl_alloc((size_t)x->nt * (TR_MAXZ + 1), sizeof *s.p,
+	    e)) == NULL)
+		return -1;
+	for (int z = g; z <= x->maxz; z++) {
+		memset(&p[z], 0, sizeof p[z]);
+		tr_choose(&x->ix, z, 0, &s.c[z]);
+		if (tr_dirs(x, tmp, z, e) < 0)
+			goto done;
+	}
+	x->tmp = tmp;
+	tl_pool_for(x->pool, n, sweep_range, &s);
+	for (int k = 0; k < x->nt; k++)
+		if (x->failed[k]) {
+			*e = x->err[k];
+			goto done;
+		}
+	for (int z = g; z <= x->maxz; z++) {
+		for (int k = 0; k < x->nt; k++) {
+			const tr_part *q = &s.p[(size_t)k * (TR_MAXZ + 1) + z];
+			p[z].err = fmax(p[z].err, q->err);
+			p[z].direct = fmax(p[z].direct, q->direct);
+			p[z].tiles += q->tiles, p[z].tris += q->tris;
+			p[z].bytes += q->bytes;
+		}
+		/* tr_try's test; a level that does not hold is made again
+		 * from try 1, as tr_settle would */
+		p[z].held = fmax(s.c[z].tau, s.c[z].base) + p[z].err <=
+		    s.c[z].el;
+		if (!p[z].held && tr_settle(x, tmp, z, 0, (int)tr_count(x, z),
+		    1, &p[z], e) < 0)
+			goto done;
+	}
+	r = 0;
+done:
+	free(s.p);
+	return r;
 }

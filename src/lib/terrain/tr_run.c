@@ -118,7 +118,7 @@ export(tr_export *x, tr_report *rep, tl_err *e)
 {
 	tl_outfile od = { 0 };
 	tr_part p, pb[TR_MAXZ + 1];
-	int r = -1, z1 = tr_batch_depth(x);
+	int r = -1, z1 = tr_batch_depth(x), zs = tr_sweep_level(x);
 
 	if (tr_check_out(x->a->out, e) < 0 || tl_outdir_begin(&od, x->a->out,
 	    e) < 0)
@@ -126,16 +126,23 @@ export(tr_export *x, tr_report *rep, tl_err *e)
 	if (x->a->format && (x->t3 = t3t_new(x->maxz,
 	    (const int (*)[4])x->av, e)) == NULL)
 		goto done;
+	/* the first levels batched, the deep ones swept (zs >= 1), those
+	 * between level by level */
+	z1 = z1 < zs - 1 ? z1 : zs - 1;
 	if (tr_batch(x, od.tmp, z1, pb, e) < 0)
 		goto done;
 	for (int z = 0; z <= z1; z++)
 		tr_report_level(x, z, &pb[z], rep);
-	for (int z = z1 + 1; z <= x->maxz; z++) {
+	for (int z = z1 + 1; z < zs; z++) {
 		if (tr_dirs(x, od.tmp, z, e) < 0 || tr_settle(x, od.tmp, z, 0,
 		    (int)tr_count(x, z), 0, &p, e) < 0)
 			goto done;
 		tr_report_level(x, z, &p, rep);
 	}
+	if (zs <= x->maxz && tr_sweep(x, od.tmp, zs, pb, e) < 0)
+		goto done;
+	for (int z = zs; z <= x->maxz; z++)
+		tr_report_level(x, z, &pb[z], rep);
 	if (tr_finish(x, od.tmp, e) < 0)
 		goto done;
 	r = tl_outdir_commit(&od, e);
