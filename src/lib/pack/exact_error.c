@@ -26,12 +26,16 @@
  *       whole DEM columns, found once per row, scale, kind and centre row
  *       and shifted along it: no per-triangle geometry. The common case.
  *   displaced levels (QEM-3D)
- *       tri_row here: the general chord of a triangle with displaced
- *       (float32 offset) corners, closed with tolerances EPS, each
- *       vertex's position found once per scale (vertex_at); the row
- *       bodies visit every diamond a row can reach (h + margin).
+ *       the batched path here: tri_row's general chord of a triangle
+ *       with displaced (float32 offset) corners, closed with tolerances
+ *       EPS, for four triangles at once (batch_flush: the same
+ *       operations lane by lane), their vertices read by rows of each
+ *       scale's positions (vrows), each position found once per scale
+ *       (vc_fill); the row bodies visit every diamond a row can reach
+ *       (h + margin). tri_row a triangle at a time is the reference
+ *       (TL_EXACT_REF, for the tests: t_displaced_scan).
  *   undisplaced levels coarser than SCAN_MAXSTEP
- *       tri_row too: there the integer scan's argument that EPS changes
+ *       tri_row: there the integer scan's argument that EPS changes
  *       nothing no longer holds.
  *
  * Both variants have an AVX2 copy and a plain one of their hot loops
