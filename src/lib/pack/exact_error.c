@@ -26,12 +26,16 @@
  *       whole DEM columns, found once per row, scale, kind and centre row
  *       and shifted along it: no per-triangle geometry. The common case.
  *   displaced levels (QEM-3D)
- *       tri_row here: the general chord of a triangle with displaced
- *       (float32 offset) corners, closed with tolerances EPS, each
- *       vertex's position found once per scale (vertex_at); the row
- *       bodies visit every diamond a row can reach (h + margin).
+ *       the batched path here: tri_row's general chord of a triangle
+ *       with displaced (float32 offset) corners, closed with tolerances
+ *       EPS, for four triangles at once (batch_flush: the same
+ *       operations lane by lane), their vertices read by rows of each
+ *       scale's positions (vrows), each position found once per scale
+ *       (vc_fill); the row bodies visit every diamond a row can reach
+ *       (h + margin). tri_row a triangle at a time is the reference
+ *       (TL_EXACT_REF, for the tests: t_displaced_scan).
  *   undisplaced levels coarser than SCAN_MAXSTEP
- *       tri_row too: there the integer scan's argument that EPS changes
+ *       tri_row: there the integer scan's argument that EPS changes
  *       nothing no longer holds.
  *
  * Both variants have an AVX2 copy and a plain one of their hot loops
@@ -232,12 +236,187 @@ tri_row(share *sh, const int t[3][2], double y, int hk)
 	return sweep(sh->dd, s->d0, i0, i1, z0, dz, 1 / s->step);
 }
 
+/* The batched path: up to four triangles the row crosses, gathered as
+ * tri_row gathers one (its rejections, its vertices), then set up
+ * together, tri_row's chord and plane lane by lane in v4d (the same
+ * operations in the same order: the same bits), then swept one by one
+ * by sweep. Its four divisions a triangle are four lanes' at once, and
+ * the set-up has no branch to mispredict. A diamond's local error takes
+ * its triangles' in their order, as in tri_row's loop; errors that are
+ * -1 (nothing measured) raise nothing, as local and base errors start
+ * at 0. */
+typedef struct {
+	double x[3][4], y[3][4], z[3][4]; /* the lanes' vertices */
+	float *acc[4];      /* a diamond's local error to raise, or NULL */
+	double *base[4];    /* else a block's base error */
+	int n;
+} batch;
+
+static inline __attribute__((always_inline)) v4d
+v4min(v4d a, v4d b)
+{
+	v4d r;
+
+	for (int k = 0; k < 4; k++)
+		r[k] = a[k] < b[k] ? a[k] : b[k];
+	return r;
+}
+
+/* m ? a : b, lane by lane, for masks of all ones or zeros */
+static inline __attribute__((always_inline)) v4d
+v4sel(v4l m, v4d a, v4d b)
+{
+	return (v4d)((m & (v4l)a) | (~m & (v4l)b));
+}
+
+static inline __attribute__((always_inline)) v4d
+v4set(double a)
+{
+	return (v4d){ a, a, a, a };
+}
+
+/* tri_row's chord (xl, xr) of the lanes' triangles at row y: each edge
+ * crossed, level edges on the row whole. */
+static inline __attribute__((always_inline)) void
+batch_chord(const v4d X[3], const v4d Y[3], double y, v4d *xl, v4d *xr)
+{
+	const v4d eps = v4set(EPS), yv = v4set(y);
+
+	*xl = v4set(INFINITY), *xr = v4set(-INFINITY);
+	for (int k = 0; k < 3; k++) {
+		v4d ax = X[k], ay = Y[k], bx = X[(k + 1) % 3];
+		v4d by = Y[(k + 1) % 3], f, x;
+		v4l lev = v4abs(by - ay) <= eps, on = v4abs(yv - ay) <= eps;
+		v4l in, ml, ms;
+		f = (yv - ay) / (by - ay); /* level lanes: not used */
+		in = ~((f < v4set(-EPS)) | (f > v4set(1 + EPS)));
+		f = v4min(v4set(1), v4max(v4set(0), f));
+		x = ax + f * (bx - ax);
+		ml = lev & on, ms = ~lev & in;
+		*xl = v4sel(ml, v4min(*xl, v4min(ax, bx)),
+		    v4sel(ms, v4min(*xl, x), *xl));
+		*xr = v4sel(ml, v4max(*xr, v4max(ax, bx)),
+		    v4sel(ms, v4max(*xr, x), *xr));
+	}
+}
+
+static inline __attribute__((always_inline)) void
+batch_flush(share *sh, batch *b, double y)
+{
+	const state *s = sh->s;
+	v4d X[3], Y[3], Z[3], xl, xr, n0, n1, n2, v;
+	double XL[4], XR[4], N2[4], DZ[4], Z0[4], lo[4], hi[4];
+
+	for (int k = 0; k < 3; k++) {
+		memcpy(&X[k], b->x[k], sizeof X[k]);
+		memcpy(&Y[k], b->y[k], sizeof Y[k]);
+		memcpy(&Z[k], b->z[k], sizeof Z[k]);
+	}
+	batch_chord(X, Y, y, &xl, &xr);
+	n0 = (Y[1] - Y[0]) * (Z[2] - Z[0]) - (Z[1] - Z[0]) * (Y[2] - Y[0]);
+	n1 = (Z[1] - Z[0]) * (X[2] - X[0]) - (X[1] - X[0]) * (Z[2] - Z[0]);
+	n2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
+	memcpy(XL, &xl, sizeof XL), memcpy(XR, &xr, sizeof XR);
+	memcpy(N2, &n2, sizeof N2);
+	v = -n0 / n2, memcpy(DZ, &v, sizeof DZ);
+	v = Z[0] - (n1 * (v4set(y) - Y[0]) - n0 * X[0]) / n2;
+	memcpy(Z0, &v, sizeof Z0);
+	v = (xl - v4set(EPS)) * s->step, memcpy(lo, &v, sizeof lo);
+	v = (xr + v4set(EPS)) * s->step, memcpy(hi, &v, sizeof hi);
+	for (int k = 0; k < b->n; k++) {
+		long i0, i1;
+		double err;
+		if (XL[k] > XR[k] || N2[k] == 0)
+			continue;
+		i0 = iceil(lo[k]), i1 = ifloor(hi[k]);
+		if (i0 < s->d0)
+			i0 = s->d0;
+		if (i1 > s->dend - 1)
+			i1 = s->dend - 1;
+		err = sweep(sh->dd, s->d0, i0, i1, Z0[k], DZ[k], 1 / s->step);
+		if (b->acc[k] != NULL) {
+			if (err > *b->acc[k])
+				*b->acc[k] = (float)err;
+		} else if (err > *b->base[k])
+			*b->base[k] = err;
+	}
+	b->n = 0;
+}
+
+/* The three rows of vertices a centre row's triangles use, cy - h, cy
+ * and cy + h (a leaf row's: cj, cj + 1), each found when first asked
+ * for: vertex_at's positions and heights, by row. */
+typedef struct {
+	int cy, h, hk, got[3];
+	const double *x[3], *y[3];
+	const float *z[3];
+} vrows;
+
+static inline __attribute__((always_inline)) void
+vrows_init(vrows *R, int cy, int h, int hk)
+{
+	R->cy = cy, R->h = h, R->hk = hk;
+	R->got[0] = R->got[1] = R->got[2] = 0;
+}
+
+/* Row ri of R (grid row cy + (ri - 1) h, on the grid): vertex_at's. */
+static void
+vrows_fill(share *sh, vrows *R, int ri)
+{
+	const state *s = sh->s;
+	int hk = R->hk, gj = R->cy + (ri - 1) * R->h, k = gj >> hk;
+	int r = k & (VC_ROWS - 1);
+
+	if (sh->vc[hk].tag[r] != k)
+		vc_fill(sh, hk, k);
+	R->x[ri] = sh->vc[hk].x + (size_t)r * sh->vc[hk].n;
+	R->y[ri] = sh->vc[hk].y + (size_t)r * sh->vc[hk].n;
+	R->z[ri] = s->z + slot(s, gj);
+	R->got[ri] = 1;
+}
+
+/* Triangle t (its vertices on R's rows) into the batch, unless tri_row
+ * would reject it before its chord (then it measures nothing). */
+static inline __attribute__((always_inline)) void
+batch_push(share *sh, batch *b, const int t[3][2], double y, vrows *R,
+    float *acc, double *base)
+{
+	const state *s = sh->s;
+	double p[3][3], ymin = INFINITY, ymax = -INFINITY;
+	int n = b->n, lo = t[0][1], hi = t[0][1];
+
+	for (int k = 1; k < 3; k++)
+		lo = t[k][1] < lo ? t[k][1] : lo, hi = t[k][1] > hi ? t[k][1] : hi;
+	if (y < lo - s->margin - EPS || y > hi + s->margin + EPS)
+		return;
+	for (int k = 0; k < 3; k++) {
+		int gi = t[k][0], ri;
+		if (!on_grid(s, t[k]))
+			return;
+		/* its row, cy + (ri - 1) h */
+		ri = (t[k][1] - R->cy + R->h) >> R->hk;
+		if (!R->got[ri])
+			vrows_fill(sh, R, ri);
+		p[k][0] = R->x[ri][(gi - s->c0) >> R->hk];
+		p[k][1] = R->y[ri][(gi - s->c0) >> R->hk];
+		p[k][2] = R->z[ri][gi - s->c0];
+		ymin = dmin(ymin, p[k][1]), ymax = dmax(ymax, p[k][1]);
+	}
+	if (y < ymin - EPS || y > ymax + EPS)
+		return;
+	for (int k = 0; k < 3; k++)
+		b->x[k][n] = p[k][0], b->y[k][n] = p[k][1], b->z[k][n] = p[k][2];
+	b->acc[n] = acc, b->base[n] = base;
+	if (++b->n == 4)
+		batch_flush(sh, b, y);
+}
+
 /* Raises the local errors of every diamond of scale h and one kind that
  * the DEM row (level row y) crosses. Square diamonds are centred on odd
  * multiples of h in both axes; edge diamonds on points with exactly one
  * odd multiple: |x - cx| + |y - cy| <= h. */
 static inline __attribute__((always_inline)) void
-row_diamonds_body(share *t, double y, int h, int hk, int edge)
+row_diamonds_body(share *t, double y, int h, int hk, int edge, batch *b)
 {
 	state *s = t->s;
 	double reach = h + s->margin;
@@ -251,12 +430,19 @@ row_diamonds_body(share *t, double y, int h, int hk, int edge)
 		x0 = edge && (c & 1) ? 0 : h;
 		if (t->lo > x0) /* the first centre in the share */
 			x0 += (t->lo - x0 + 2 * h - 1) / (2 * h) * (2 * h);
+		vrows R;
+		vrows_init(&R, (int)cy, h, hk);
 		for (long cx = x0; cx < s->cend && cx < t->hi; cx += 2 * h) {
 			int tri[2][3][2];
 			int nt = bt_diamond((int)cx, (int)cy, tri);
 			float *acc = &s->acc[eslot(s, (int)cy) + (cx - s->c0)];
 			for (int k = 0; k < nt; k++) {
-				double err = tri_row(t, tri[k], y, hk);
+				double err;
+				if (b != NULL) {
+					batch_push(t, b, tri[k], y, &R, acc, NULL);
+					continue;
+				}
+				err = tri_row(t, tri[k], y, hk);
 				if (err > *acc)
 					*acc = (float)err;
 			}
@@ -268,7 +454,7 @@ row_diamonds_body(share *t, double y, int h, int hk, int edge)
  * two, diagonal by the parity of ci + cj as in the bintree) the DEM row
  * crosses. */
 static inline __attribute__((always_inline)) void
-row_leaves_body(share *sh, double y)
+row_leaves_body(share *sh, double y, batch *bt)
 {
 	const state *s = sh->s;
 	double mg = s->L->displaced ? 1 : EPS;
@@ -276,7 +462,9 @@ row_leaves_body(share *sh, double y)
 
 	int lo = leaf_lo(sh), hi = leaf_hi(sh);
 
-	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++)
+	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++) {
+		vrows R;
+		vrows_init(&R, (int)cj, 1, 0);
 		for (int ci = lo; ci < hi; ci++) {
 			int a[2] = { ci, (int)cj }, b[2] = { ci + 1, (int)cj };
 			int c[2] = { ci + 1, (int)cj + 1 };
@@ -293,35 +481,57 @@ row_leaves_body(share *sh, double y)
 				memcpy(t[1][1], c, 8), memcpy(t[1][2], d, 8);
 			}
 			for (int k = 0; k < 2; k++) {
-				double err = tri_row(sh, t[k], y, 0);
+				double err;
+				if (bt != NULL) {
+					batch_push(sh, bt, t[k], y, &R, NULL,
+					    base);
+					continue;
+				}
+				err = tri_row(sh, t[k], y, 0);
 				if (err > *base)
 					*base = err;
 			}
 		}
+	}
 }
 
-/* Both, inlined into the AVX2 copy or the plain one (level_impl.h,
- * TL_AVX2). */
+/* Every diamond and leaf the DEM row (level row y) crosses: by tri_row
+ * one at a time (b NULL: the reference, lv_error_row with state.ref) or
+ * through batch b. */
 static inline __attribute__((always_inline)) void
-row_displaced_body(share *t, double y)
+row_body(share *t, double y, batch *b)
 {
 	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
-		row_diamonds_body(t, y, h, hk, 0);
-		row_diamonds_body(t, y, h, hk, 1);
+		row_diamonds_body(t, y, h, hk, 0, b);
+		row_diamonds_body(t, y, h, hk, 1, b);
 	}
-	row_leaves_body(t, y);
+	row_leaves_body(t, y, b);
+	if (b != NULL && b->n > 0)
+		batch_flush(t, b, y);
+}
+
+static void
+row_reference(share *t, double y)
+{
+	row_body(t, y, NULL);
 }
 
 TL_AVX2 static void
 row_displaced_avx2(share *t, double y)
 {
-	row_displaced_body(t, y);
+	batch b;
+
+	memset(&b, 0, sizeof b);
+	row_body(t, y, &b);
 }
 
 static void
 row_displaced(share *t, double y)
 {
-	row_displaced_body(t, y);
+	batch b;
+
+	memset(&b, 0, sizeof b);
+	row_body(t, y, &b);
 }
 
 void
@@ -331,6 +541,8 @@ lv_error_row(share *t, int J)
 
 	if (t->s->scan)
 		lv_scan_undisplaced(t, J);
+	else if (t->s->ref || !t->s->L->displaced)
+		row_reference(t, y);
 	else if (t->s->avx2)
 		row_displaced_avx2(t, y);
 	else

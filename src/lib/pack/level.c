@@ -143,6 +143,7 @@ state_init(state *s, const level_args *L, const level_piece *pc, int w0,
 	s->avx2 = __builtin_cpu_supports("avx2") &&
 	    getenv("TL_NO_AVX2") == NULL;
 #endif
+	s->ref = getenv("TL_EXACT_REF") != NULL;
 	ring = (size_t)RINGV * s->P;
 	s->z = tl_alloc(ring, sizeof *s->z, e);
 	s->acc = tl_alloc((size_t)RINGE * s->P, sizeof *s->acc, e);

@@ -123,6 +123,8 @@ struct state {
 	                     * columns, dend - d0 + 1 apart */
 	int scan;           /* undisplaced and step <= SCAN_MAXSTEP */
 	int avx2;           /* the CPU has AVX2: the hot loops' AVX2 copies */
+	int ref;            /* TL_EXACT_REF: displaced levels by exact_error.c's
+	                     * reference, a triangle at a time (tests) */
 	int nshare;
 	share *shares;
 };
