@@ -182,7 +182,7 @@ int tr_rim_inherit(tr_mesh *m, int from, tl_err *e);
 
 /* Quantise, order, decode w->m for tile (z, x, y): fills u, v, q, pos,
  * the triangles counter-clockwise in u, v; *minh, *maxh the header's
- * float heights (tr_measure.c). */
+ * float heights (tr_quantise.c). */
 int tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
     tl_err *e);
 /* Over the level-0 samples in the tile, along the normal: d[0] the

@@ -1,265 +1,20 @@
-/* tr_measure.c - a tile as the renderer gets it (u, v, height quantised
- * to 0 .. 32767, triangles counter-clockwise, vertices in order of first
- * use for the high-water mark) and its error. At every level-0 sample of
- * the pyramid in the tile, the height of the drawn surface (the plane,
- * in ECEF, of the triangle over it between the DECODED vertices, met by
- * the ellipsoid's normal through the sample) is compared with the
- * selection's surface there (the same triangle before quantisation,
- * linear in longitude, latitude, height): d[0], the largest difference,
- * holds every term but the selection's own error (the flat chords' sag,
- * the quantisation, the CRS mapping), which the pyramid's saturated
- * errors bound for the valid samples; and with the sample's height:
- * d[1], the error itself, filled voids included. */
+/* tr_measure.c - a quantised tile's error (tr_quantise.c makes it). At
+ * every level-0 sample of the pyramid in the tile, the height of the
+ * drawn surface (the plane, in ECEF, of the triangle over it between the
+ * DECODED vertices, met by the ellipsoid's normal through the sample) is
+ * compared with the selection's surface there (the same triangle before
+ * quantisation, linear in longitude, latitude, height): d[0], the
+ * largest difference, holds every term but the selection's own error
+ * (the flat chords' sag, the quantisation, the CRS mapping), which the
+ * pyramid's saturated errors bound for the valid samples; and with the
+ * sample's height: d[1], the error itself, filled voids included. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "geo/wgs84.h"
+#include "terrain/tr_bary.h"
 #include "terrain/tr_impl.h"
-
-
-static int
-grow(tr_work *w, tl_err *e)
-{
-	size_t n = (size_t)w->m.cv;
-	uint16_t *u = realloc(w->u, n * sizeof *u), *v, *q;
-
-	if (u)
-		w->u = u;
-	v = u ? realloc(w->v, n * sizeof *v) : NULL;
-	if (v)
-		w->v = v;
-	q = v ? realloc(w->q, n * sizeof *q) : NULL;
-	if (q)
-		w->q = q;
-	double *p = q ? realloc(w->pos, 3 * n * sizeof *p) : NULL;
-	if (p)
-		w->pos = p;
-	int *o = p ? realloc(w->order, n * sizeof *o) : NULL;
-	if (o)
-		w->order = o;
-	int *t = o ? realloc(w->tmp, 3 * n * sizeof *t) : NULL;
-	if (t == NULL)
-		return tl_fail(e, "tile: out of memory");
-	w->tmp = t;
-	return 0;
-}
-
-static long
-qarea(const tr_work *w, const int *k)
-{
-	long ax = w->u[k[1]] - w->u[k[0]], ay = w->v[k[1]] - w->v[k[0]];
-	long bx = w->u[k[2]] - w->u[k[0]], by = w->v[k[2]] - w->v[k[0]];
-
-	return ax * by - ay * bx;
-}
-
-/* Vertices renumbered by first use; unused ones dropped but on the
- * tile's edges. */
-static void
-renumber(tr_work *w)
-{
-	tr_mesh *m = &w->m;
-	int n = 0;
-
-	for (int i = 0; i < m->nv; i++)
-		w->order[i] = -1;
-	for (int i = 0; i < 3 * m->nt; i++) {
-		int k = m->tri[i];
-		if (w->order[k] < 0)
-			w->order[k] = n++;
-		m->tri[i] = w->order[k];
-	}
-	/* an edge vertex whose triangles all lost their area to the
-	 * quantisation stays, after the others: the neighbour has it */
-	for (int i = 0; i < m->nv; i++)
-		if (w->order[i] < 0 && (w->u[i] == 0 || w->u[i] == QM_MAX ||
-		    w->v[i] == 0 || w->v[i] == QM_MAX))
-			w->order[i] = n++;
-	for (int i = 0; i < m->nv; i++) {
-		int k = w->order[i];
-		if (k < 0)
-			continue;
-		/* k <= i: compacting in place from the front is safe only
-		 * through copies */
-		w->tmp[3 * k] = w->u[i], w->tmp[3 * k + 1] = w->v[i];
-		w->tmp[3 * k + 2] = w->q[i];
-		w->pos[3 * k] = m->x[i], w->pos[3 * k + 1] = m->y[i];
-		w->pos[3 * k + 2] = m->h[i];
-	}
-	for (int k = 0; k < n; k++) {
-		w->u[k] = (uint16_t)w->tmp[3 * k];
-		w->v[k] = (uint16_t)w->tmp[3 * k + 1];
-		w->q[k] = (uint16_t)w->tmp[3 * k + 2];
-		m->x[k] = w->pos[3 * k], m->y[k] = w->pos[3 * k + 1];
-		m->h[k] = w->pos[3 * k + 2];
-	}
-	m->nv = n;
-}
-
-/* A triangle a m b that quantisation made a segment (three vertices in
- * a line, m between): the triangle on the other side of a b would leave
- * m on its side, a T-junction; it is split at m. */
-static int
-unsplit(tr_work *w, const int d[3], tl_err *e)
-{
-	tr_mesh *m = &w->m;
-	int mid = -1, a, b;
-
-	for (int i = 0; i < 3 && mid < 0; i++) {
-		int p = d[i], q = d[(i + 1) % 3], r = d[(i + 2) % 3];
-		long t = (long)(w->u[p] - w->u[q]) * (w->u[p] - w->u[r]) +
-		    (long)(w->v[p] - w->v[q]) * (w->v[p] - w->v[r]);
-		if (t < 0) /* p between q and r */
-			mid = p, a = q, b = r;
-	}
-	if (mid < 0)
-		return 0;
-	for (int t = 0; t < m->nt; t++) {
-		int *k = m->tri + 3 * t;
-		for (int i = 0; i < 3; i++) {
-			int p = k[i], q = k[(i + 1) % 3], c = k[(i + 2) % 3];
-			if (!((p == a && q == b) || (p == b && q == a)))
-				continue;
-			/* a projected DEM's sliver turned over (tr_rim.c):
-			 * only into the triangle that now holds mid */
-			int t1[3] = { p, mid, c }, t2[3] = { mid, q, c };
-			if (m->rim && (qarea(w, t1) <= 0 || qarea(w, t2) <= 0))
-				continue;
-			k[0] = p, k[1] = mid, k[2] = c;
-			if (tr_mesh_tri(m, mid, q, c, e) < 0)
-				return -1;
-			return tr_rim_inherit(m, t, e);
-		}
-	}
-	return 0;
-}
-
-/* Vertices that quantise to one u, v become one (an edge collapse: the
- * triangles between them lose their area and go, the others keep the
- * mesh closed), the one first in (longitude, latitude) order standing for
- * them, so that two tiles merge their shared edge's vertices alike; the
- * others are marked dead (u = v = 0xFFFF) and their triangles remapped. */
-static void
-merge(tr_work *w)
-{
-	tr_mesh *m = &w->m;
-	unsigned cap = 1;
-	int *tab = w->tmp;
-
-	while (2 * cap <= 3 * (unsigned)m->cv)
-		cap *= 2;
-	for (unsigned i = 0; i < cap; i++)
-		tab[i] = -1;
-	for (int i = 0; i < m->nv; i++) {
-		unsigned k = ((unsigned)w->u[i] * 32771u + w->v[i]) * 2654435761u &
-		    (cap - 1);
-		for (;; k = (k + 1) & (cap - 1)) {
-			int j = tab[k];
-			if (j < 0) {
-				tab[k] = i;
-				break;
-			}
-			if (w->u[j] != w->u[i] || w->v[j] != w->v[i])
-				continue;
-			if (m->x[i] < m->x[j] || (m->x[i] == m->x[j] &&
-			    m->y[i] < m->y[j]))
-				tab[k] = i;
-			break;
-		}
-	}
-	for (int i = 0; i < m->nv; i++) {
-		unsigned k = ((unsigned)w->u[i] * 32771u + w->v[i]) * 2654435761u &
-		    (cap - 1);
-		while (w->u[tab[k]] != w->u[i] || w->v[tab[k]] != w->v[i])
-			k = (k + 1) & (cap - 1);
-		w->order[i] = tab[k];
-	}
-	for (int i = 0; i < 3 * m->nt; i++)
-		m->tri[i] = w->order[m->tri[i]];
-	for (int i = 0; i < m->nv; i++)
-		if (w->order[i] != i)
-			w->u[i] = w->v[i] = 0xFFFF;
-}
-
-int
-tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
-    tl_err *e)
-{
-	tr_mesh *m = &w->m;
-	double r[4], wd = ldexp(180, -z), lo = INFINITY, hi = -INFINITY;
-	int nt = 0, drop[256][3], ndrop = 0;
-
-	if (grow(w, e) < 0)
-		return -1;
-	tr_tile_rect(z, x, y, r);
-	for (int i = 0; i < m->nv; i++) {
-		double u = rint((m->x[i] - r[0]) / wd * QM_MAX);
-		double v = rint((m->y[i] - r[1]) / wd * QM_MAX);
-		/* on the tile's edge exactly, or off it: a vertex near the
-		 * edge does not join the edge lists, which are the vertices
-		 * the neighbour shares */
-		u = m->x[i] == r[0] ? 0 : m->x[i] == r[2] ? QM_MAX :
-		    fmax(1, fmin(QM_MAX - 1, u));
-		v = m->y[i] == r[1] ? 0 : m->y[i] == r[3] ? QM_MAX :
-		    fmax(1, fmin(QM_MAX - 1, v));
-		w->u[i] = (uint16_t)u, w->v[i] = (uint16_t)v;
-		w->q[i] = 0;
-	}
-	merge(w);
-	/* counter-clockwise in longitude, latitude; those quantisation
-	 * leaves without area dropped */
-	for (int t = 0; t < m->nt; t++) {
-		int *k = m->tri + 3 * t;
-		double ax = m->x[k[1]] - m->x[k[0]], ay = m->y[k[1]] - m->y[k[0]];
-		double bx = m->x[k[2]] - m->x[k[0]], by = m->y[k[2]] - m->y[k[0]];
-		if (ax * by - ay * bx < 0) {
-			int s = k[1];
-			k[1] = k[2], k[2] = s;
-		}
-		if (qarea(w, k) <= 0) {
-			if ((qarea(w, k) == 0 || m->rim) && k[0] != k[1] &&
-			    k[1] != k[2] &&
-			    k[0] != k[2] && ndrop < (int)(sizeof drop /
-			    sizeof drop[0]))
-				memcpy(drop[ndrop++], k, sizeof drop[0]);
-			continue;
-		}
-		if (m->rim)
-			m->rim[nt] = m->rim[t];
-		memmove(m->tri + 3 * nt++, k, 3 * sizeof *k);
-	}
-	m->nt = nt;
-	for (int i = 0; i < ndrop; i++)
-		if (unsplit(w, drop[i], e) < 0)
-			return -1;
-	renumber(w);
-	/* the header's heights: the used vertices' extremes, as floats
-	 * holding them; the extremes decode to them exactly */
-	for (int i = 0; i < m->nv; i++)
-		lo = fmin(lo, m->h[i]), hi = fmax(hi, m->h[i]);
-	*minh = (float)lo, *maxh = (float)hi;
-	if (*minh > lo)
-		*minh = nextafterf(*minh, -INFINITY);
-	if (*maxh < hi)
-		*maxh = nextafterf(*maxh, INFINITY);
-	for (int i = 0; i < m->nv; i++) {
-		double q = *maxh > *minh ? rint((m->h[i] - *minh) /
-		    ((double)*maxh - *minh) * QM_MAX) : 0;
-		w->q[i] = (uint16_t)fmax(0, fmin(QM_MAX, q));
-		if (m->h[i] == hi)
-			w->q[i] = QM_MAX; /* not 32766 for a float's rounding */
-		if (m->h[i] == lo)
-			w->q[i] = 0;
-	}
-	for (int i = 0; i < m->nv; i++) {
-		double tu = w->u[i] / (double)QM_MAX, tv = w->v[i] / (double)QM_MAX;
-		double tq = w->q[i] / (double)QM_MAX;
-		geo_ecef((1 - tu) * r[0] + tu * r[2], (1 - tv) * r[1] + tv * r[3],
-		    (1 - tq) * *minh + tq * *maxh, w->pos + 3 * i);
-	}
-	return 0;
-}
 
 /* The triangles by bucket of a grid over the part of the u, v square
  * that holds samples (the tile within the terrain's rectangle), about
@@ -270,9 +25,10 @@ typedef struct {
 	int *start, *list, nb;
 	double o[2], s[2];  /* bucket of (u, v): ((u, v) - o) * s */
 	double *plane;      /* per triangle: normal, offset (4) */
-	double *bq;         /* per triangle in u, v: x0 y0 x1 y1 x2 y2 d */
-	double *bf;         /* in lon, lat: the same, then h0, h1-h0, h2-h0 */
+	double *bq;         /* per triangle in u, v: tr_bary.h's terms */
+	double *bf;         /* in lon, lat: the same and the heights */
 } locator;
+#define TR_PLANES (4 + 2 * TR_BARY_TERMS + 3) /* doubles a triangle */
 
 static inline double
 dmin(double a, double b)
@@ -331,7 +87,8 @@ planes(const tr_work *w, locator *l, int t)
 	    *c = w->pos + 3 * k[2];
 	double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
 	double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-	double *p = l->plane + 4 * t, *q = l->bq + 7 * t, *f = l->bf + 10 * t;
+	double *p = l->plane + 4 * t, *q = l->bq + TR_BARY_TERMS * t;
+	double *f = l->bf + (TR_BARY_TERMS + 3) * t;
 
 	p[0] = u[1] * v[2] - u[2] * v[1], p[1] = u[2] * v[0] - u[0] * v[2];
 	p[2] = u[0] * v[1] - u[1] * v[0];
@@ -339,12 +96,12 @@ planes(const tr_work *w, locator *l, int t)
 	q[0] = w->u[k[0]], q[1] = w->v[k[0]];
 	q[2] = w->u[k[1]] - q[0], q[3] = w->v[k[1]] - q[1];
 	q[4] = w->u[k[2]] - q[0], q[5] = w->v[k[2]] - q[1];
-	q[6] = q[2] * q[5] - q[4] * q[3];
+	q[6] = q[2] * q[5] - q[4] * q[3], q[7] = 1 / q[6];
 	f[0] = m->x[k[0]], f[1] = m->y[k[0]];
 	f[2] = m->x[k[1]] - f[0], f[3] = m->y[k[1]] - f[1];
 	f[4] = m->x[k[2]] - f[0], f[5] = m->y[k[2]] - f[1];
-	f[6] = f[2] * f[5] - f[4] * f[3];
-	f[7] = m->h[k[0]], f[8] = m->h[k[1]] - f[7], f[9] = m->h[k[2]] - f[7];
+	f[6] = f[2] * f[5] - f[4] * f[3], f[7] = 1 / f[6];
+	f[8] = m->h[k[0]], f[9] = m->h[k[1]] - f[8], f[10] = m->h[k[2]] - f[8];
 }
 
 static int
@@ -360,10 +117,10 @@ locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
 		l->s[k] = l->nb / (uv[k + 2] - uv[k] + 2);
 	}
 	l->start = calloc((size_t)n + 1, sizeof *l->start);
-	l->plane = malloc(nt * 21 * sizeof *l->plane);
+	l->plane = malloc(nt * TR_PLANES * sizeof *l->plane);
 	if (!l->start || !l->plane)
 		return tl_fail(e, "tile: out of memory");
-	l->bq = l->plane + 4 * nt, l->bf = l->bq + 7 * nt;
+	l->bq = l->plane + 4 * nt, l->bf = l->bq + TR_BARY_TERMS * nt;
 	fill(w, l, 0);
 	for (int i = 0; i < n; i++)
 		l->start[i + 1] += l->start[i];
@@ -379,51 +136,77 @@ locate_init(tr_work *w, locator *l, const double uv[4], tl_err *e)
 	return 0;
 }
 
-/* The least barycentric coordinate of (su, sv) in triangle t. */
-static inline double
-least(const locator *l, int t, double su, double sv)
-{
-	const double *q = l->bq + 7 * t;
-	double px = su - q[0], py = sv - q[1];
-	double b1 = (px * q[5] - q[4] * py) / q[6];
-	double b2 = (q[2] * py - px * q[3]) / q[6];
-
-	return dmin(1 - b1 - b2, dmin(b1, b2));
-}
-
 /* The triangle over (su, sv): the one of its bucket with the largest
  * least barycentric coordinate (inside: >= 0). The previous sample's
  * triangle, hint, when the point is well inside it: no other triangle
- * then comes near (they do not overlap), the bucket's answer is it. */
-static int
-locate(const locator *l, double su, double sv, int hint)
+ * then comes near (they do not overlap), the bucket's answer is it.
+ * (tr_bary.h: the exact coordinates' answers, mostly without their
+ * divisions.) */
+static __attribute__((noinline)) int
+locate_far(const locator *l, double su, double sv)
 {
-	int b, best = -1;
-	double bv = -INFINITY;
+	int b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0);
 
-	if (hint >= 0 && least(l, hint, su, sv) > 1e-9)
-		return hint;
-	b = bucket(l, sv, 1) * l->nb + bucket(l, su, 0);
-	for (int i = l->start[b]; i < l->start[b + 1]; i++) {
-		double mn = least(l, l->list[i], su, sv);
-		if (mn > bv)
-			bv = mn, best = l->list[i];
-	}
-	return best;
+	return tr_bary_best(l->bq, l->list + l->start[b], l->start[b + 1] -
+	    l->start[b], su, sv);
 }
 
-/* The selection's surface at (lon, lat): the plane, in longitude,
- * latitude and height, of mesh triangle q before quantisation (a piece
- * of a selected triangle, in its plane). */
-static inline double
-flat(const locator *l, int q, double lon, double lat)
+static inline int
+locate(const locator *l, double su, double sv, int hint)
 {
-	const double *f = l->bf + 10 * q;
-	double px = lon - f[0], py = lat - f[1];
-	double b1 = (px * f[5] - f[4] * py) / f[6];
-	double b2 = (f[2] * py - px * f[3]) / f[6];
+	if (hint >= 0 && tr_bary_above(l->bq + TR_BARY_TERMS * hint, su, sv,
+	    1e-9))
+		return hint;
+	return locate_far(l, su, sv);
+}
 
-	return f[7] + b1 * f[8] + b2 * f[9];
+/* A sample's terms into d: the plane of triangle q (decoded, ECEF) met
+ * by the normal through the sample's foot f, direction up, against the
+ * selection's surface there (the plane, in longitude, latitude and
+ * height, of the triangle before quantisation: a piece of a selected
+ * triangle, in its plane; past a projected DEM's footprint, out, the
+ * sample itself) and against its height z. The selection's height
+ * exactly only where the near one (tr_bary.h) leaves it able to raise
+ * d[0]: d[0] is the same. */
+static inline void
+sample(const locator *l, int q, int out, const double f[3],
+    const double up[3], double x, double y, double z, double d[2])
+{
+	const double *n = l->plane + 4 * q;
+	const double *fq = l->bf + (TR_BARY_TERMS + 3) * q;
+	double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
+	    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+	double v = fabs(hs - z), s;
+
+	d[1] = dmax(d[1], v);
+	if (out)
+		d[0] = dmax(d[0], v);
+	else if (!(fabs(hs - tr_bary_near_flat(fq, x, y, hs, &s)) + s < d[0]))
+		d[0] = dmax(d[0], fabs(hs - tr_bary_flat(fq, x, y)));
+}
+
+/* A geographic block's columns and rows: the normals' sines and cosines
+ * (as geo_ellipsoid computes them) and the places in the tile's u, v
+ * (as each sample computes them), per column and per row. */
+typedef struct {
+	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE];
+	double so[BT_SIZE], su[BT_SIZE], sv[BT_SIZE];
+} trig;
+
+static void
+trig_init(trig *c, const double *lon, const double *lat, const double r[4])
+{
+	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
+
+	for (int k = 0; k < BT_SIZE; k++) {
+		double a = lat[k] * (M_PI / 180), o = lon[k] *
+		    (M_PI / 180);
+		c->sl[k] = sin(a), c->cl[k] = cos(a);
+		c->so[k] = sin(o), c->co[k] = cos(o);
+		c->nn[k] = 6378137.0 / sqrt(1 - e2 * c->sl[k] * c->sl[k]);
+		c->su[k] = (lon[k] - r[0]) / wd * QM_MAX;
+		c->sv[k] = (lat[k] - r[1]) / wd * QM_MAX;
+	}
 }
 
 /* The samples of level-0 block (bi, bj) b, its vertices at lon, lat,
@@ -435,63 +218,50 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
     int bj, const double t[4], const double r[4], double d[2], tl_err *e)
 {
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
-	double cl[BT_SIZE], sl[BT_SIZE], nn[BT_SIZE], co[BT_SIZE], so[BT_SIZE];
 	int hint = -1, col[BT_SIZE], ncol = 0, nI = BT_SIZE;
-	double d0 = d[0], d1 = d[1];
+	double dd[2] = { d[0], d[1] };
+	trig c;
 
 	if (g->w0 - bi * BT_CELLS < nI)
 		nI = g->w0 - bi * BT_CELLS;
-	/* a geographic grid: latitude per row, longitude per column, so the
-	 * normals' sines and cosines per row and column (as geo_ellipsoid
-	 * computes them), and the columns in the tile listed once, the rows
-	 * out of it skipped whole: the same samples in the same order as
-	 * the test of each */
-	for (int k = 0; !g->projected && k < BT_SIZE; k++) {
-		double a = lat[k] * (M_PI / 180), o = lon[k] *
-		    (M_PI / 180);
-		sl[k] = sin(a), cl[k] = cos(a), so[k] = sin(o), co[k] = cos(o);
-		nn[k] = 6378137.0 / sqrt(1 - e2 * sl[k] * sl[k]);
-		if (k < nI && !(lon[k] < t[0] || lon[k] > t[2]))
+	/* a geographic grid: latitude per row, longitude per column, so
+	 * the columns in the tile listed once, the rows out of it skipped
+	 * whole: the same samples in the same order as the test of each */
+	if (!g->projected)
+		trig_init(&c, lon, lat, r);
+	for (int k = 0; k < nI; k++)
+		if (g->projected || !(lon[k] < t[0] || lon[k] > t[2]))
 			col[ncol++] = k;
-	}
-	for (int I = 0; g->projected && I < nI; I++)
-		col[ncol++] = I;
 	for (int J = 0; J < BT_SIZE; J++) {
 		if (bj * BT_CELLS + J >= g->h0)
 			break;
 		if (!g->projected && (lat[J] < t[1] || lat[J] > t[3]))
 			continue;
 		for (int ci = 0; ci < ncol; ci++) {
-			int I = col[ci], k = J * BT_SIZE + I;
+			int I = col[ci], k = J * BT_SIZE + I, q;
 			double f[3], up[3], x = tr_vlon(g, lon, J, I);
 			double y = tr_vlat(g, lat, J, I);
-			if (g->projected && (x < t[0] || x > t[2] || y < t[1] ||
-			    y > t[3]))
+			if (!g->projected) {
+				q = locate(l, c.su[I], c.sv[J], hint);
+				f[0] = c.nn[J] * c.cl[J] * c.co[I];
+				f[1] = c.nn[J] * c.cl[J] * c.so[I];
+				f[2] = c.nn[J] * (1 - e2) * c.sl[J];
+				up[0] = c.cl[J] * c.co[I], up[1] = c.cl[J] * c.so[I];
+				up[2] = c.sl[J];
+			} else if (x < t[0] || x > t[2] || y < t[1] || y > t[3])
 				continue;
-			int q = hint = locate(l, (x - r[0]) / wd * QM_MAX,
-			    (y - r[1]) / wd * QM_MAX, hint);
-			if (q < 0)
+			else {
+				q = locate(l, (x - r[0]) / wd * QM_MAX,
+				    (y - r[1]) / wd * QM_MAX, hint);
+				geo_ellipsoid(x, y, f, up);
+			}
+			if ((hint = q) < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
-			const double *n = l->plane + 4 * q;
-			if (g->projected)
-				geo_ellipsoid(x, y, f, up);
-			else {
-				f[0] = nn[J] * cl[J] * co[I];
-				f[1] = nn[J] * cl[J] * so[I];
-				f[2] = nn[J] * (1 - e2) * sl[J];
-				up[0] = cl[J] * co[I], up[1] = cl[J] * so[I];
-				up[2] = sl[J];
-			}
-			double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
-			    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
-			/* past a projected DEM's footprint, the sample itself */
-			d0 = dmax(d0, fabs(hs - (rim && rim[q] ?
-			    b->z[k] : flat(l, q, x, y))));
-			d1 = dmax(d1, fabs(hs - b->z[k]));
+			sample(l, q, rim && rim[q], f, up, x, y, b->z[k], dd);
 		}
 	}
-	d[0] = d0, d[1] = d1;
+	d[0] = dd[0], d[1] = dd[1];
 	return 0;
 }
 
@@ -550,7 +320,7 @@ tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e)
 		memcpy(k->rim, w->m.rim, nt);
 	k->bytes = sizeof *k + ((size_t)k->l.nb * k->l.nb + 1 +
 	    (size_t)k->l.start[k->l.nb * k->l.nb]) * sizeof(int) +
-	    (nt ? nt : 1) * 21 * sizeof(double) + (k->rim ? nt : 0);
+	    (nt ? nt : 1) * TR_PLANES * sizeof(double) + (k->rim ? nt : 0);
 	*out = k;
 	return 0;
 }
