@@ -43,8 +43,13 @@ killed() {
 		kill -"$_sig" $_p
 		wait $_p
 		ok $(($? != _st)) "$_d: dies of SIG$_sig"
-		[ ! -e "$_out" ] && [ -z "$(ls -a "$T/o" | grep -v '^\.\.\?$')" ]
-		ok $? "$_d: no output and no temporary left"
+		if [ ! -e "$_out" ] &&
+		    [ -z "$(ls -a "$T/o" | grep -v '^\.\.\?$')" ]; then
+			ok 0 "$_d: no output and no temporary left"
+		else	# what was left, for the next failure's reader
+			ok 1 "$_d: no output and no temporary left"
+			ls -laR "$T/o" | sed 's/^/#   /'
+		fi
 		[ -z "$(scratch)" ]; ok $? "$_d: no scratch left in TMPDIR"
 	else
 		wait $_p

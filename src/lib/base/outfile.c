@@ -296,6 +296,8 @@ out_begin(tl_outfile *o, const char *path, tl_err *e)
  * registered (not while the directory is swept): one arriving between
  * the creation and the registration would leave a temporary neither the
  * handler nor a sweep of another name removes. */
+static pthread_mutex_t making = PTHREAD_MUTEX_INITIALIZER;
+
 static void
 fatal_block(sigset_t *old)
 {
@@ -305,6 +307,28 @@ fatal_block(sigset_t *old)
 	sigaddset(&s, SIGINT), sigaddset(&s, SIGTERM);
 	sigaddset(&s, SIGHUP), sigaddset(&s, SIGPIPE);
 	pthread_sigmask(SIG_BLOCK, &s, old);
+	/* the mask is this thread's: another thread that raises a fatal
+	 * signal itself waits here (tl_out_hold) */
+	pthread_mutex_lock(&making);
+}
+
+static void
+fatal_unblock(const sigset_t *old)
+{
+	pthread_mutex_unlock(&making);
+	pthread_sigmask(SIG_SETMASK, old, NULL);
+}
+
+void
+tl_out_hold(void)
+{
+	pthread_mutex_lock(&making);
+}
+
+void
+tl_out_release(void)
+{
+	pthread_mutex_unlock(&making);
 }
 
 int
@@ -316,7 +340,7 @@ tl_out_begin(tl_outfile *o, const char *path, tl_err *e)
 	sweep(path, 0);
 	fatal_block(&old);
 	r = out_begin(o, path, e);
-	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	fatal_unblock(&old);
 	return r;
 }
 
@@ -342,7 +366,7 @@ tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
 
 	fatal_block(&old);
 	r = out_begin(o, path, e);
-	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	fatal_unblock(&old);
 	return r;
 }
 
@@ -465,7 +489,7 @@ tl_outdir_begin(tl_outfile *o, const char *path, tl_err *e)
 	sweep(path, 1);
 	fatal_block(&old);
 	r = outdir_begin(o, path, e);
-	pthread_sigmask(SIG_SETMASK, &old, NULL);
+	fatal_unblock(&old);
 	return r;
 }
 

@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "base/outfile.h"
 #include "rgb/rg_impl.h"
 
 static void *
@@ -42,8 +43,10 @@ watch(void *arg)
 		tl_rmtree(s->path);
 	sigemptyset(&one);
 	sigaddset(&one, (int)si.ssi_signo);
+	tl_out_hold(); /* no output temporary half made meanwhile */
 	pthread_sigmask(SIG_UNBLOCK, &one, NULL);
 	raise((int)si.ssi_signo);
+	tl_out_release();
 	return NULL; /* caught, and survived: the run goes on unguarded */
 }
 
