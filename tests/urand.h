@@ -33,4 +33,17 @@ any_float(unsigned *seed)
 	return (float)(r * pow(10, 6 * urand(seed)));
 }
 
+/* A rough value for (i, j, salt), the same every run: heights up to
+ * 1000 m with float fractions, so no two planes share rounding by
+ * accident. */
+static inline float
+rough(int i, int j, unsigned salt)
+{
+	unsigned x = (unsigned)i * 73856093u ^ (unsigned)j * 19349663u ^
+	    salt * 83492791u;
+
+	x ^= x >> 13, x *= 0x5bd1e995u, x ^= x >> 15;
+	return (float)(x % 1000000u) / 997.0f;
+}
+
 #endif

@@ -16,16 +16,7 @@ PY=/usr/bin/python3
 gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 1696 2176 513 513 \
     "$DATA/N48W125.hgt" "$T/srtm.tif"
 $PY "$TOP/tests/tools/ellipsoidal.py" "$T/srtm.tif" "$T/geo.tif"
-$PY - "$T/geo.tif" "$T/spike.tif" <<'EOF'
-import sys
-from osgeo import gdal
-gdal.UseExceptions()
-s = gdal.Open(sys.argv[1])
-a = s.GetRasterBand(1).ReadAsArray().astype("float32")
-d = gdal.GetDriverByName("GTiff").CreateCopy(sys.argv[2], s)
-a[100, 400] += 5500; a[101, 400] += 2750
-d.GetRasterBand(1).WriteArray(a)
-EOF
+$PY "$TOP/tests/tools/spike.py" "$T/geo.tif" "$T/spike.tif" 100 400
 dem2vgis -q "$T/spike.tif" "$T/pyr"; ok $? "a pyramid of the crop with a spike"
 run "vgis2terrain in one process (qm)" vgis2terrain -j 2 "$T/pyr" "$T/ref-qm"
 grep 'vgis2terrain: level ' "$T/err" | sed 's/^[^:]*: //' >"$T/rep1"

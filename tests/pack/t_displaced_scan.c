@@ -16,18 +16,10 @@
 #include "pack/level.h"
 #include "tap.h"
 #include "tmpdir.h"
+#include "urand.h"
 #include "tiff.h"
 
 static char tmp[PATH_MAX - 64];
-
-static float
-rough(int i, int j, unsigned salt)
-{
-	unsigned x = (unsigned)i * 73856093u ^ (unsigned)j * 19349663u ^
-	    salt * 83492791u;
-	x ^= x >> 13, x *= 0x5bd1e995u, x ^= x >> 15;
-	return (float)(x % 1000000u) / 997.0f;
-}
 
 /* The level's heights, offsets up to 0.45 of a cell (jitter: metres). */
 typedef struct {

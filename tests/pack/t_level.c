@@ -23,6 +23,7 @@
 #include "tap.h"
 #include "tmpdir.h"
 #include "tiff.h"
+#include "urand.h"
 
 static char tmp[PATH_MAX - 64];
 
@@ -36,7 +37,6 @@ typedef struct {
 	double jitter;
 } rows;
 
-static float rough(int i, int j, unsigned salt);
 
 static int
 row_fn(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
@@ -476,17 +476,6 @@ test_plane(int W, int H)
 	free(z);
 	test_plane_level(path, W, H, 0);
 	test_plane_level(path, W, H, 1);
-}
-
-/* A rough value for (i, j, salt): heights up to 1000 m with float
- * fractions, so no two planes share rounding by accident. */
-static float
-rough(int i, int j, unsigned salt)
-{
-	unsigned x = (unsigned)i * 73856093u ^ (unsigned)j * 19349663u ^
-	    salt * 83492791u;
-	x ^= x >> 13, x *= 0x5bd1e995u, x ^= x >> 15;
-	return (float)(x % 1000000u) / 997.0f;
 }
 
 static void
