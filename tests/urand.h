@@ -46,4 +46,12 @@ rough(int i, int j, unsigned salt)
 	return (float)(x % 1000000u) / 997.0f;
 }
 
+/* A vertex offset up to 0.45 of a cell (jitter: the cell in metres)
+ * for (i, j), salt 7 for x, 8 for y: the pack tests' displaced levels. */
+static inline float
+rough_offset(double jitter, int i, int j, unsigned salt)
+{
+	return (float)(jitter * (rough(i, j, salt) / 1003 - 0.5) * 0.9);
+}
+
 #endif

@@ -36,10 +36,8 @@ row_fn(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
 
 	memcpy(z, R->z + (size_t)r * R->w + c0, (size_t)n * sizeof *z);
 	for (int i = 0; x != NULL && i < n; i++) {
-		x[i] = (float)(R->jitter * (rough(c0 + i, r, 7) / 1003 -
-		    0.5) * 0.9);
-		y[i] = (float)(R->jitter * (rough(c0 + i, r, 8) / 1003 -
-		    0.5) * 0.9);
+		x[i] = rough_offset(R->jitter, c0 + i, r, 7);
+		y[i] = rough_offset(R->jitter, c0 + i, r, 8);
 	}
 	return 0;
 }

@@ -37,7 +37,6 @@ typedef struct {
 	double jitter;
 } rows;
 
-
 static int
 row_fn(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
     tl_err *e)
@@ -53,9 +52,8 @@ row_fn(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
 		memset(x, 0, (size_t)n * sizeof *x);
 		memset(y, 0, (size_t)n * sizeof *y);
 		for (int i = 0; R->jitter > 0 && i < n; i++) {
-			int g = c0 + i;
-			x[i] = (float)(R->jitter * (rough(g, r, 7) / 1003 - 0.5) * 0.9);
-			y[i] = (float)(R->jitter * (rough(g, r, 8) / 1003 - 0.5) * 0.9);
+			x[i] = rough_offset(R->jitter, c0 + i, r, 7);
+			y[i] = rough_offset(R->jitter, c0 + i, r, 8);
 		}
 	}
 	return 0;
