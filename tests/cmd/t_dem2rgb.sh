@@ -328,23 +328,22 @@ dem2rgb --help >/dev/null; ok $? "--help exits 0"
 # killed: by TERM nothing is left; by KILL the next run clears it
 dem2rgb -q -j 1 "$T/srtm.tif" "$T/killed" &
 pid=$!
-sleep 1
-if kill -TERM $pid 2>/dev/null; then
-	wait $pid
+if mid_run $pid "$T/killed"; then
+	kill -TERM $pid; kill -CONT $pid; wait $pid
 	[ ! -e "$T/killed" ] && [ -z "$(ls -a "$T" | grep killed)" ]
 	ok $? "TERM: no OUT and no temporary left"
 else
-	wait $pid
-	echo "ok $((_n + 1)) - # SKIP the run ended before the kill"
-	_n=$((_n + 1))
+	wait $pid; skip "the run ended before the kill"
 fi
 rm -rf "$T/killed"
 dem2rgb -q -j 1 "$T/srtm.tif" "$T/killed" &
 pid=$!
-sleep 1
-kill -KILL $pid 2>/dev/null
-wait $pid
-[ ! -e "$T/killed" ]; ok $? "KILL: no OUT"
+if mid_run $pid "$T/killed"; then
+	kill -KILL $pid; kill -CONT $pid 2>/dev/null; wait $pid
+	[ ! -e "$T/killed" ]; ok $? "KILL: no OUT"
+else
+	wait $pid; skip "the run ended before the kill"
+fi
 dem2rgb -q -j 2 -z 9 "$T/srtm.tif" "$T/killed"
 [ -z "$(ls -a "$T" | grep '^\.killed\.')" ] && [ -f "$T/killed/tiles.json" ]
 ok $? "KILL: the next run removes the dead run's temporary"

@@ -89,23 +89,22 @@ ok $? "... no archive and no temporary left"
 # in that directory removes the dead run's temporaries
 dem2rgb -q -j 1 -o "$T/k.pmtiles" "$T/srtm.tif" &
 pid=$!
-sleep 1
-if kill -TERM $pid 2>/dev/null; then
-	wait $pid
+if mid_run $pid "$T/k.pmtiles"; then
+	kill -TERM $pid; kill -CONT $pid; wait $pid
 	[ ! -e "$T/k.pmtiles" ] && [ -z "$(ls -A "$T" | grep '^\.')" ]
 	ok $? "TERM: no archive and no temporary left"
 else
-	wait $pid
-	echo "ok $((_n + 1)) - # SKIP the run ended before the kill"
-	_n=$((_n + 1))
+	wait $pid; skip "the run ended before the kill"
 fi
 rm -f "$T/k.pmtiles"
 dem2rgb -q -j 1 -o "$T/k.pmtiles" "$T/srtm.tif" &
 pid=$!
-sleep 1
-kill -KILL $pid 2>/dev/null
-wait $pid
-[ ! -e "$T/k.pmtiles" ]; ok $? "KILL: no archive"
+if mid_run $pid "$T/k.pmtiles"; then
+	kill -KILL $pid; kill -CONT $pid 2>/dev/null; wait $pid
+	[ ! -e "$T/k.pmtiles" ]; ok $? "KILL: no archive"
+else
+	wait $pid; skip "the run ended before the kill"
+fi
 dem2rgb $O -j 2 -o "$T/k.pmtiles" "$T/srtm.tif" && cmp -s "$T/k.pmtiles" "$T/a.pmtiles" &&
     [ -z "$(ls -A "$T" | grep '^\.')" ]
 ok $? "KILL: the next run, the same archive; the dead run's temporaries gone"

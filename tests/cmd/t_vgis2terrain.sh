@@ -210,23 +210,22 @@ vgis2terrain --help | grep -q '^usage: vgis2terrain'; ok $? "--help"
 # killed: by TERM nothing is left; by KILL the next run clears it
 vgis2terrain -q -j 1 "$T/pyr" "$T/killed" &
 pid=$!
-sleep 0.5
-if kill -TERM $pid 2>/dev/null; then
-	wait $pid
+if mid_run $pid "$T/killed"; then
+	kill -TERM $pid; kill -CONT $pid; wait $pid
 	[ ! -e "$T/killed" ] && [ -z "$(ls -a "$T" | grep killed)" ]
 	ok $? "TERM: no OUTDIR and no temporary left"
 else
-	wait $pid
-	echo "ok $((_n + 1)) - # SKIP the run ended before the kill"
-	_n=$((_n + 1))
+	wait $pid; skip "the run ended before the kill"
 fi
 rm -rf "$T/killed"
 vgis2terrain -q -j 1 "$T/pyr" "$T/killed" &
 pid=$!
-sleep 0.5
-kill -KILL $pid 2>/dev/null
-wait $pid
-[ ! -e "$T/killed" ]; ok $? "KILL: no OUTDIR"
+if mid_run $pid "$T/killed"; then
+	kill -KILL $pid; kill -CONT $pid 2>/dev/null; wait $pid
+	[ ! -e "$T/killed" ]; ok $? "KILL: no OUTDIR"
+else
+	wait $pid; skip "the run ended before the kill"
+fi
 vgis2terrain -q -j 2 "$T/pyr" "$T/killed"
 [ -z "$(ls -a "$T" | grep '^\.killed\.')" ] && [ -f "$T/killed/layer.json" ]
 ok $? "KILL: the next run removes the dead run's temporary"

@@ -72,14 +72,11 @@ fails "an OUTDIR that is no tileset: not replaced" 1 'not a tileset' \
 dem2vgis "$DATA/bigtujunga.tif" "$T/big.pyr" 2>/dev/null
 vgis2tiles -q -j 1 -t 0 "$T/big.pyr" "$T/killed.3d" &
 pid=$!
-sleep 0.3
-if kill -TERM $pid 2>/dev/null; then
-	wait $pid
+if mid_run $pid "$T/killed.3d"; then
+	kill -TERM $pid; kill -CONT $pid; wait $pid
 	[ ! -e "$T/killed.3d" ] && [ -z "$(ls -a "$T" | grep killed)" ]
 	ok $? "killed: no OUTDIR and no temporary left"
 else
-	wait $pid
-	echo "ok $((_n + 1)) - # SKIP the run ended before the kill"
-	_n=$((_n + 1))
+	wait $pid; skip "the run ended before the kill"
 fi
 done_testing
