@@ -40,9 +40,29 @@ static struct {
 } tmps[MAXTMP];
 static pthread_mutex_t tmps_lock = PTHREAD_MUTEX_INITIALIZER;
 
+/* Threads between making a temporary and registering it (fatal_block's
+ * count), and whether a handler has begun: see fatal_block. */
+static int making_n, dying;
+
+/* The handler waits for the threads that are making a temporary (they
+ * have the fatal signals blocked, so it never runs in one of them) to
+ * register it, for at most 2 s: one may wait on a lock the interrupted
+ * thread holds (malloc's), and then the handler goes on without it. */
+static void
+wait_made(void)
+{
+	struct timespec ms = { 0, 1000000 };
+
+	__atomic_store_n(&dying, 1, __ATOMIC_SEQ_CST);
+	for (int i = 0; i < 2000 &&
+	    __atomic_load_n(&making_n, __ATOMIC_SEQ_CST) > 0; i++)
+		nanosleep(&ms, NULL);
+}
+
 static void
 on_signal(int sig)
 {
+	wait_made();
 	for (int i = 0; i < MAXTMP; i++) {
 		const char *p = __atomic_load_n(&tmps[i].path, __ATOMIC_ACQUIRE);
 		int lk = __atomic_load_n(&tmps[i].lock, __ATOMIC_ACQUIRE);
@@ -295,40 +315,36 @@ out_begin(tl_outfile *o, const char *path, tl_err *e)
 /* The fatal signals wait while a temporary is created, locked and
  * registered (not while the directory is swept): one arriving between
  * the creation and the registration would leave a temporary neither the
- * handler nor a sweep of another name removes. */
-static pthread_mutex_t making = PTHREAD_MUTEX_INITIALIZER;
-
+ * handler nor a sweep of another name removes. The mask is this
+ * thread's; a signal sent to the process runs the handler in another
+ * thread, which waits for the count to fall to 0 (wait_made). A thread
+ * that comes here once a handler has begun makes nothing: the process
+ * is about to end (a handler that returns, at most 2 s later, would
+ * not end it: then it goes on). */
 static void
 fatal_block(sigset_t *old)
 {
+	struct timespec ms = { 0, 1000000 };
 	sigset_t s;
 
 	sigemptyset(&s);
 	sigaddset(&s, SIGINT), sigaddset(&s, SIGTERM);
 	sigaddset(&s, SIGHUP), sigaddset(&s, SIGPIPE);
 	pthread_sigmask(SIG_BLOCK, &s, old);
-	/* the mask is this thread's: another thread that raises a fatal
-	 * signal itself waits here (tl_out_hold) */
-	pthread_mutex_lock(&making);
+	__atomic_add_fetch(&making_n, 1, __ATOMIC_SEQ_CST);
+	for (int i = 0; i < 4000 && __atomic_load_n(&dying, __ATOMIC_SEQ_CST);
+	    i++) {
+		__atomic_sub_fetch(&making_n, 1, __ATOMIC_SEQ_CST);
+		nanosleep(&ms, NULL);
+		__atomic_add_fetch(&making_n, 1, __ATOMIC_SEQ_CST);
+	}
 }
 
 static void
 fatal_unblock(const sigset_t *old)
 {
-	pthread_mutex_unlock(&making);
+	__atomic_sub_fetch(&making_n, 1, __ATOMIC_SEQ_CST);
 	pthread_sigmask(SIG_SETMASK, old, NULL);
-}
-
-void
-tl_out_hold(void)
-{
-	pthread_mutex_lock(&making);
-}
-
-void
-tl_out_release(void)
-{
-	pthread_mutex_unlock(&making);
 }
 
 int

@@ -57,12 +57,9 @@ void tl_out_sweep_dir(const char *dir);
 int tl_dir_install(const char *tmp, const char *path, tl_err *e);
 int tl_outdir_commit(tl_outfile *o, tl_err *e);
 void tl_outdir_abort(tl_outfile *o);
-/* A temporary is made and registered for the signal handler in one step
- * that these wait for and then keep out: a thread that raises a fatal
- * signal itself (a signalfd's reader, rgb/rg_scratch.c) holds it first,
- * so that the handler, run in that thread, finds every temporary
- * registered, none made but not yet known. Never from a handler. */
-void tl_out_hold(void);
-void tl_out_release(void);
+/* A temporary is made and registered for the signal handler in one step:
+ * the handler, in whatever thread a fatal signal (INT, TERM, HUP, PIPE)
+ * runs it, first waits for the steps under way to end, so that it finds
+ * every temporary registered, none made but not yet known. */
 
 #endif

@@ -43,10 +43,10 @@ watch(void *arg)
 		tl_rmtree(s->path);
 	sigemptyset(&one);
 	sigaddset(&one, (int)si.ssi_signo);
-	tl_out_hold(); /* no output temporary half made meanwhile */
+	/* the handler (outfile.c) runs here, once no output temporary
+	 * is half made */
 	pthread_sigmask(SIG_UNBLOCK, &one, NULL);
 	raise((int)si.ssi_signo);
-	tl_out_release();
 	return NULL; /* caught, and survived: the run goes on unguarded */
 }
 
