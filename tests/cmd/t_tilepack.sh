@@ -153,7 +153,8 @@ for f in 0.25 0.6; do
 	t=$(awk -v a="$full" -v f="$f" 'BEGIN { printf "%.2f", a * f }')
 	rm -f "$T/killed"
 	(TMPDIR=$T/scratch dem2vgis -q "$DATA/N44W072.hgt" "$T/o/k2" & p=$!
-	    sleep $t; kill -TERM $p && : >"$T/killed"; wait $p) 2>/dev/null
+	    sleep $t; kill -TERM $p; wait $p
+	    [ $? -ne 0 ] && : >"$T/killed") 2>/dev/null
 	sleep 0.3
 	if [ -e "$T/killed" ]; then
 		[ "$(ls -A "$T/o" | tr '\n' ' ')" = "keep p " ] && nothing_left "$T/scratch"
