@@ -1,7 +1,8 @@
 /* dem_load.c - what the format adapters call back (dem_impl.h): the sink
  * that converts source samples to metres in the scratch file
  * (dem_load_begin, dem_load_encoding, dem_load_put, a band of rows at a
- * time with dem_load_band and dem_load_flush), the fingerprint of
+ * time with dem_load_band and dem_load_flush, in memory of dem_map),
+ * the fingerprint of
  * that conversion (dem_fingerprint), and how messages name a file
  * (dem_name). A leaf: the reader dem.c dispatches to the adapters
  * (dem_gdal.c, dem_oiio.c, dem_list.c, dem_mosaic.c), they call this, and
@@ -14,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "base/byteorder.h"
 #include "geo/vdatum.h"
@@ -142,9 +144,9 @@ dem_load_band(dem_load *L, int y, int n, tl_err *e)
 	if ((long long)size * (long long)sizeof(float) > DEM_BANDBYTES)
 		return 0;
 	if (size > L->bandcap) {
-		free(L->band);
+		dem_unmap(L->band, L->bandcap * sizeof(float));
 		L->bandcap = 0;
-		if ((L->band = tl_alloc(size, sizeof(float), e)) == NULL)
+		if ((L->band = dem_map(size * sizeof(float), e)) == NULL)
 			return -1;
 		L->bandcap = size;
 	}
@@ -246,6 +248,28 @@ dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
 		    "3 or more channels", L->what,
 		    L->enc == DEM_ENC_TERRAINRGB ? "Terrain-RGB" : "Terrarium");
 	return 0;
+}
+
+/* --- memory for bands of rows -------------------------------------------- */
+
+void *
+dem_map(size_t n, tl_err *e)
+{
+	void *p = mmap(NULL, n, PROT_READ | PROT_WRITE,
+	    MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+
+	if (p == MAP_FAILED) {
+		tl_failsys(e, "mapping of %zu bytes", n);
+		return NULL;
+	}
+	return p;
+}
+
+void
+dem_unmap(void *p, size_t n)
+{
+	if (p != NULL)
+		munmap(p, n);
 }
 
 /* --- the fingerprint ----------------------------------------------------- */

@@ -44,11 +44,17 @@ typedef struct {
 	unsigned char *mm;
 } fillbuf;
 
+/* The chunk's buffers are mapped (dem_map), the rows' malloc'd. */
 static void
 fillbuf_free(fillbuf *F)
 {
-	free(F->rr), free(F->ff), free(F->av), free(F->arow), free(F->left);
-	free(F->bb), free(F->bl), free(F->mm);
+	size_t n = (size_t)F->w * F->R;
+
+	dem_unmap(F->rr, n * sizeof(float));
+	dem_unmap(F->ff, n * sizeof(float));
+	dem_unmap(F->bb, n * sizeof(below));
+	dem_unmap(F->mm, n);
+	free(F->av), free(F->arow), free(F->left), free(F->bl);
 }
 
 static int
@@ -60,14 +66,14 @@ fillbuf_alloc(fillbuf *F, int w, int h, int rows, tl_err *e)
 	memset(F, 0, sizeof *F);
 	F->w = w, F->h = h;
 	F->R = R < 1 ? 1 : R > rows ? rows : (int)R;
-	F->rr = tl_alloc(n * F->R, sizeof(float), e);
-	F->ff = tl_alloc(n * F->R, sizeof(float), e);
+	F->rr = dem_map(n * F->R * sizeof(float), e);
+	F->ff = F->rr ? dem_map(n * F->R * sizeof(float), e) : NULL;
 	F->av = tl_alloc(n, sizeof(float), e);
 	F->arow = tl_alloc(n, sizeof(int32_t), e);
 	F->left = tl_alloc(n, sizeof(int32_t), e);
-	F->bb = tl_alloc(n * F->R, sizeof(below), e);
+	F->bb = F->ff ? dem_map(n * F->R * sizeof(below), e) : NULL;
 	F->bl = tl_alloc(n, sizeof(below), e);
-	F->mm = tl_alloc(n * F->R, 1, e);
+	F->mm = F->bb ? dem_map(n * F->R, e) : NULL;
 	if (!F->rr || !F->ff || !F->av || !F->arow || !F->left || !F->bb ||
 	    !F->bl || !F->mm) {
 		fillbuf_free(F);
