@@ -215,6 +215,7 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 		r = read_any(&L, &d->g, path, NULL, o, e);
 	}
 	free(L.seg);
+	dem_unmap(L.band, L.bandcap * sizeof(float));
 	vdatum_close(L.vd);
 	d->fd = L.fd;
 	d->rowvoid = L.rowvoid;

@@ -373,10 +373,16 @@ samples(const src *s, dem_load *L, tl_err *e)
 	b.mask = b.use_mask ? tl_alloc((size_t)ww * wh, 1, e) : NULL;
 	if (b.px == NULL || (b.use_mask && b.mask == NULL))
 		r = -1;
-	for (int y = y0; y < y1 && r == 0; y += wh)
+	/* a band of windows' rows, staged and written at once */
+	for (int y = y0; y < y1 && r == 0; y += wh) {
+		int ny = y1 - y < wh ? y1 - y : wh;
+		r = dem_load_band(L, y, ny, e);
 		for (int x = x0; x < x1 && r == 0; x += ww)
 			r = read_window(s, L, &b, x, y, x1 - x < ww ? x1 - x : ww,
-			    y1 - y < wh ? y1 - y : wh, e);
+			    ny, e);
+		if (r == 0)
+			r = dem_load_flush(L, e);
+	}
 	free(b.px);
 	free(b.mask);
 	return r;

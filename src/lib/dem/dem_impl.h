@@ -54,6 +54,11 @@ typedef struct {
 	double zunit;            /* metres per height unit */
 	int flip_x, flip_y;      /* source columns / rows run west / south */
 	float *seg;              /* w floats */
+	float *band;             /* rows by0 .. by1-1 staged (dem_load_band),
+	                          * bandcap floats (dem_map); by1 = by0:
+	                          * none */
+	size_t bandcap, staged;  /* staged: the samples put into it */
+	int by0, by1;            /* north-up, within cy0 .. cy1 */
 	unsigned char *rowvoid;  /* one bit per row: the row has voids */
 	long long voids;
 	struct vdatum_shift *vd;     /* vertical datum conversion, or NULL */
@@ -112,6 +117,24 @@ int dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
  * kept columns are skipped, so an adapter may hand over more. */
 int dem_load_put(dem_load *L, const void *p, int t, int stride, int x0,
     int y, int n, const unsigned char *mask, tl_err *e);
+
+/* Scratch writes a band at a time: source rows y .. y+n-1, every kept
+ * column of each, are staged in memory by the dem_load_put calls that
+ * follow, and dem_load_flush writes them in one pwrite (the same bytes
+ * at the same offsets as a pwrite per put). A band of more than
+ * DEM_BANDBYTES (its kept rows x kept columns x 4 bytes) is not staged:
+ * its puts write as they come. Every kept sample of the band must be put
+ * before the flush. */
+#define DEM_BANDBYTES (32LL << 20)
+
+/* n bytes, zeroed, for a band or chunk of rows, and their release
+ * (dem_load.c): mapped, not malloc'd, so that unmapping gives them back
+ * to the system at once and leaves glibc's mmap threshold, which the
+ * free of a large block raises for the rest of the run, where it was. */
+void *dem_map(size_t n, tl_err *e);
+void dem_unmap(void *p, size_t n);
+int dem_load_band(dem_load *L, int y, int n, tl_err *e);
+int dem_load_flush(dem_load *L, tl_err *e);
 
 /* --- the adapters ------------------------------------------------- */
 

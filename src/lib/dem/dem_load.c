@@ -1,17 +1,21 @@
 /* dem_load.c - what the format adapters call back (dem_impl.h): the sink
  * that converts source samples to metres in the scratch file
- * (dem_load_begin, dem_load_encoding, dem_load_put), the fingerprint of
+ * (dem_load_begin, dem_load_encoding, dem_load_put, a band of rows at a
+ * time with dem_load_band and dem_load_flush, in memory of dem_map),
+ * the fingerprint of
  * that conversion (dem_fingerprint), and how messages name a file
  * (dem_name). A leaf: the reader dem.c dispatches to the adapters
  * (dem_gdal.c, dem_oiio.c, dem_list.c, dem_mosaic.c), they call this, and
  * this calls none of them. */
 #include "dem/dem_impl.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "base/byteorder.h"
 #include "geo/vdatum.h"
@@ -76,7 +80,9 @@ int
 dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
     int n, const unsigned char *mask, tl_err *e)
 {
-	int nv = 0, a, b;
+	int nv = 0, a, b, staged;
+	long long kw;
+	float *seg;
 
 	if (x0 < 0 || y < 0 || n < 0 || x0 + n > L->w || y >= L->h)
 		return tl_fail(e, "%s: sample window outside the raster",
@@ -92,10 +98,13 @@ dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
 	b = x0 + n < L->cx1 ? x0 + n : L->cx1;
 	if (a >= b)
 		return 0;
+	kw = L->cx1 - L->cx0;
+	staged = y >= L->by0 && y < L->by1;
+	seg = staged ? L->band + (y - L->by0) * kw + (a - L->cx0) : L->seg;
 	for (int i = a - x0; i < b - x0; i++) {
 		int k = L->flip_x ? n - 1 - i : i;
 		double v = decode(L, p, t, (size_t)k, stride), z;
-		float *o = &L->seg[i - (a - x0)];
+		float *o = &seg[i - (a - x0)];
 		z = is_void(L, v) || (mask != NULL && mask[k] == 0) ? NAN :
 		    metres(L, v);
 		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
@@ -105,15 +114,58 @@ dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
 			*o = (float)z;
 		}
 	}
-	if (L->vd != NULL && vdatum_apply(L->vd, y, a, b - a, L->seg, e) < 0)
+	if (L->vd != NULL && vdatum_apply(L->vd, y, a, b - a, seg, e) < 0)
 		return -1;
 	if (nv > 0) {
 		L->voids += nv;
 		dem_setbit(L->rowvoid, y);
 	}
-	return tl_pwrite(L->fd, L->seg, (size_t)(b - a) * sizeof(float),
-	    ((long long)y * (L->cx1 - L->cx0) + a - L->cx0) *
-	    (long long)sizeof(float), "scratch file", e);
+	if (staged) {
+		L->staged += (size_t)(b - a);
+		return 0;
+	}
+	return tl_pwrite(L->fd, seg, (size_t)(b - a) * sizeof(float),
+	    ((long long)y * kw + a - L->cx0) * (long long)sizeof(float),
+	    "scratch file", e);
+}
+
+int
+dem_load_band(dem_load *L, int y, int n, tl_err *e)
+{
+	long long lo = L->flip_y ? L->h - y - n : y, hi = lo + n;
+	size_t size;
+
+	assert(L->by1 == L->by0 && n > 0);
+	lo = lo > L->cy0 ? lo : L->cy0;
+	hi = hi < L->cy1 ? hi : L->cy1;
+	if (lo >= hi)
+		return 0;
+	size = (size_t)(hi - lo) * (size_t)(L->cx1 - L->cx0);
+	if ((long long)size * (long long)sizeof(float) > DEM_BANDBYTES)
+		return 0;
+	if (size > L->bandcap) {
+		dem_unmap(L->band, L->bandcap * sizeof(float));
+		L->bandcap = 0;
+		if ((L->band = dem_map(size * sizeof(float), e)) == NULL)
+			return -1;
+		L->bandcap = size;
+	}
+	L->by0 = (int)lo, L->by1 = (int)hi, L->staged = 0;
+	return 0;
+}
+
+int
+dem_load_flush(dem_load *L, tl_err *e)
+{
+	long long kw = L->cx1 - L->cx0, y0 = L->by0;
+	size_t n = (size_t)(L->by1 - L->by0) * (size_t)kw;
+
+	if (n == 0)
+		return 0;
+	assert(L->staged == n);
+	L->by0 = L->by1 = 0;
+	return tl_pwrite(L->fd, L->band, n * sizeof(float),
+	    y0 * kw * (long long)sizeof(float), "scratch file", e);
 }
 
 /* The vertical datum conversion, once the georeferencing is known. */
@@ -196,6 +248,28 @@ dem_load_encoding(dem_load *L, const dem_opts *o, int type, int nch,
 		    "3 or more channels", L->what,
 		    L->enc == DEM_ENC_TERRAINRGB ? "Terrain-RGB" : "Terrarium");
 	return 0;
+}
+
+/* --- memory for bands of rows -------------------------------------------- */
+
+void *
+dem_map(size_t n, tl_err *e)
+{
+	void *p = mmap(NULL, n, PROT_READ | PROT_WRITE,
+	    MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+
+	if (p == MAP_FAILED) {
+		tl_failsys(e, "mapping of %zu bytes", n);
+		return NULL;
+	}
+	return p;
+}
+
+void
+dem_unmap(void *p, size_t n)
+{
+	if (p != NULL)
+		munmap(p, n);
 }
 
 /* --- the fingerprint ----------------------------------------------------- */

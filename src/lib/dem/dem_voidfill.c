@@ -22,8 +22,13 @@
 /* Nearest valid sample below, per column, for one row with voids. */
 typedef dem_near below;
 
+/* The rows are read and written a chunk of up to R adjacent rows per
+ * pread or pwrite, R = DEM_FILLBYTES / (17 w), at least 1: per row of a
+ * chunk 4 w bytes raw, 4 w filled, 8 w of "below" records, w of mask. */
+#define DEM_FILLBYTES (4LL << 20)
+
 typedef struct {
-	int w, h;
+	int w, h, R;
 	dem_fill_band io;       /* where the rows come from and go */
 	int whole;              /* dem_fill: in place, masks by row number */
 	long long k;            /* the next mask's number */
@@ -32,32 +37,45 @@ typedef struct {
 	int32_t *arow, *left;   /* its row (-1 none); nearest valid to the left */
 	below *b, *bl;          /* this row's "below" records; running state */
 	unsigned char *mask;
+	/* a chunk's rows: raw and filled by row, below records and masks
+	 * of its rows with voids one after another; r, f, b, mask point in */
+	float *rr, *ff;
+	below *bb;
+	unsigned char *mm;
 } fillbuf;
 
+/* The chunk's buffers are mapped (dem_map), the rows' malloc'd. */
 static void
 fillbuf_free(fillbuf *F)
 {
-	free(F->r), free(F->f), free(F->av), free(F->arow), free(F->left);
-	free(F->b), free(F->bl), free(F->mask);
+	size_t n = (size_t)F->w * F->R;
+
+	dem_unmap(F->rr, n * sizeof(float));
+	dem_unmap(F->ff, n * sizeof(float));
+	dem_unmap(F->bb, n * sizeof(below));
+	dem_unmap(F->mm, n);
+	free(F->av), free(F->arow), free(F->left), free(F->bl);
 }
 
 static int
-fillbuf_alloc(fillbuf *F, int w, int h, tl_err *e)
+fillbuf_alloc(fillbuf *F, int w, int h, int rows, tl_err *e)
 {
 	size_t n = (size_t)w;
+	long long R = DEM_FILLBYTES / (17LL * w);
 
 	memset(F, 0, sizeof *F);
 	F->w = w, F->h = h;
-	F->r = tl_alloc(n, sizeof(float), e);
-	F->f = tl_alloc(n, sizeof(float), e);
+	F->R = R < 1 ? 1 : R > rows ? rows : (int)R;
+	F->rr = dem_map(n * F->R * sizeof(float), e);
+	F->ff = F->rr ? dem_map(n * F->R * sizeof(float), e) : NULL;
 	F->av = tl_alloc(n, sizeof(float), e);
 	F->arow = tl_alloc(n, sizeof(int32_t), e);
 	F->left = tl_alloc(n, sizeof(int32_t), e);
-	F->b = tl_alloc(n, sizeof(below), e);
+	F->bb = F->ff ? dem_map(n * F->R * sizeof(below), e) : NULL;
 	F->bl = tl_alloc(n, sizeof(below), e);
-	F->mask = tl_alloc(n, 1, e);
-	if (!F->r || !F->f || !F->av || !F->arow || !F->left || !F->b ||
-	    !F->bl || !F->mask) {
+	F->mm = F->bb ? dem_map(n * F->R, e) : NULL;
+	if (!F->rr || !F->ff || !F->av || !F->arow || !F->left || !F->bb ||
+	    !F->bl || !F->mm) {
 		fillbuf_free(F);
 		return -1;
 	}
@@ -73,11 +91,53 @@ zoff(const fillbuf *F, int j)
 	return (long long)j * F->w * (long long)sizeof(float);
 }
 
-/* Row j's "below" records in the scratch file bfd. */
-static long long
-boff(const fillbuf *F, int j)
+/* The rows with voids of lo .. hi-1, size bytes each, read (wr 0) or
+ * written (wr 1) in one call per run of adjacent ones: row j at
+ * off + (j - base) size in fd, in buf one after another (compact) or
+ * at (j - lo) size. */
+static int
+void_runs(const fillbuf *F, int wr, int fd, void *buf, size_t size,
+    int compact, int lo, int hi, long long off, int base, const char *what,
+    tl_err *e)
 {
-	return (long long)(j - F->io.y0) * F->w * (long long)sizeof(below);
+	char *p = buf;
+
+	for (int j = lo, t; j < hi; j = t) {
+		for (t = j; t < hi && dem_bit(F->rowvoid, t); t++)
+			;
+		if (t == j) {
+			t++;
+			continue;
+		}
+		if (!compact)
+			p = (char *)buf + (size_t)(j - lo) * size;
+		if ((wr ? tl_pwrite(fd, p, (size_t)(t - j) * size, off +
+		    (long long)(j - base) * size, what, e) : tl_pread(fd, p,
+		    (size_t)(t - j) * size, off + (long long)(j - base) * size,
+		    what, e)) < 0)
+			return -1;
+		p += (size_t)(t - j) * size;
+	}
+	return 0;
+}
+
+/* Rows lo .. hi-1 read raw into the chunk. */
+static int
+read_chunk(fillbuf *F, int lo, int hi, tl_err *e)
+{
+	return tl_pread(F->io.in, F->rr, (size_t)(hi - lo) * F->w *
+	    sizeof(float), F->io.zin + zoff(F, lo), F->io.win, e);
+}
+
+/* The rows with voids among lo .. hi-1. */
+static int
+void_rows(const fillbuf *F, int lo, int hi)
+{
+	int n = 0;
+
+	for (int j = lo; j < hi; j++)
+		n += dem_bit(F->rowvoid, j);
+	return n;
 }
 
 /* Pass 1, bottom-up: for every row with voids, store per column the
@@ -85,16 +145,24 @@ boff(const fillbuf *F, int j)
 static int
 pass_up(fillbuf *F, int bfd, tl_err *e)
 {
-	for (int j = F->io.y1 - 1; j >= F->io.y0; j--) {
-		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
-		    zoff(F, j), F->io.win, e) < 0)
+	for (int hi = F->io.y1, lo; hi > F->io.y0; hi = lo) {
+		int c;
+		lo = hi - F->R > F->io.y0 ? hi - F->R : F->io.y0;
+		if (read_chunk(F, lo, hi, e) < 0)
 			return -1;
-		if (dem_bit(F->rowvoid, j) && tl_pwrite(bfd, F->bl, F->w *
-		    sizeof(below), boff(F, j), "scratch file", e) < 0)
+		c = void_rows(F, lo, hi);
+		for (int j = hi - 1; j >= lo; j--) {
+			F->r = F->rr + (size_t)(j - lo) * F->w;
+			if (dem_bit(F->rowvoid, j))
+				memcpy(F->bb + (size_t)--c * F->w, F->bl,
+				    F->w * sizeof(below));
+			for (int i = 0; i < F->w; i++)
+				if (!isnan(F->r[i]))
+					F->bl[i].v = F->r[i], F->bl[i].row = j;
+		}
+		if (void_runs(F, 1, bfd, F->bb, F->w * sizeof(below), 1, lo,
+		    hi, 0, F->io.y0, "scratch file", e) < 0)
 			return -1;
-		for (int i = 0; i < F->w; i++)
-			if (!isnan(F->r[i]))
-				F->bl[i].v = F->r[i], F->bl[i].row = j;
 	}
 	return 0;
 }
@@ -167,22 +235,25 @@ fill_row(fillbuf *F, int j)
 		fill_row_only(F);
 }
 
-/* Row j, filled in F->f, and its mask: in place in dem.c's scratch
- * file, its mask by row number; in a filled DEM file little-endian, its
- * mask by rank. */
+/* Rows lo .. hi-1, filled in the chunk, and the masks of those with
+ * voids: in place in dem.c's scratch file (the rows with voids only),
+ * the masks by row number; in a filled DEM file every row,
+ * little-endian (swapped by pass_down), the masks by rank from k. */
 static int
-put_row(fillbuf *F, int j, int voids, tl_err *e)
+put_chunk(fillbuf *F, int lo, int hi, long long k, tl_err *e)
 {
-	long long m = F->whole ? j : F->k;
+	size_t row = F->w * sizeof(float);
 
-	F->k += voids;
-	if (!F->whole)
-		le_swap32s(F->f, (size_t)F->w);
-	if (tl_pwrite(F->io.out, F->f, F->w * sizeof(float), F->io.zout +
-	    zoff(F, j), F->io.wout, e) < 0)
+	if (F->whole)
+		return void_runs(F, 1, F->io.out, F->ff, row, 0, lo, hi,
+		    F->io.zout, 0, F->io.wout, e) < 0 ||
+		    void_runs(F, 1, F->io.out, F->mm, (size_t)F->w, 1, lo, hi,
+		    F->io.moff, 0, F->io.wout, e) < 0 ? -1 : 0;
+	if (tl_pwrite(F->io.out, F->ff, (size_t)(hi - lo) * row, F->io.zout +
+	    zoff(F, lo), F->io.wout, e) < 0)
 		return -1;
-	return voids ? tl_pwrite(F->io.out, F->mask, (size_t)F->w,
-	    F->io.moff + m * F->w, F->io.wout, e) : 0;
+	return F->k > k ? tl_pwrite(F->io.out, F->mm, (size_t)(F->k - k) *
+	    F->w, F->io.moff + k * F->w, F->io.wout, e) : 0;
 }
 
 /* Pass 2, top-down: fill each row with voids, write it and its validity
@@ -190,25 +261,33 @@ put_row(fillbuf *F, int j, int voids, tl_err *e)
 static int
 pass_down(fillbuf *F, int bfd, tl_err *e)
 {
-	for (int j = F->io.y0; j < F->io.y1; j++) {
-		if (tl_pread(F->io.in, F->r, F->w * sizeof(float), F->io.zin +
-		    zoff(F, j), F->io.win, e) < 0)
+	for (int lo = F->io.y0, hi; lo < F->io.y1; lo = hi) {
+		long long k = F->k;
+		int c = 0;
+		hi = lo + F->R < F->io.y1 ? lo + F->R : F->io.y1;
+		if (read_chunk(F, lo, hi, e) < 0 || void_runs(F, 0, bfd, F->bb,
+		    F->w * sizeof(below), 1, lo, hi, 0, F->io.y0,
+		    "scratch file", e) < 0)
 			return -1;
-		if (dem_bit(F->rowvoid, j)) {
-			if (tl_pread(bfd, F->b, F->w * sizeof(below), boff(F, j),
-			    "scratch file", e) < 0)
-				return -1;
-			fill_row(F, j);
-			if (put_row(F, j, 1, e) < 0)
-				return -1;
-		} else if (!F->whole) {
-			memcpy(F->f, F->r, F->w * sizeof(float));
-			if (put_row(F, j, 0, e) < 0)
-				return -1;
+		for (int j = lo; j < hi; j++) {
+			F->r = F->rr + (size_t)(j - lo) * F->w;
+			F->f = F->ff + (size_t)(j - lo) * F->w;
+			if (dem_bit(F->rowvoid, j)) {
+				F->b = F->bb + (size_t)c * F->w;
+				F->mask = F->mm + (size_t)c++ * F->w;
+				fill_row(F, j);
+				F->k++;
+			} else if (!F->whole) {
+				memcpy(F->f, F->r, F->w * sizeof(float));
+			}
+			if (!F->whole)
+				le_swap32s(F->f, (size_t)F->w);
+			for (int i = 0; i < F->w; i++)
+				if (!isnan(F->r[i]))
+					F->av[i] = F->r[i], F->arow[i] = j;
 		}
-		for (int i = 0; i < F->w; i++)
-			if (!isnan(F->r[i]))
-				F->av[i] = F->r[i], F->arow[i] = j;
+		if (put_chunk(F, lo, hi, k, e) < 0)
+			return -1;
 	}
 	return 0;
 }
@@ -232,7 +311,7 @@ fill(const dem_fill_band *b, int whole, const unsigned char *rowvoid,
 	fillbuf F;
 	int bfd, r;
 
-	if (fillbuf_alloc(&F, w, h, e) < 0)
+	if (fillbuf_alloc(&F, w, h, b->y1 - b->y0, e) < 0)
 		return -1;
 	F.io = *b, F.whole = whole, F.k = b->rank, F.rowvoid = rowvoid;
 	/* the nearest valid samples beyond the rows, for a band */
