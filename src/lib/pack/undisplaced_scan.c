@@ -197,6 +197,7 @@ tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
 	long S = (long)s->step, c[LANES];
 	double inv = t->inv;
 
+#pragma GCC unroll 4
 	for (int k = 0; k < LANES; k++)
 		c[k] = cx + k * stride;
 	/* the centres as doubles at once (whole numbers: exact) */
@@ -261,8 +262,10 @@ pair_at4(const state *s, const double *dd, const tmpl *t, int f, int cx,
 {
 	v4d v[3], u[3];
 
+#pragma GCC unroll 3
 	for (int k = 0; k < 3; k++)
 		v[k] = heights4(&t[0], k, cx, stride);
+#pragma GCC unroll 3
 	for (int k = 0; k < 3; k++)
 		u[k] = form(f, k) >= 0 ? v[form(f, k)] :
 		    heights4(&t[1], k, cx, stride);
@@ -367,6 +370,7 @@ raise4(const sink *o, gather *g, int leaves, int cx, int stride, v4d err)
 		 * (as each (float) cast rounds); the centres are apart */
 		v4f f = __builtin_convertvector(err, v4f);
 		float *a = &o->acc[cx - o->c0];
+#pragma GCC unroll 4
 		for (int k = 0; k < LANES; k++) {
 			float was = a[k * stride];
 			a[k * stride] = f[k] > was ? f[k] : was;
