@@ -183,6 +183,17 @@ heights4(const tmpl *t, int r, int cx, int stride)
 	return (v4d){ z[0], z[stride], z[2 * stride], z[3 * stride] };
 }
 
+/* The lanes' sample o of their chords (q0 .. q3: the chords' first
+ * samples) against their planes z + dz x, raising w. */
+static inline __attribute__((always_inline)) v4d
+sample4(const double *q0, const double *q1, const double *q2,
+    const double *q3, long o, v4d x, v4d z, v4d dz, v4d w)
+{
+	v4d v = { q0[o], q1[o], q2[o], q3[o] };
+
+	return v4max(v4abs(z + dz * x - v), w);
+}
+
 /* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
  * every chord inside the DEM row, the vertices' heights z0, z1, z2
  * (heights4). The maximum keeps w where d is NaN (an invalid sample), as
@@ -194,7 +205,7 @@ tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
 	v4d cd, p00, e1, e2, n0, n1, z, dz, x;
 	v4d w = { -1, -1, -1, -1 };
 	const double *q0, *q1, *q2, *q3;
-	long S = (long)s->step, c[LANES];
+	long S = (long)s->step, c[LANES], n;
 	double inv = t->inv;
 
 #pragma GCC unroll 4
@@ -221,10 +232,16 @@ tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
 	 * term a whole number over a power of 2, so c + lo / S is that
 	 * exactly, and so is each step (see sweep) */
 	x = cd + t->lo * inv;
-	for (long o = 0; o <= t->hi - t->lo; o++, x += inv) {
-		v4d v = { q0[o], q1[o], q2[o], q3[o] };
-		w = v4max(v4abs(z + dz * x - v), w);
-	}
+	/* the first three samples unrolled (most chords here are 1 to 3
+	 * samples: no loop to set up), then the rest: the same steps */
+	n = t->hi - t->lo;
+	w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
+	if (n >= 1)
+		x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
+	if (n >= 2)
+		x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
+	for (long o = 3; o <= n; o++)
+		x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
 	return w;
 }
 
