@@ -196,7 +196,9 @@ sample4(const double *q0, const double *q1, const double *q2,
 
 /* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
  * every chord inside the DEM row, the vertices' heights z0, z1, z2
- * (heights4). The maximum keeps w where d is NaN (an invalid sample), as
+ * (heights4), n2 a power of 2 (rn2: tri_at's multiplying branch, the
+ * only one every scanned triangle takes; the callers send any other to
+ * tri_at). The maximum keeps w where d is NaN (an invalid sample), as
  * sweep does. */
 static inline __attribute__((always_inline)) v4d
 tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
@@ -217,13 +219,9 @@ tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
 	e1 = z1 - z0, e2 = z2 - z0;
 	n0 = t->d1y * e2 - e1 * t->d2y;
 	n1 = e1 * t->d2x - t->d1x * e2;
-	if (t->rn2 != 0) {
-		dz = -n0 * t->rn2;
-		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
-	} else {
-		dz = -n0 / t->n2;
-		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
-	}
+	assert(t->rn2 != 0);
+	dz = -n0 * t->rn2;
+	z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
 	/* the columns as doubles: whole numbers, so adding 1 is exact; DEM
 	 * column i at i - d0 in dd */
 	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
@@ -429,7 +427,7 @@ scan_template_body(const state *s, const double *dd, const tmpl *t,
 	/* the centres whose vertices are in the window */
 	window(s, t, &first, &end, stride);
 	cx = first;
-	if (t->hi - t->lo < SHORT) {
+	if (t->hi - t->lo < SHORT && t->rn2 != 0) {
 		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
 			raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
 		for (; cx + (LANES - 1) * stride < end &&
@@ -525,7 +523,7 @@ static void
 scan_shape(const state *s, const double *dd, const tmpl *t, int nt, int f,
     const sink *o, int first, int end, int stride)
 {
-	if (nt == 2 && t[0].ok && t[1].ok && t[0].n2 != 0 && t[1].n2 != 0 &&
+	if (nt == 2 && t[0].ok && t[1].ok && t[0].rn2 != 0 && t[1].rn2 != 0 &&
 	    t[0].hi - t[0].lo < SHORT && t[1].hi - t[1].lo < SHORT &&
 	    t[0].xmin == t[1].xmin && t[0].xmax == t[1].xmax &&
 	    pair_form(t, f)) {
