@@ -168,9 +168,12 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 #define LANES 4
 typedef int v4i __attribute__((vector_size(16)));
 typedef float v4f __attribute__((vector_size(16)));
-/* chords of at most this many samples go LANES centres at a time;
- * longer ones are swept along the row (sweep), which loads contiguously */
-#define SHORT 12
+/* chords of fewer samples than this go LANES centres at a time; longer
+ * ones are swept along the row (sweep), which loads contiguously but
+ * sets up a centre at a time and gathers its maxima through memory: up
+ * to here (levels 1 to 3's mid scales) the lanes' set-up shared by four
+ * outweighs their loads a sample at a time (perf stat, N48W125) */
+#define SHORT 28
 
 /* The heights of vertex r of template t at centres cx, cx + stride, ...
  * (LANES of them): vectors built from scalars, not through memory (store
