@@ -168,9 +168,12 @@ tri_at(const state *s, const double *dd, const tmpl *t, int cx)
 #define LANES 4
 typedef int v4i __attribute__((vector_size(16)));
 typedef float v4f __attribute__((vector_size(16)));
-/* chords of at most this many samples go LANES centres at a time;
- * longer ones are swept along the row (sweep), which loads contiguously */
-#define SHORT 12
+/* chords of fewer samples than this go LANES centres at a time; longer
+ * ones are swept along the row (sweep), which loads contiguously but
+ * sets up a centre at a time and gathers its maxima through memory: up
+ * to here (levels 1 to 3's mid scales) the lanes' set-up shared by four
+ * outweighs their loads a sample at a time (perf stat, N48W125) */
+#define SHORT 28
 
 /* The heights of vertex r of template t at centres cx, cx + stride, ...
  * (LANES of them): vectors built from scalars, not through memory (store
@@ -183,9 +186,22 @@ heights4(const tmpl *t, int r, int cx, int stride)
 	return (v4d){ z[0], z[stride], z[2 * stride], z[3 * stride] };
 }
 
+/* The lanes' sample o of their chords (q0 .. q3: the chords' first
+ * samples) against their planes z + dz x, raising w. */
+static inline __attribute__((always_inline)) v4d
+sample4(const double *q0, const double *q1, const double *q2,
+    const double *q3, long o, v4d x, v4d z, v4d dz, v4d w)
+{
+	v4d v = { q0[o], q1[o], q2[o], q3[o] };
+
+	return v4max(v4abs(z + dz * x - v), w);
+}
+
 /* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
  * every chord inside the DEM row, the vertices' heights z0, z1, z2
- * (heights4). The maximum keeps w where d is NaN (an invalid sample), as
+ * (heights4), n2 a power of 2 (rn2: tri_at's multiplying branch, the
+ * only one every scanned triangle takes; the callers send any other to
+ * tri_at). The maximum keeps w where d is NaN (an invalid sample), as
  * sweep does. */
 static inline __attribute__((always_inline)) v4d
 tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
@@ -194,9 +210,10 @@ tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
 	v4d cd, p00, e1, e2, n0, n1, z, dz, x;
 	v4d w = { -1, -1, -1, -1 };
 	const double *q0, *q1, *q2, *q3;
-	long S = (long)s->step, c[LANES];
+	long S = (long)s->step, c[LANES], n;
 	double inv = t->inv;
 
+#pragma GCC unroll 4
 	for (int k = 0; k < LANES; k++)
 		c[k] = cx + k * stride;
 	/* the centres as doubles at once (whole numbers: exact) */
@@ -205,13 +222,9 @@ tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
 	e1 = z1 - z0, e2 = z2 - z0;
 	n0 = t->d1y * e2 - e1 * t->d2y;
 	n1 = e1 * t->d2x - t->d1x * e2;
-	if (t->rn2 != 0) {
-		dz = -n0 * t->rn2;
-		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
-	} else {
-		dz = -n0 / t->n2;
-		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
-	}
+	assert(t->rn2 != 0);
+	dz = -n0 * t->rn2;
+	z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
 	/* the columns as doubles: whole numbers, so adding 1 is exact; DEM
 	 * column i at i - d0 in dd */
 	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
@@ -220,10 +233,16 @@ tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
 	 * term a whole number over a power of 2, so c + lo / S is that
 	 * exactly, and so is each step (see sweep) */
 	x = cd + t->lo * inv;
-	for (long o = 0; o <= t->hi - t->lo; o++, x += inv) {
-		v4d v = { q0[o], q1[o], q2[o], q3[o] };
-		w = v4max(v4abs(z + dz * x - v), w);
-	}
+	/* the first three samples unrolled (most chords here are 1 to 3
+	 * samples: no loop to set up), then the rest: the same steps */
+	n = t->hi - t->lo;
+	w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
+	if (n >= 1)
+		x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
+	if (n >= 2)
+		x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
+	for (long o = 3; o <= n; o++)
+		x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
 	return w;
 }
 
@@ -261,8 +280,10 @@ pair_at4(const state *s, const double *dd, const tmpl *t, int f, int cx,
 {
 	v4d v[3], u[3];
 
+#pragma GCC unroll 3
 	for (int k = 0; k < 3; k++)
 		v[k] = heights4(&t[0], k, cx, stride);
+#pragma GCC unroll 3
 	for (int k = 0; k < 3; k++)
 		u[k] = form(f, k) >= 0 ? v[form(f, k)] :
 		    heights4(&t[1], k, cx, stride);
@@ -367,6 +388,7 @@ raise4(const sink *o, gather *g, int leaves, int cx, int stride, v4d err)
 		 * (as each (float) cast rounds); the centres are apart */
 		v4f f = __builtin_convertvector(err, v4f);
 		float *a = &o->acc[cx - o->c0];
+#pragma GCC unroll 4
 		for (int k = 0; k < LANES; k++) {
 			float was = a[k * stride];
 			a[k * stride] = f[k] > was ? f[k] : was;
@@ -408,7 +430,7 @@ scan_template_body(const state *s, const double *dd, const tmpl *t,
 	/* the centres whose vertices are in the window */
 	window(s, t, &first, &end, stride);
 	cx = first;
-	if (t->hi - t->lo < SHORT) {
+	if (t->hi - t->lo < SHORT && t->rn2 != 0) {
 		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
 			raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
 		for (; cx + (LANES - 1) * stride < end &&
@@ -504,7 +526,7 @@ static void
 scan_shape(const state *s, const double *dd, const tmpl *t, int nt, int f,
     const sink *o, int first, int end, int stride)
 {
-	if (nt == 2 && t[0].ok && t[1].ok && t[0].n2 != 0 && t[1].n2 != 0 &&
+	if (nt == 2 && t[0].ok && t[1].ok && t[0].rn2 != 0 && t[1].rn2 != 0 &&
 	    t[0].hi - t[0].lo < SHORT && t[1].hi - t[1].lo < SHORT &&
 	    t[0].xmin == t[1].xmin && t[0].xmax == t[1].xmax &&
 	    pair_form(t, f)) {
