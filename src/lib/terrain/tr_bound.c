@@ -17,7 +17,8 @@
  *     D - S' = up.(Y-X) + n.tau / n.up, so |B| <= |nu| + tan(theta) |tau|
  *     (theta: the plane's tilt from up, at most theta0 at vertex 0 plus
  *     the normals' turn over the triangle, c L + P: L, P its longitude
- *     and latitude extents in radians, c <= cmax the cosine there).
+ *     and latitude extents in radians, c <= cmax the cosine there; the
+ *     normals, cmax and smax from the corners' ECEF points, no trig).
  *     up(xi).D2E(xi)[d, d] = -(N + h) c^2 dl^2 - (M + h) dp^2 exactly
  *     (the foot's normal curvatures; up.Dup = 0), so
  *     sum b_i |up.R_i| <= 1/2 W sum b_i (cmax^2 dl_i^2 + dp_i^2)
@@ -127,6 +128,139 @@ spread(const double v[3][3], int d, const double q[3], const cpt *c, int n,
 	return fmax(best, l[0] * l[1] * l[2] / sw);
 }
 
+static inline double
+mn(double a, double b)
+{
+	return b < a ? b : a;
+}
+
+static inline double
+mx(double a, double b)
+{
+	return b > a ? b : a;
+}
+
+/* The least circle's radius squared of a triangle of sides squared l
+ * (any dimension): half the longest when right or obtuse, else the
+ * circumradius (16 area^2 by Heron). */
+static double
+encl(const double l[3])
+{
+	int k = l[1] > l[0] ? 1 : 0;
+	double h;
+
+	k = l[2] > l[k] ? 2 : k;
+	if (l[k] >= l[(k + 1) % 3] + l[(k + 2) % 3])
+		return l[k] / 4;
+	h = 2 * (l[0] * l[1] + l[1] * l[2] + l[2] * l[0]) - (l[0] * l[0] +
+	    l[1] * l[1] + l[2] * l[2]);
+	return mx(l[k] / 4, l[0] * l[1] * l[2] / h);
+}
+
+/* spread() over the whole triangle: encl in the metric q. */
+static double
+spread_all(const double v[3][3], int d, const double q[3])
+{
+	double l[3];
+
+	for (int i = 0; i < 3; i++) {
+		int a = (i + 1) % 3, b = (i + 2) % 3;
+		l[i] = 0;
+		for (int k = 0; k < d; k++)
+			l[i] += q[k] * (v[a][k] - v[b][k]) * (v[a][k] - v[b][k]);
+	}
+	return encl(l);
+}
+
+/* A triangle's corners as the measure has them and as they decode. */
+typedef struct {
+	double xd[3], yd[3], hd[3];     /* decoded: degrees, metres */
+	double val[3];                  /* S' - F there */
+	double lo[3], hi[3];            /* the box of xd, yd, hd */
+} corners;
+
+/* Triangle k's corners into c; -1 where F has no gradient. */
+static int
+corners_of(const tr_work *w, const int *k, const double r[4], double lo,
+    double hi, corners *c)
+{
+	const tr_mesh *m = &w->m;
+	double x1 = m->x[k[1]] - m->x[k[0]], y1 = m->y[k[1]] - m->y[k[0]];
+	double x2 = m->x[k[2]] - m->x[k[0]], y2 = m->y[k[2]] - m->y[k[0]];
+	double h1 = m->h[k[1]] - m->h[k[0]], h2 = m->h[k[2]] - m->h[k[0]];
+	double f6 = x1 * y2 - x2 * y1;
+	/* F's gradient, per degree */
+	double gx = (y2 * h1 - y1 * h2) / f6, gy = (x1 * h2 - x2 * h1) / f6;
+
+	if (!isfinite(gx) || !isfinite(gy))
+		return -1;
+	for (int j = 0; j < 3; j++) {
+		double tu = w->u[k[j]] / (double)QM_MAX;
+		double tv = w->v[k[j]] / (double)QM_MAX;
+		double tq = w->q[k[j]] / (double)QM_MAX;
+		double p[3] = { (1 - tu) * r[0] + tu * r[2],
+			(1 - tv) * r[1] + tv * r[3], (1 - tq) * lo + tq * hi };
+		c->xd[j] = p[0], c->yd[j] = p[1], c->hd[j] = p[2];
+		c->val[j] = p[2] - m->h[k[j]] - gx * (p[0] - m->x[k[j]]) -
+		    gy * (p[1] - m->y[k[j]]);
+		for (int i = 0; i < 3; i++) {
+			c->lo[i] = j ? mn(c->lo[i], p[i]) : p[i];
+			c->hi[i] = j ? mx(c->hi[i], p[i]) : p[i];
+		}
+	}
+	return 0;
+}
+
+/* The normals at the decoded corners, from their ECEF points alone:
+ * (X, Y, Z / (1 - e^2)) is (N + h) up + h up_z e^2 / (1 - e^2) z, within
+ * 1.1e-9 |h| radians of up (*da that and the roundings). cmax, smax:
+ * the largest cosine and |sine| of latitude over the triangle (at a
+ * corner, or 1 for the cosine when it spans the equator); up0, vertex
+ * 0's. */
+static void
+normals(const double *pos, const int *k, double habs, int equator,
+    double *cmax, double *smax, double up0[3], double *da)
+{
+	double e2 = (1 / 298.257223563) * (2 - 1 / 298.257223563);
+
+	*da = 1.1e-9 * habs + 1e-12, *cmax = 0, *smax = 0;
+	for (int j = 0; j < 3; j++) {
+		const double *p = pos + 3 * k[j];
+		double g[3] = { p[0], p[1], p[2] / (1 - e2) };
+		double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+		double c = sqrt(g[0] * g[0] + g[1] * g[1]) / n;
+		*cmax = mx(*cmax, c), *smax = mx(*smax, fabs(g[2]) / n);
+		if (j == 0)
+			up0[0] = g[0] / n, up0[1] = g[1] / n, up0[2] = g[2] / n;
+	}
+	*cmax = equator ? 1 : mn(1, *cmax + *da);
+	*smax = mn(1, *smax + *da);
+}
+
+/* The tangent of the largest tilt over the triangle of its plane
+ * (decoded ECEF) from the normal: tan(theta0 + a), theta0 at vertex 0
+ * (normal up0), a the normals' turn; INFINITY from 89.9 degrees. */
+static double
+tan_tilt(const double *pos, const int *k, const double up0[3], double a)
+{
+	const double *p = pos + 3 * k[0], *q = pos + 3 * k[1],
+	    *r = pos + 3 * k[2];
+	double u[3] = { q[0] - p[0], q[1] - p[1], q[2] - p[2] };
+	double v[3] = { r[0] - p[0], r[1] - p[1], r[2] - p[2] };
+	double n[3] = { u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+		u[0] * v[1] - u[1] * v[0] };
+	double x[3] = { n[1] * up0[2] - n[2] * up0[1], n[2] * up0[0] -
+		n[0] * up0[2], n[0] * up0[1] - n[1] * up0[0] };
+	double co = fabs(n[0] * up0[0] + n[1] * up0[1] + n[2] * up0[2]);
+	double t0 = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) / co;
+	/* tan a <= a / (1 - a^2 / 2) (sin a <= a, cos a >= 1 - a^2/2) */
+	double ta = a / (1 - a * a / 2);
+
+	if (!(t0 < 573 && a < 1 && t0 * ta < 0.99))
+		return INFINITY;
+	return (t0 + ta) / (1 - t0 * ta);
+}
+
 /* Triangle t's bound; r the tile's rectangle, lo, hi its header
  * heights; o, the rectangle that holds the samples: only the part of
  * the triangle in it counts (0 where none). */
@@ -134,86 +268,57 @@ static double
 tri_bound(const tr_work *w, int t, const double r[4], const double o[4],
     double lo, double hi)
 {
-	const tr_mesh *m = &w->m;
-	const int *k = m->tri + 3 * t;
-	double xd[3], yd[3], hd[3], val[3], gx, gy, f6, A = 0;
-	double lmin = INFINITY, lmax = -INFINITY, pmin = INFINITY;
-	double pmax = -INFINITY, hmin = INFINITY, hmax = -INFINITY;
-	cpt c[2][8];
-	int n = 3;
+	const int *k = w->m.tri + 3 * t;
+	double A = 0, cmax, smax, up0[3] = { 0, 0, 1 }, da, v[3][3], sn, st;
+	corners c;
+	cpt p[2][8];
+	int n = 3, in;
 
-	f6 = (m->x[k[1]] - m->x[k[0]]) * (m->y[k[2]] - m->y[k[0]]) -
-	    (m->x[k[2]] - m->x[k[0]]) * (m->y[k[1]] - m->y[k[0]]);
-	/* F's gradient, per degree */
-	gx = ((m->y[k[2]] - m->y[k[0]]) * (m->h[k[1]] - m->h[k[0]]) -
-	    (m->y[k[1]] - m->y[k[0]]) * (m->h[k[2]] - m->h[k[0]])) / f6;
-	gy = ((m->x[k[1]] - m->x[k[0]]) * (m->h[k[2]] - m->h[k[0]]) -
-	    (m->x[k[2]] - m->x[k[0]]) * (m->h[k[1]] - m->h[k[0]])) / f6;
-	if (!isfinite(gx) || !isfinite(gy))
-		return INFINITY; /* fmax would pass a NaN over */
-	for (int j = 0; j < 3; j++) {
-		double tu = w->u[k[j]] / (double)QM_MAX;
-		double tv = w->v[k[j]] / (double)QM_MAX;
-		double tq = w->q[k[j]] / (double)QM_MAX;
-		xd[j] = (1 - tu) * r[0] + tu * r[2];
-		yd[j] = (1 - tv) * r[1] + tv * r[3];
-		hd[j] = (1 - tq) * lo + tq * hi;
-		val[j] = hd[j] - m->h[k[j]] - gx * (xd[j] - m->x[k[j]]) - gy *
-		    (yd[j] - m->y[k[j]]);
-		lmin = fmin(lmin, xd[j]), lmax = fmax(lmax, xd[j]);
-		pmin = fmin(pmin, yd[j]), pmax = fmax(pmax, yd[j]);
-		hmin = fmin(hmin, hd[j]), hmax = fmax(hmax, hd[j]);
-		c[0][j] = (cpt){ xd[j], yd[j], { j == 0, j == 1, j == 2 } };
+	if (corners_of(w, k, r, lo, hi, &c) < 0)
+		return INFINITY;
+	if (c.hi[0] < o[0] || c.lo[0] > o[2] || c.hi[1] < o[1] ||
+	    c.lo[1] > o[3])
+		return 0;
+	in = c.lo[0] >= o[0] && c.hi[0] <= o[2] && c.lo[1] >= o[1] &&
+	    c.hi[1] <= o[3];
+	for (int j = 0; j < 3; j++)
+		p[0][j] = (cpt){ c.xd[j], c.yd[j], { j == 0, j == 1, j == 2 } };
+	if (!in) {
+		n = clip_side(p[0], n, 0, 1, o[0], p[1]);
+		n = clip_side(p[1], n, 0, -1, o[2], p[0]);
+		n = clip_side(p[0], n, 1, 1, o[1], p[1]);
+		n = clip_side(p[1], n, 1, -1, o[3], p[0]);
+		if (n == 0)
+			return 0;
 	}
-	if (lmax < o[0] || lmin > o[2] || pmax < o[1] || pmin > o[3])
-		return 0;
-	n = clip_side(c[0], n, 0, 1, o[0], c[1]);
-	n = clip_side(c[1], n, 0, -1, o[2], c[0]);
-	n = clip_side(c[0], n, 1, 1, o[1], c[1]);
-	n = clip_side(c[1], n, 1, -1, o[3], c[0]);
-	if (n == 0)
-		return 0;
 	for (int i = 0; i < n; i++)
-		A = fmax(A, fabs(c[0][i].b[0] * val[0] + c[0][i].b[1] * val[1] +
-		    c[0][i].b[2] * val[2]));
-	double L = (lmax - lmin) * DEG, P = (pmax - pmin) * DEG;
-	double cmax = pmin <= 0 && pmax >= 0 ? 1 :
-	    fmax(cos(pmin * DEG), cos(pmax * DEG));
-	double smax = fmax(fabs(sin(pmin * DEG)), fabs(sin(pmax * DEG)));
-	double habs = fmax(fabs(hmin), fabs(hmax)), turn = cmax * L + P;
-	double kh = KD2 + habs, W = RMAX + fmax(hmax, 0);
+		A = mx(A, fabs(p[0][i].b[0] * c.val[0] + p[0][i].b[1] *
+		    c.val[1] + p[0][i].b[2] * c.val[2]));
+	double habs = mx(fabs(c.lo[2]), fabs(c.hi[2]));
+	normals(w->pos, k, habs, c.lo[1] <= 0 && c.hi[1] >= 0, &cmax, &smax,
+	    up0, &da);
+	double L = (c.hi[0] - c.lo[0]) * DEG, P = (c.hi[1] - c.lo[1]) * DEG;
+	double turn = cmax * L + P, kh = KD2 + habs, W = RMAX + mx(c.hi[2], 0);
 	double ext = sqrt(cmax * cmax * L * L + P * P);
-	double eps = fmin(1, fmax(0.01, (hmax - hmin) / (kh * ext)));
-	double v[3][3], qn[3] = { W * cmax * cmax, W, 0 }, qt[3] = {
+	double eps = fmin(1, fmax(0.01, (c.hi[2] - c.lo[2]) / (kh * ext)));
+	double qn[3] = { W * cmax * cmax, W, 0 }, qt[3] = {
 		kh * (cmax + smax * cmax + eps * cmax * cmax),
 		kh * (1 + smax / cmax + eps), 2 / (eps * kh) };
 	for (int j = 0; j < 3; j++)
-		v[j][0] = xd[j] * DEG, v[j][1] = yd[j] * DEG, v[j][2] = hd[j];
-	double sn = spread(v, 2, qn, c[0], n, o, xd, yd);
-	double st = spread(v, 3, qt, c[0], n, o, xd, yd);
-	double nu = 0.5 * sn + 0.5 * turn * st;
-	/* the plane's tilt at vertex 0, from the decoded ECEF points */
-	const double *a = w->pos + 3 * k[0], *b = w->pos + 3 * k[1],
-	    *cc = w->pos + 3 * k[2];
-	double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-	double vv[3] = { cc[0] - a[0], cc[1] - a[1], cc[2] - a[2] };
-	double nr[3] = { u[1] * vv[2] - u[2] * vv[1], u[2] * vv[0] - u[0] *
-		vv[2], u[0] * vv[1] - u[1] * vv[0] };
-	double cl = cos(yd[0] * DEG), up[3] = { cl * cos(xd[0] * DEG),
-		cl * sin(xd[0] * DEG), sin(yd[0] * DEG) };
-	double nn = sqrt(nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2]);
-	double th = acos(fmin(1, fabs(nr[0] * up[0] + nr[1] * up[1] + nr[2] *
-	    up[2]) / nn)) + turn;
-	if (!(th < 89.9 * DEG))
-		return INFINITY;
-	double d = A + nu + tan(th) * 0.5 * st;
+		v[j][0] = c.xd[j] * DEG, v[j][1] = c.yd[j] * DEG, v[j][2] = c.hd[j];
+	sn = in ? spread_all(v, 2, qn) : spread(v, 2, qn, p[0], n, o, c.xd,
+	    c.yd);
+	st = in ? spread_all(v, 3, qt) : spread(v, 3, qt, p[0], n, o, c.xd,
+	    c.yd);
+	double d = A + 0.5 * sn + 0.5 * turn * st + tan_tilt(w->pos, k, up0,
+	    turn + da) * 0.5 * st;
 
 	return isfinite(d) ? d : INFINITY;
 }
 
 double
 tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
-    double *b)
+    double lim, double *b)
 {
 	double r[4], o[4], most = 0, pad;
 
@@ -228,11 +333,14 @@ tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
 	pad = (r[2] - r[0]) * 1e-9;
 	o[0] = fmax(r[0], w->g->r[0]) - pad, o[2] = fmin(r[2], w->g->r[2]) + pad;
 	o[1] = fmax(r[1], w->g->r[1]) - pad, o[3] = fmin(r[3], w->g->r[3]) + pad;
+	lim = (lim - 1e-6) / TR_BOUND_SAFETY;
 	for (int t = 0; t < w->m.nt; t++) {
 		double d = tri_bound(w, t, r, o, minh, maxh);
 		if (b)
 			b[t] = d;
-		most = fmax(most, d);
+		else if (!(d <= lim))
+			return INFINITY; /* measure it */
+		most = mx(most, d);
 	}
 	return TR_BOUND_SAFETY * most + 1e-6;
 }

@@ -215,10 +215,11 @@ int tr_kept_check(tr_kept *k, const double *b, int nt, tl_err *e);
  * geographic DEM, minh, maxh its header heights (tr_bound.c): the largest
  * of its triangles' (their own, without the factor, into b when not
  * NULL), times TR_BOUND_SAFETY, plus 1 um; INFINITY for a projected
- * DEM, or where a triangle is not boundable (tilted 80 degrees or more). */
+ * DEM, where a triangle is not boundable (tilted 89.9 degrees or more),
+ * or, b NULL, as soon as the bound passes lim. */
 #define TR_BOUND_SAFETY 2.0
 double tr_bound(const tr_work *w, int z, int x, int y, float minh,
-    float maxh, double *b);
+    float maxh, double lim, double *b);
 /* About the number of level-0 samples in tile (z, x, y) (geographic; 1
  * for a projected DEM), for the share measured. */
 long long tr_tile_samples(const tr_grid *g, int z, int x, int y);

@@ -53,7 +53,7 @@ measure_checked(tr_work *w, int z, int x, int y, float lo, float hi,
 	d[0] = d[1] = 0;
 	if (b == NULL)
 		return tl_fail(e, "tile: out of memory");
-	tr_bound(w, z, x, y, lo, hi, b);
+	tr_bound(w, z, x, y, lo, hi, INFINITY, b);
 	if (tr_keep(w, z, x, y, &k, e) == 0)
 		r = k == NULL ? 0 : tr_kept_check(k, b, w->m.nt, e) < 0 ? -1 :
 		    tr_kept_walk(w, k, d, e);
@@ -77,7 +77,8 @@ measure(tr_export *j, tr_work *w, const tr_choice *c, int x, int y,
 	*m = 1;
 	if (measure_all())
 		return measure_checked(w, z, x, y, lo, hi, d, e);
-	d[0] = tr_bound(w, z, x, y, lo, hi, NULL), d[1] = 0;
+	d[0] = tr_bound(w, z, x, y, lo, hi, c->el - fmax(c->tau, c->base),
+	    NULL), d[1] = 0;
 	if (fmax(c->tau, c->base) + d[0] <= c->el) {
 		*m = 0;
 		return 0;

@@ -7,7 +7,9 @@
  * largest difference, holds every term but the selection's own error
  * (the flat chords' sag, the quantisation, the CRS mapping), which the
  * pyramid's saturated errors bound for the valid samples; and with the
- * sample's height: d[1], the error itself, filled voids included. */
+ * sample's height: d[1], the error itself, filled voids included.
+ * A kept tile given its triangles' bounds (tr_kept_check) fails on a
+ * sample farther from the selection than its triangle's bound. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
