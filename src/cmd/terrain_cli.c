@@ -55,13 +55,20 @@ tr_cli_words(const tr_args *a, const char **w)
 void
 tr_cli_report(const cli *c, const tr_report *r)
 {
-	for (int z = 0; z <= r->maxzoom; z++)
+	char at[64];
+
+	for (int z = 0; z <= r->maxzoom; z++) {
+		at[0] = 0;
+		if (r->measured[z] >= 0)
+			snprintf(at, sizeof at, " at %.1f%% of samples",
+			    100 * r->measured[z]);
 		fprintf(stderr, "%s: level %d: %lld tiles, %lld triangles, "
 		    "%.1f KiB; pyramid level %d, tolerance %.3f m (try %d); "
-		    "measured %.3f m; bound %.3f m = %.3f E_L\n", c->prog, z,
+		    "measured %.3f m%s; bound %.3f m = %.3f E_L\n", c->prog, z,
 		    r->tiles[z], r->tris[z], r->bytes[z] / 1024.0, r->plevel[z],
-		    r->tau[z], r->tries[z], r->direct[z], r->err[z],
+		    r->tau[z], r->tries[z], r->direct[z], at, r->err[z],
 		    r->err[z] / (TR_E0 / (1 << z)));
+	}
 }
 
 const char tr_step_part_usage[] =

@@ -42,7 +42,10 @@ typedef struct {
 	                            * the drawn surface's largest distance
 	                            * from the selection at a sample */
 	double direct[TR_MAXZ + 1]; /* the largest distance from a sample,
-	                             * measured (filled voids too) */
+	                             * measured (filled voids too), over the
+	                             * tiles measured */
+	double measured[TR_MAXZ + 1]; /* their share of the samples, or -1
+	                               * unknown (a plan's gather) */
 	int plevel[TR_MAXZ + 1];   /* pyramid level used */
 	double tau[TR_MAXZ + 1];   /* its tolerance */
 	int tries[TR_MAXZ + 1];    /* attempts (1: the first choice held) */

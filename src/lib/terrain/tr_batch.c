@@ -1,6 +1,7 @@
 /* tr_batch.c - the coarse levels measured in one pass over level 0
- * (tr_export.h). A tile is measured against every level-0 sample under
- * it, so a level of few large tiles reads and decodes all of level 0;
+ * (tr_export.h). A tile is measured (where its bound, tr_bound.c, does
+ * not clear it) against every level-0 sample under it, so a level of
+ * few large tiles reads and decodes all of level 0;
  * made one after the other, levels 0 to 9 read it ten times. Here
  * their tiles are made at try 0 and kept (their locators, tr_keep) up
  * to a bound on memory, then measured together, each level-0 block

@@ -6,8 +6,8 @@
  * from the south-west: tile i is (av[z][0] + i % nx, av[z][1] + i / nx).
  * Try t is the level's t-th choice (tr_choose, tighter as t grows); a
  * tile's bytes depend only on (z, t, x, y). A range holds at t when the
- * bound of every tile in it, max(tau, base) + its measured distance, is
- * within E_L. The level's try is the first at which every tile holds. */
+ * bound of every tile in it, max(tau, base) + its measured distance (or,
+ * where that fits, the analytic bound of it: tr_bound), is within E_L. The level's try is the first at which every tile holds. */
 #ifndef TL_TR_EXPORT_H
 #define TL_TR_EXPORT_H
 
@@ -22,8 +22,11 @@ typedef struct {
 	int t;                  /* the try */
 	int held;               /* every tile within E_L */
 	double err;             /* largest measured distance (d[0]) */
-	double direct;          /* largest distance to a sample (d[1]) */
+	double direct;          /* largest distance to a sample (d[1]), over
+	                         * the tiles measured */
 	long long tiles, tris, bytes;
+	long long nsamp, nmeas; /* level-0 samples in the tiles, in those
+	                         * measured (not kept in a plan's records) */
 } tr_part;
 
 typedef struct {

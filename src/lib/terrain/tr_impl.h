@@ -99,6 +99,7 @@ typedef struct {
 	unsigned char *buf;     /* the encoded tile */
 	size_t nbuf, cbuf;
 	double err, direct;     /* largest d[0], d[1] of its tiles (pass) */
+	long long nsamp, nmeas; /* samples in its tiles, in those measured */
 	struct tr_keptz {       /* tiles kept for one pass (tr_batch.c) */
 		struct tr_kept *k;
 		int z;
@@ -206,6 +207,22 @@ int tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb);
 int tr_kept_walk(tr_work *w, const tr_kept *k, double d[2], tl_err *e);
 size_t tr_kept_bytes(const tr_kept *k);
 void tr_kept_free(tr_kept *k);
+/* Check mode: each sample of kept tile k fails the measure when farther
+ * from the selection than its triangle's b[t] (tr_bound's, nt). */
+int tr_kept_check(tr_kept *k, const double *b, int nt, tl_err *e);
+
+/* An upper bound of d[0] over the quantised tile (z, x, y) of a
+ * geographic DEM, minh, maxh its header heights (tr_bound.c): the largest
+ * of its triangles' (their own, without the factor, into b when not
+ * NULL), times TR_BOUND_SAFETY, plus 1 um; INFINITY for a projected
+ * DEM, where a triangle is not boundable (tilted 89.9 degrees or more),
+ * or, b NULL, as soon as the bound passes lim. */
+#define TR_BOUND_SAFETY 2.0
+double tr_bound(const tr_work *w, int z, int x, int y, float minh,
+    float maxh, double lim, double *b);
+/* About the number of level-0 samples in tile (z, x, y) (geographic; 1
+ * for a projected DEM), for the share measured. */
+long long tr_tile_samples(const tr_grid *g, int z, int x, int y);
 
 /* The quantized-mesh bytes of the quantised tile into w->buf
  * (qm_encode.c). */

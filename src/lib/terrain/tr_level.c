@@ -31,15 +31,58 @@ write_file(const char *path, const tr_work *w, tl_err *e)
 	return 0;
 }
 
-/* Tile (x, y)'s distances d, or, while tiles are kept for one pass
- * (tr_batch), d 0 and the tile kept, measured at once past x->keep. */
+/* The switch VGIS2TERRAIN_MEASURE=all: every tile measured, each of
+ * its samples checked against its triangle's bound (tr_bound). */
 static int
-measure(tr_export *j, tr_work *w, int z, int x, int y, double d[2],
-    tl_err *e)
+measure_all(void)
 {
-	tr_kept *k;
-	int r;
+	const char *s = getenv("VGIS2TERRAIN_MEASURE");
 
+	return s && strcmp(s, "all") == 0;
+}
+
+/* Tile (x, y) kept and measured against its triangles' bounds. */
+static int
+measure_checked(tr_work *w, int z, int x, int y, float lo, float hi,
+    double d[2], tl_err *e)
+{
+	double *b = malloc((size_t)(w->m.nt ? w->m.nt : 1) * sizeof *b);
+	tr_kept *k = NULL;
+	int r = -1;
+
+	d[0] = d[1] = 0;
+	if (b == NULL)
+		return tl_fail(e, "tile: out of memory");
+	tr_bound(w, z, x, y, lo, hi, INFINITY, b);
+	if (tr_keep(w, z, x, y, &k, e) == 0)
+		r = k == NULL ? 0 : tr_kept_check(k, b, w->m.nt, e) < 0 ? -1 :
+		    tr_kept_walk(w, k, d, e);
+	tr_kept_free(k), free(b);
+	return r;
+}
+
+/* Tile (x, y)'s distances d, or, while tiles are kept for one pass
+ * (tr_batch), d 0 and the tile kept, measured at once past x->keep.
+ * Where the bound of a geographic tile (tr_bound) fits c's budget,
+ * E_L - max(tau, base), the tile is not measured: d[0] is the bound, d[1]
+ * 0, and the level holds or not as the measure would have it (its
+ * d[0] is within the bound); *m 0. */
+static int
+measure(tr_export *j, tr_work *w, const tr_choice *c, int x, int y,
+    float lo, float hi, double d[2], int *m, tl_err *e)
+{
+	int z = c->z, r;
+	tr_kept *k;
+
+	*m = 1;
+	if (measure_all())
+		return measure_checked(w, z, x, y, lo, hi, d, e);
+	d[0] = tr_bound(w, z, x, y, lo, hi, c->el - fmax(c->tau, c->base),
+	    NULL), d[1] = 0;
+	if (fmax(c->tau, c->base) + d[0] <= c->el) {
+		*m = 0;
+		return 0;
+	}
 	if (j->keep == 0)
 		return tr_measure(w, z, x, y, d, e);
 	d[0] = d[1] = 0;
@@ -74,14 +117,17 @@ one_tile(tr_export *j, const tr_choice *c, tr_work *w, int x, int y,
 	char path[4096];
 	float lo, hi;
 	double d[2];
+	int m;
 
 	if (tr_mesh_tile(w, c, x, y, e) < 0 ||
 	    tr_quantise(w, c->z, x, y, &lo, &hi, e) < 0 ||
-	    measure(j, w, c->z, x, y, d, e) < 0 ||
+	    measure(j, w, c, x, y, lo, hi, d, &m, e) < 0 ||
 	    (j->t3 ? t3t_glb(w, j->t3, c->z, x, y, lo, hi, e) :
 	    qm_encode(w, lo, hi, j->a->gzip, e)) < 0)
 		return -1;
 	w->err = fmax(w->err, d[0]), w->direct = fmax(w->direct, d[1]);
+	w->nsamp += tr_tile_samples(w->g, c->z, x, y);
+	w->nmeas += m ? tr_tile_samples(w->g, c->z, x, y) : 0;
 	w->tiles++, w->tris += w->m.nt, w->bytes += (long long)w->nbuf;
 	snprintf(path, sizeof path, "%s/%d/%d/%d.terrain", j->tmp, c->z, x,
 	    y);
@@ -198,6 +244,7 @@ tr_try(tr_export *x, const char *tmp, int z, int i0, int i1, int t,
 	x->ny = i0 % x->nx == 0 && i1 % x->nx == 0 ? (i1 - i0) / x->nx : 0;
 	for (int k = 0; k < x->nt; k++)
 		x->w[k].err = x->w[k].direct = 0,
+		x->w[k].nsamp = x->w[k].nmeas = 0,
 		x->w[k].tiles = x->w[k].tris = x->w[k].bytes = 0;
 	tl_pool_for(x->pool, i1 - i0, run_range, x);
 	for (int k = 0; k < x->nt; k++)
@@ -209,6 +256,7 @@ tr_try(tr_export *x, const char *tmp, int z, int i0, int i1, int t,
 		p->err = fmax(p->err, x->w[k].err);
 		p->direct = fmax(p->direct, x->w[k].direct);
 		p->tiles += x->w[k].tiles;
+		p->nsamp += x->w[k].nsamp, p->nmeas += x->w[k].nmeas;
 		p->tris += x->w[k].tris;
 		p->bytes += x->w[k].bytes;
 	}
@@ -244,6 +292,7 @@ tr_report_level(const tr_export *x, int z, const tr_part *p,
 	rep->bytes[z] = p->bytes;
 	rep->err[z] = fmax(c.tau, c.base) + p->err;
 	rep->direct[z] = p->direct, rep->plevel[z] = c.p;
+	rep->measured[z] = p->nsamp > 0 ? (double)p->nmeas / p->nsamp : -1;
 	rep->tau[z] = c.tau, rep->tries[z] = p->t + 1;
 }
 
@@ -296,6 +345,7 @@ sweep_range(void *arg, int k, int i0, int i1)
 			continue;
 		tr_part *p = &s->p[(size_t)k * (TR_MAXZ + 1) + z];
 		w->err = w->direct = 0, w->tiles = w->tris = w->bytes = 0;
+		w->nsamp = w->nmeas = 0;
 		if (one_tile(j, &s->c[z], w, x, y, &j->err[k]) < 0) {
 			j->failed[k] = 1;
 			break;
@@ -303,6 +353,7 @@ sweep_range(void *arg, int k, int i0, int i1)
 		p->err = fmax(p->err, w->err);
 		p->direct = fmax(p->direct, w->direct);
 		p->tiles += w->tiles, p->tris += w->tris, p->bytes += w->bytes;
+		p->nsamp += w->nsamp, p->nmeas += w->nmeas;
 	}
 }
 
@@ -374,6 +425,7 @@ tr_sweep(tr_export *x, const char *tmp, int g, tr_part *p, tl_err *e)
 			p[z].err = fmax(p[z].err, q->err);
 			p[z].direct = fmax(p[z].direct, q->direct);
 			p[z].tiles += q->tiles, p[z].tris += q->tris;
+			p[z].nsamp += q->nsamp, p[z].nmeas += q->nmeas;
 			p[z].bytes += q->bytes;
 		}
 		/* tr_try's test; a level that does not hold is made again

@@ -7,7 +7,9 @@
  * largest difference, holds every term but the selection's own error
  * (the flat chords' sag, the quantisation, the CRS mapping), which the
  * pyramid's saturated errors bound for the valid samples; and with the
- * sample's height: d[1], the error itself, filled voids included. */
+ * sample's height: d[1], the error itself, filled voids included.
+ * A kept tile given its triangles' bounds (tr_kept_check) fails on a
+ * sample farther from the selection than its triangle's bound. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +29,7 @@ typedef struct {
 	double *plane;      /* per triangle: normal, offset (4) */
 	double *bq;         /* per triangle in u, v: tr_bary.h's terms */
 	double *bf;         /* in lon, lat: the same and the heights */
+	const double *bound; /* per triangle, tr_bound's: checked, or NULL */
 } locator;
 #define TR_PLANES (4 + 2 * TR_BARY_TERMS + 3) /* doubles a triangle */
 
@@ -185,6 +188,25 @@ sample(const locator *l, int q, int out, const double f[3],
 		d[0] = dmax(d[0], fabs(hs - tr_bary_flat(fq, x, y)));
 }
 
+/* The check of tr_bound (tr_kept_check): sample (f, up) under
+ * triangle q within q's bound of the selection, else -1. */
+static int
+check(const locator *l, int q, const double f[3], const double up[3],
+    double x, double y, tl_err *e)
+{
+	const double *n = l->plane + 4 * q;
+	double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
+	    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+	double d = fabs(hs - tr_bary_flat(l->bf + (TR_BARY_TERMS + 3) * q, x,
+	    y));
+
+	if (d <= l->bound[q] * (1 + 1e-9) + 1e-7)
+		return 0;
+	return tl_fail(e, "tile: sample at %.9f, %.9f: %.6f m from the "
+	    "selection, over its triangle's bound %.6f m", x, y, d,
+	    l->bound[q]);
+}
+
 /* A geographic block's columns and rows: the normals' sines and cosines
  * (as geo_ellipsoid computes them) and the places in the tile's u, v
  * (as each sample computes them), per column and per row. */
@@ -259,6 +281,9 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
 			sample(l, q, rim && rim[q], f, up, x, y, b->z[k], dd);
+			if (l->bound && !(rim && rim[q]) && check(l, q, f, up,
+			    x, y, e) < 0)
+				return -1;
 		}
 	}
 	d[0] = dd[0], d[1] = dd[1];
@@ -271,6 +296,7 @@ struct tr_kept {
 	double r[4], t[4];
 	locator l;
 	unsigned char *rim;
+	double *bound;
 	size_t bytes;
 };
 
@@ -280,7 +306,7 @@ tr_kept_free(tr_kept *k)
 	if (k == NULL)
 		return;
 	free(k->l.start), free(k->l.list), free(k->l.plane), free(k->rim);
-	free(k);
+	free(k->bound), free(k);
 }
 
 size_t
@@ -322,6 +348,17 @@ tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e)
 	    (size_t)k->l.start[k->l.nb * k->l.nb]) * sizeof(int) +
 	    (nt ? nt : 1) * TR_PLANES * sizeof(double) + (k->rim ? nt : 0);
 	*out = k;
+	return 0;
+}
+
+int
+tr_kept_check(tr_kept *k, const double *b, int nt, tl_err *e)
+{
+	if ((k->bound = malloc((size_t)(nt ? nt : 1) * sizeof *b)) == NULL)
+		return tl_fail(e, "tile: out of memory");
+	for (int t = 0; t < nt; t++)
+		k->bound[t] = b[t];
+	k->l.bound = k->bound;
 	return 0;
 }
 

@@ -99,9 +99,10 @@ record_write(const char *work, const record *rc, int round, tl_err *e)
 		tl_out_abort(&o);
 		return tl_failsys(e, "%s", path);
 	}
-	fprintf(f, "tl-terrain-range 1\n%d %d %d %d\n%a %a\n%lld %lld %lld\n",
-	    rc->r.z, rc->r.i0, rc->r.i1, rc->p.t, rc->p.err, rc->p.direct,
-	    rc->p.tiles, rc->p.tris, rc->p.bytes);
+	fprintf(f, "tl-terrain-range 2\n%d %d %d %d\n%a %a\n%lld %lld %lld "
+	    "%lld %lld\n", rc->r.z, rc->r.i0, rc->r.i1, rc->p.t, rc->p.err,
+	    rc->p.direct, rc->p.tiles, rc->p.tris, rc->p.bytes, rc->p.nsamp,
+	    rc->p.nmeas);
 	for (int i = 0; rc->meta && i < rc->r.i1 - rc->r.i0; i++)
 		for (int k = 0; k < NMETA; k++)
 			fprintf(f, "%a%c", rc->meta[NMETA * i + k],
@@ -129,9 +130,9 @@ record_read(const char *work, const tr_range *r, int round, int t3,
 		return errno == ENOENT ? 1 : tl_failsys(e, "%s", path);
 	rc->meta = NULL;
 	ok = fscanf(f, "tl-terrain-range %d %d %d %d %d %la %la %lld %lld "
-	    "%lld", &v, &rc->r.z, &rc->r.i0, &rc->r.i1, &rc->p.t, &rc->p.err,
-	    &rc->p.direct, &rc->p.tiles, &rc->p.tris, &rc->p.bytes) == 10 &&
-	    v == 1 && rc->r.z == r->z && rc->r.i0 == r->i0 &&
+	    "%lld %lld %lld", &v, &rc->r.z, &rc->r.i0, &rc->r.i1, &rc->p.t,
+	    &rc->p.err, &rc->p.direct, &rc->p.tiles, &rc->p.tris, &rc->p.bytes,
+	    &rc->p.nsamp, &rc->p.nmeas) == 12 && v == 2 && rc->r.z == r->z && rc->r.i0 == r->i0 &&
 	    (r->i1 < 0 || rc->r.i1 == r->i1) && (n = rc->r.i1 - rc->r.i0) > 0 &&
 	    rc->p.t >= 0 && rc->p.t < TR_TRIES;
 	if (ok && t3)
@@ -387,6 +388,7 @@ gather_level(tr_export *x, const char *work, int z, tr_report *rep,
 		sum.direct = fmax(sum.direct, rc[k].p.direct);
 		sum.tiles += rc[k].p.tiles, sum.tris += rc[k].p.tris;
 		sum.bytes += rc[k].p.bytes;
+		sum.nsamp += rc[k].p.nsamp, sum.nmeas += rc[k].p.nmeas;
 	}
 	tr_report_level(x, z, &sum, rep);
 	rv = 0;
