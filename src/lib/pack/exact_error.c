@@ -253,6 +253,7 @@ tri_row(share *sh, const int t[3][2], double y, int hk)
 typedef struct {
 	double x[3][4], y[3][4], z[3][4]; /* the lanes' vertices */
 	double yr[4];       /* the lanes' rows (level units) */
+	double inv;         /* 1 / step */
 	const double *dd[4]; /* and their samples */
 	float *acc[4];      /* a diamond's local error to raise, or NULL */
 	double *base[4];    /* else a block's base error */
@@ -293,30 +294,37 @@ v4set(double a)
 	return (v4d){ a, a, a, a };
 }
 
-/* tri_row's chord (xl, xr) of the lanes' triangles at rows yv: each
- * edge crossed, level edges on the row whole. */
+/* tri_row's chord (xl, xr) of the lanes' triangles at rows yv: edge a-b
+ * crossed, a level edge on the row whole. */
+static inline __attribute__((always_inline)) void
+chord_edge(v4d ax, v4d ay, v4d bx, v4d by, const v4d *yp, v4d *xl,
+    v4d *xr)
+{
+	const v4d eps = v4set(EPS), yv = *yp;
+	v4d f, x;
+	v4l lev = v4abs(by - ay) <= eps, on = v4abs(yv - ay) <= eps;
+	v4l in, ml, ms;
+
+	f = (yv - ay) / (by - ay); /* level lanes: not used */
+	in = ~((f < v4set(-EPS)) | (f > v4set(1 + EPS)));
+	f = v4min(v4set(1), v4max(v4set(0), f));
+	x = ax + f * (bx - ax);
+	ml = lev & on, ms = ~lev & in;
+	*xl = v4sel(ml, v4min(*xl, v4min(ax, bx)),
+	    v4sel(ms, v4min(*xl, x), *xl));
+	*xr = v4sel(ml, v4max(*xr, v4max(ax, bx)),
+	    v4sel(ms, v4max(*xr, x), *xr));
+}
+
+/* The chord of all three edges, in tri_row's order. */
 static inline __attribute__((always_inline)) void
 batch_chord(const v4d X[3], const v4d Y[3], const v4d *yp, v4d *xl,
     v4d *xr)
 {
-	const v4d eps = v4set(EPS), yv = *yp;
-
 	*xl = v4set(INFINITY), *xr = v4set(-INFINITY);
-	for (int k = 0; k < 3; k++) {
-		v4d ax = X[k], ay = Y[k], bx = X[(k + 1) % 3];
-		v4d by = Y[(k + 1) % 3], f, x;
-		v4l lev = v4abs(by - ay) <= eps, on = v4abs(yv - ay) <= eps;
-		v4l in, ml, ms;
-		f = (yv - ay) / (by - ay); /* level lanes: not used */
-		in = ~((f < v4set(-EPS)) | (f > v4set(1 + EPS)));
-		f = v4min(v4set(1), v4max(v4set(0), f));
-		x = ax + f * (bx - ax);
-		ml = lev & on, ms = ~lev & in;
-		*xl = v4sel(ml, v4min(*xl, v4min(ax, bx)),
-		    v4sel(ms, v4min(*xl, x), *xl));
-		*xr = v4sel(ml, v4max(*xr, v4max(ax, bx)),
-		    v4sel(ms, v4max(*xr, x), *xr));
-	}
+	for (int k = 0; k < 3; k++)
+		chord_edge(X[k], Y[k], X[(k + 1) % 3], Y[(k + 1) % 3], yp, xl,
+		    xr);
 }
 
 static inline __attribute__((always_inline)) void
@@ -353,8 +361,7 @@ batch_flush(share *sh, batch *b)
 			i0 = s->d0;
 		if (i1 > s->dend - 1)
 			i1 = s->dend - 1;
-		err = sweep(b->dd[k], s->d0, i0, i1, Z0[k], DZ[k],
-		    1 / s->step);
+		err = sweep(b->dd[k], s->d0, i0, i1, Z0[k], DZ[k], b->inv);
 		if (b->acc[k] != NULL) {
 			if (err > *b->acc[k])
 				*b->acc[k] = (float)err;
@@ -551,6 +558,7 @@ rows_displaced_avx2(share *t, const rowset *rs)
 	batch b;
 
 	memset(&b, 0, sizeof b);
+	b.inv = 1 / t->s->step;
 	batch_body(t, rs, &b);
 }
 
@@ -560,6 +568,7 @@ rows_displaced(share *t, const rowset *rs)
 	batch b;
 
 	memset(&b, 0, sizeof b);
+	b.inv = 1 / t->s->step;
 	batch_body(t, rs, &b);
 }
 
