@@ -661,6 +661,51 @@ rowset_init(const state *s, rowset *rs, int J0, int J1, const double *dd0,
 	}
 }
 
+/* Level row gj's offsets all 0 in the window (both signs of 0), found
+ * once per row and share. */
+static int
+flat_row(share *t, int gj)
+{
+	const state *s = t->s;
+	int *f = &t->flat[gj & (RINGV - 1)];
+
+	if (*f == gj + 1 || *f == -(gj + 1))
+		return *f > 0;
+	{
+		const float *x = s->ox + slot(s, gj), *y = s->oy + slot(s, gj);
+		int k = 0;
+		while (k < s->P && x[k] == 0 && y[k] == 0)
+			k++;
+		*f = k == s->P ? gj + 1 : -(gj + 1);
+	}
+	return *f > 0;
+}
+
+/* Every row of positions the batch's rows J0 .. J1-1 may reach (centres
+ * h + margin away, their vertices h further: 130 rows) has offsets all 0:
+ * then every position is its grid point exactly (vertex: gi + 0 / sx /
+ * step is gi), the level's geometry an undisplaced one, and the integer
+ * scan raises tri_row's errors bit for bit (undisplaced_scan.c), its
+ * wider reach only visiting triangles the row misses. Level 0 of QEM-3D
+ * is so. */
+static int
+batch_flat(share *t, int J0, int J1)
+{
+	const state *s = t->s;
+	int g0 = (int)floor(J0 / s->step) - 2 * BT_MAXH - 2;
+	int g1 = (int)ceil((J1 - 1) / s->step) + 2 * BT_MAXH + 2;
+
+	if (s->step > SCAN_MAXSTEP)
+		return 0;
+	g0 = g0 > s->r0 ? g0 : s->r0;
+	g1 = g1 < s->loaded - 1 ? g1 : s->loaded - 1;
+	g1 = g1 < s->Q - 1 ? g1 : s->Q - 1;
+	for (int gj = g0; gj <= g1; gj++)
+		if (!flat_row(t, gj))
+			return 0;
+	return 1;
+}
+
 void
 lv_error_rows(share *t, int J0, int J1)
 {
@@ -669,7 +714,7 @@ lv_error_rows(share *t, int J0, int J1)
 	rowset rs;
 
 	assert(J1 - J0 <= BATCH);
-	if (s->scan || s->ref || !s->L->displaced) {
+	if (s->scan || s->ref || !s->L->displaced || batch_flat(t, J0, J1)) {
 		for (int J = J0; J < J1; J++) {
 			t->dd = s->dd + (size_t)(J - J0) * stride;
 			lv_error_row(t, J);
@@ -686,7 +731,7 @@ lv_error_rows(share *t, int J0, int J1)
 void
 lv_error_row(share *t, int J)
 {
-	if (t->s->scan)
+	if (t->s->scan || (t->s->L->displaced && !t->s->ref))
 		lv_scan_undisplaced(t, J);
 	else
 		row_reference(t, J / t->s->step);

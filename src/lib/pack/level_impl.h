@@ -66,6 +66,10 @@ typedef struct {
 		int tag[8];
 		double *x, *y;  /* VC_ROWS x n */
 	} vc[8];
+	/* displaced levels: whether level row gj's offsets are all 0 in the
+	 * window, by its ring slot: gj + 1 if so, -(gj + 1) if not, 0 not
+	 * yet known */
+	int flat[RINGV];
 } share;
 #define VC_ROWS 8
 
