@@ -17,21 +17,27 @@
  * restricted quadtree triangulation", IEEE Visualization 98; the survey
  * in ../shared/papers, section 3.6).
  *
- * Which variant serves which case (lv_error_row picks; each is exact and
- * they agree bit for bit where more than one applies):
+ * Which variant serves which case (lv_error_rows picks, a batch of DEM
+ * rows at a time; each is exact and they agree bit for bit where more
+ * than one applies):
  *
  *   undisplaced levels (QEM-1D), step <= SCAN_MAXSTEP
  *       undisplaced_scan.c: every triangle has integer vertices and
  *       level, upright or 45-degree edges, so its chord along a DEM row is
  *       whole DEM columns, found once per row, scale, kind and centre row
  *       and shifted along it: no per-triangle geometry. The common case.
- *   displaced levels (QEM-3D)
+ *   displaced levels (QEM-3D), a batch whose rows of positions all
+ *   have offsets 0 (level 0; step <= SCAN_MAXSTEP)
+ *       undisplaced_scan.c too: the positions are the grid's exactly
+ *       (batch_flat; t_displaced_batch).
+ *   displaced levels (QEM-3D), other batches
  *       the batched path here: tri_row's general chord of a triangle
  *       with displaced (float32 offset) corners, closed with tolerances
- *       EPS, for four triangles at once (batch_flush: the same
- *       operations lane by lane), their vertices read by rows of each
- *       scale's positions (vrows), each position found once per scale
- *       (vc_fill); the row bodies visit every diamond a row can reach
+ *       EPS, for four (triangle, DEM row) pairs at once (batch_flush:
+ *       the same operations lane by lane), each triangle gathered once
+ *       for the batch's rows (batch_tri), its vertices read by rows of
+ *       each scale's positions (vrows), each position found once per
+ *       scale (vc_fill); the loops visit every diamond a row can reach
  *       (h + margin). tri_row a triangle at a time is the reference
  *       (TL_EXACT_REF, for the tests: t_displaced_scan).
  *   undisplaced levels coarser than SCAN_MAXSTEP
