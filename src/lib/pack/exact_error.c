@@ -667,22 +667,25 @@ rowset_init(const state *s, rowset *rs, int J0, int J1, const double *dd0,
 	}
 }
 
-/* Level row gj's offsets all 0 in the window (both signs of 0), found
- * once per row and share. */
+/* Level row gj's offsets all 0 (both signs of 0) in the columns t's
+ * triangles reach (centres in [lo, hi), vertices h <= 64 away; leaves
+ * 1), found once per row and share. */
 static int
 flat_row(share *t, int gj)
 {
 	const state *s = t->s;
 	int *f = &t->flat[gj & (RINGV - 1)];
+	int a = t->lo - BT_CELLS - s->c0, b = t->hi + BT_CELLS - s->c0;
 
 	if (*f == gj + 1 || *f == -(gj + 1))
 		return *f > 0;
+	a = a > 0 ? a : 0, b = b < s->P ? b : s->P;
 	{
 		const float *x = s->ox + slot(s, gj), *y = s->oy + slot(s, gj);
-		int k = 0;
-		while (k < s->P && x[k] == 0 && y[k] == 0)
+		int k = a;
+		while (k < b && x[k] == 0 && y[k] == 0)
 			k++;
-		*f = k == s->P ? gj + 1 : -(gj + 1);
+		*f = k == b ? gj + 1 : -(gj + 1);
 	}
 	return *f > 0;
 }
