@@ -17,21 +17,27 @@
  * restricted quadtree triangulation", IEEE Visualization 98; the survey
  * in ../shared/papers, section 3.6).
  *
- * Which variant serves which case (lv_error_row picks; each is exact and
- * they agree bit for bit where more than one applies):
+ * Which variant serves which case (lv_error_rows picks, a batch of DEM
+ * rows at a time; each is exact and they agree bit for bit where more
+ * than one applies):
  *
  *   undisplaced levels (QEM-1D), step <= SCAN_MAXSTEP
  *       undisplaced_scan.c: every triangle has integer vertices and
  *       level, upright or 45-degree edges, so its chord along a DEM row is
  *       whole DEM columns, found once per row, scale, kind and centre row
  *       and shifted along it: no per-triangle geometry. The common case.
- *   displaced levels (QEM-3D)
+ *   displaced levels (QEM-3D), a batch whose rows of positions all
+ *   have offsets 0 (level 0; step <= SCAN_MAXSTEP)
+ *       undisplaced_scan.c too: the positions are the grid's exactly
+ *       (batch_flat; t_displaced_batch).
+ *   displaced levels (QEM-3D), other batches
  *       the batched path here: tri_row's general chord of a triangle
  *       with displaced (float32 offset) corners, closed with tolerances
- *       EPS, for four triangles at once (batch_flush: the same
- *       operations lane by lane), their vertices read by rows of each
- *       scale's positions (vrows), each position found once per scale
- *       (vc_fill); the row bodies visit every diamond a row can reach
+ *       EPS, for four (triangle, DEM row) pairs at once (batch_flush:
+ *       the same operations lane by lane), each triangle gathered once
+ *       for the batch's rows (batch_tri), its vertices read by rows of
+ *       each scale's positions (vrows), each position found once per
+ *       scale (vc_fill); the loops visit every diamond a row can reach
  *       (h + margin). tri_row a triangle at a time is the reference
  *       (TL_EXACT_REF, for the tests: t_displaced_scan).
  *   undisplaced levels coarser than SCAN_MAXSTEP
@@ -236,21 +242,40 @@ tri_row(share *sh, const int t[3][2], double y, int hk)
 	return sweep(sh->dd, s->d0, i0, i1, z0, dz, 1 / s->step);
 }
 
-/* The batched path: up to four triangles the row crosses, gathered as
- * tri_row gathers one (its rejections, its vertices), then set up
- * together, tri_row's chord and plane lane by lane in v4d (the same
- * operations in the same order: the same bits), then swept one by one
- * by sweep. Its four divisions a triangle are four lanes' at once, and
- * the set-up has no branch to mispredict. A diamond's local error takes
- * its triangles' in their order, as in tri_row's loop; errors that are
- * -1 (nothing measured) raise nothing, as local and base errors start
- * at 0. */
+/* The batched path, a batch of DEM rows at once (level_crew.c's
+ * BATCH): each triangle a row body would visit is found, rejected or
+ * gathered once for all the batch's rows, as tri_row gathers one (its
+ * rejections, its vertices), and each (triangle, row) pair it measures
+ * goes to a lane; four lanes are set up together, tri_row's chord and
+ * plane lane by lane in v4d (the same operations in the same order, each
+ * with its row's y: the same bits), then swept one by one by sweep. Its
+ * divisions are four lanes' at once, and the set-up has no branch to
+ * mispredict. A pair is measured when tri_row, called by the row body of
+ * its row, would measure it: the rows' loops and rejections are kept as
+ * tests per row (rowset). Errors raise a diamond's local error or a
+ * block's base error by max, whose order does not matter (a float's
+ * rounding keeps order); -1 (nothing measured) raises nothing, as local
+ * and base errors start at 0. */
 typedef struct {
 	double x[3][4], y[3][4], z[3][4]; /* the lanes' vertices */
+	double yr[4];       /* the lanes' rows (level units) */
+	double inv;         /* 1 / step */
+	const double *dd[4]; /* and their samples */
 	float *acc[4];      /* a diamond's local error to raise, or NULL */
 	double *base[4];    /* else a block's base error */
 	int n;
 } batch;
+
+/* The batch's DEM rows J0 .. J0 + n - 1 as the row bodies see each: its
+ * level row y, its samples, the centre rows of each scale (c0 .. c1) and
+ * the leaf rows (r0 .. r1) its loops visit, unclamped. */
+typedef struct {
+	int J0, n;
+	double y[BATCH];
+	const double *dd[BATCH];
+	long c0[8][BATCH], c1[8][BATCH];
+	long r0[BATCH], r1[BATCH];
+} rowset;
 
 static inline __attribute__((always_inline)) v4d
 v4min(v4d a, v4d b)
@@ -275,36 +300,44 @@ v4set(double a)
 	return (v4d){ a, a, a, a };
 }
 
-/* tri_row's chord (xl, xr) of the lanes' triangles at row y: each edge
- * crossed, level edges on the row whole. */
+/* tri_row's chord (xl, xr) of the lanes' triangles at rows yv: edge a-b
+ * crossed, a level edge on the row whole. */
 static inline __attribute__((always_inline)) void
-batch_chord(const v4d X[3], const v4d Y[3], double y, v4d *xl, v4d *xr)
+chord_edge(v4d ax, v4d ay, v4d bx, v4d by, const v4d *yp, v4d *xl,
+    v4d *xr)
 {
-	const v4d eps = v4set(EPS), yv = v4set(y);
+	const v4d eps = v4set(EPS), yv = *yp;
+	v4d f, x;
+	v4l lev = v4abs(by - ay) <= eps, on = v4abs(yv - ay) <= eps;
+	v4l in, ml, ms;
 
+	f = (yv - ay) / (by - ay); /* level lanes: not used */
+	in = ~((f < v4set(-EPS)) | (f > v4set(1 + EPS)));
+	f = v4min(v4set(1), v4max(v4set(0), f));
+	x = ax + f * (bx - ax);
+	ml = lev & on, ms = ~lev & in;
+	*xl = v4sel(ml, v4min(*xl, v4min(ax, bx)),
+	    v4sel(ms, v4min(*xl, x), *xl));
+	*xr = v4sel(ml, v4max(*xr, v4max(ax, bx)),
+	    v4sel(ms, v4max(*xr, x), *xr));
+}
+
+/* The chord of all three edges, in tri_row's order. */
+static inline __attribute__((always_inline)) void
+batch_chord(const v4d X[3], const v4d Y[3], const v4d *yp, v4d *xl,
+    v4d *xr)
+{
 	*xl = v4set(INFINITY), *xr = v4set(-INFINITY);
-	for (int k = 0; k < 3; k++) {
-		v4d ax = X[k], ay = Y[k], bx = X[(k + 1) % 3];
-		v4d by = Y[(k + 1) % 3], f, x;
-		v4l lev = v4abs(by - ay) <= eps, on = v4abs(yv - ay) <= eps;
-		v4l in, ml, ms;
-		f = (yv - ay) / (by - ay); /* level lanes: not used */
-		in = ~((f < v4set(-EPS)) | (f > v4set(1 + EPS)));
-		f = v4min(v4set(1), v4max(v4set(0), f));
-		x = ax + f * (bx - ax);
-		ml = lev & on, ms = ~lev & in;
-		*xl = v4sel(ml, v4min(*xl, v4min(ax, bx)),
-		    v4sel(ms, v4min(*xl, x), *xl));
-		*xr = v4sel(ml, v4max(*xr, v4max(ax, bx)),
-		    v4sel(ms, v4max(*xr, x), *xr));
-	}
+	for (int k = 0; k < 3; k++)
+		chord_edge(X[k], Y[k], X[(k + 1) % 3], Y[(k + 1) % 3], yp, xl,
+		    xr);
 }
 
 static inline __attribute__((always_inline)) void
-batch_flush(share *sh, batch *b, double y)
+batch_flush(share *sh, batch *b)
 {
 	const state *s = sh->s;
-	v4d X[3], Y[3], Z[3], xl, xr, n0, n1, n2, v;
+	v4d X[3], Y[3], Z[3], xl, xr, n0, n1, n2, v, yv;
 	double XL[4], XR[4], N2[4], DZ[4], Z0[4], lo[4], hi[4];
 
 	for (int k = 0; k < 3; k++) {
@@ -312,14 +345,15 @@ batch_flush(share *sh, batch *b, double y)
 		memcpy(&Y[k], b->y[k], sizeof Y[k]);
 		memcpy(&Z[k], b->z[k], sizeof Z[k]);
 	}
-	batch_chord(X, Y, y, &xl, &xr);
+	memcpy(&yv, b->yr, sizeof yv);
+	batch_chord(X, Y, &yv, &xl, &xr);
 	n0 = (Y[1] - Y[0]) * (Z[2] - Z[0]) - (Z[1] - Z[0]) * (Y[2] - Y[0]);
 	n1 = (Z[1] - Z[0]) * (X[2] - X[0]) - (X[1] - X[0]) * (Z[2] - Z[0]);
 	n2 = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
 	memcpy(XL, &xl, sizeof XL), memcpy(XR, &xr, sizeof XR);
 	memcpy(N2, &n2, sizeof N2);
 	v = -n0 / n2, memcpy(DZ, &v, sizeof DZ);
-	v = Z[0] - (n1 * (v4set(y) - Y[0]) - n0 * X[0]) / n2;
+	v = Z[0] - (n1 * (yv - Y[0]) - n0 * X[0]) / n2;
 	memcpy(Z0, &v, sizeof Z0);
 	v = (xl - v4set(EPS)) * s->step, memcpy(lo, &v, sizeof lo);
 	v = (xr + v4set(EPS)) * s->step, memcpy(hi, &v, sizeof hi);
@@ -333,7 +367,7 @@ batch_flush(share *sh, batch *b, double y)
 			i0 = s->d0;
 		if (i1 > s->dend - 1)
 			i1 = s->dend - 1;
-		err = sweep(sh->dd, s->d0, i0, i1, Z0[k], DZ[k], 1 / s->step);
+		err = sweep(b->dd[k], s->d0, i0, i1, Z0[k], DZ[k], b->inv);
 		if (b->acc[k] != NULL) {
 			if (err > *b->acc[k])
 				*b->acc[k] = (float)err;
@@ -375,19 +409,40 @@ vrows_fill(share *sh, vrows *R, int ri)
 	R->got[ri] = 1;
 }
 
-/* Triangle t (its vertices on R's rows) into the batch, unless tri_row
- * would reject it before its chord (then it measures nothing). */
+/* The batch's rows j0 .. j1 (clamped) whose y lies in [a, b]: y = J /
+ * step and a x step are exact (step is a power of 2), so y >= a is
+ * J >= a x step. The callers test each row again as tri_row does. */
 static inline __attribute__((always_inline)) void
-batch_push(share *sh, batch *b, const int t[3][2], double y, vrows *R,
-    float *acc, double *base)
+rows_within(const state *s, const rowset *rs, double a, double b, int *j0,
+    int *j1)
+{
+	long lo = iceil(a * s->step) - rs->J0, hi = ifloor(b * s->step) -
+	    rs->J0;
+
+	if (lo > *j0)
+		*j0 = lo > rs->n ? rs->n : (int)lo;
+	if (hi < *j1)
+		*j1 = hi < -1 ? -1 : (int)hi;
+}
+
+/* Triangle t (its vertices on R's rows, from the centre or leaf row c,
+ * visited by row j when cv0[j] <= c <= cv1[j]) into the batch for every
+ * row whose body would visit it and whose tri_row would not reject it
+ * before its chord (then it measures nothing): gathered once. */
+static inline __attribute__((always_inline)) void
+batch_tri(share *sh, batch *b, const rowset *rs, const int t[3][2],
+    vrows *R, long c, const long *cv0, const long *cv1, float *acc,
+    double *base)
 {
 	const state *s = sh->s;
-	double p[3][3], ymin = INFINITY, ymax = -INFINITY;
-	int n = b->n, lo = t[0][1], hi = t[0][1];
+	double p[3][3], ymin = INFINITY, ymax = -INFINITY, ya, yb;
+	int lo = t[0][1], hi = t[0][1], j0 = 0, j1 = rs->n - 1;
 
 	for (int k = 1; k < 3; k++)
 		lo = t[k][1] < lo ? t[k][1] : lo, hi = t[k][1] > hi ? t[k][1] : hi;
-	if (y < lo - s->margin - EPS || y > hi + s->margin + EPS)
+	ya = lo - s->margin - EPS, yb = hi + s->margin + EPS;
+	rows_within(s, rs, ya, yb, &j0, &j1);
+	if (j0 > j1)
 		return;
 	for (int k = 0; k < 3; k++) {
 		int gi = t[k][0], ri;
@@ -402,21 +457,133 @@ batch_push(share *sh, batch *b, const int t[3][2], double y, vrows *R,
 		p[k][2] = R->z[ri][gi - s->c0];
 		ymin = dmin(ymin, p[k][1]), ymax = dmax(ymax, p[k][1]);
 	}
-	if (y < ymin - EPS || y > ymax + EPS)
-		return;
-	for (int k = 0; k < 3; k++)
-		b->x[k][n] = p[k][0], b->y[k][n] = p[k][1], b->z[k][n] = p[k][2];
-	b->acc[n] = acc, b->base[n] = base;
-	if (++b->n == 4)
-		batch_flush(sh, b, y);
+	rows_within(s, rs, ymin - EPS, ymax + EPS, &j0, &j1);
+	for (int j = j0; j <= j1; j++) {
+		double y = rs->y[j];
+		int n = b->n;
+		if (c < cv0[j] || c > cv1[j] || y < ya || y > yb ||
+		    y < ymin - EPS || y > ymax + EPS)
+			continue;
+		for (int k = 0; k < 3; k++)
+			b->x[k][n] = p[k][0], b->y[k][n] = p[k][1],
+			    b->z[k][n] = p[k][2];
+		b->yr[n] = y, b->dd[n] = rs->dd[j];
+		b->acc[n] = acc, b->base[n] = base;
+		if (++b->n == 4)
+			batch_flush(sh, b);
+	}
+}
+
+/* The batch's diamonds of scale h, as row_diamonds_body visits them for
+ * each row: a centre row's square (odd rows) and edge diamonds together,
+ * so that its rows of vertices are found once. */
+static inline __attribute__((always_inline)) void
+batch_diamonds(share *t, const rowset *rs, int h, int hk, batch *b)
+{
+	state *s = t->s;
+	const long *cv0 = rs->c0[hk], *cv1 = rs->c1[hk];
+
+	for (long c = cv0[0] > 0 ? cv0[0] : 0; c <= cv1[rs->n - 1] &&
+	    c * h < s->Q; c++) {
+		long cy = c * h;
+		vrows R;
+		vrows_init(&R, (int)cy, h, hk);
+		for (int edge = (c & 1) == 0; edge < 2; edge++) {
+			long x0 = edge && (c & 1) ? 0 : h;
+			if (t->lo > x0) /* the first centre in the share */
+				x0 += (t->lo - x0 + 2 * h - 1) / (2 * h) *
+				    (2 * h);
+			for (long cx = x0; cx < s->cend && cx < t->hi;
+			    cx += 2 * h) {
+				int tri[2][3][2];
+				int nt = bt_diamond((int)cx, (int)cy, tri);
+				float *acc = &s->acc[eslot(s, (int)cy) +
+				    (cx - s->c0)];
+				for (int k = 0; k < nt; k++)
+					batch_tri(t, b, rs, tri[k], &R, c, cv0,
+					    cv1, acc, NULL);
+			}
+		}
+	}
+}
+
+/* A cell's two finest triangles, diagonal by the parity of ci + cj as
+ * in the bintree. */
+static inline __attribute__((always_inline)) void
+leaf_tris(int ci, int cj, int t[2][3][2])
+{
+	int a[2] = { ci, cj }, b[2] = { ci + 1, cj };
+	int c[2] = { ci + 1, cj + 1 }, d[2] = { ci, cj + 1 };
+
+	if ((ci + cj) % 2 == 0) {
+		memcpy(t[0][0], a, 8), memcpy(t[0][1], b, 8);
+		memcpy(t[0][2], c, 8), memcpy(t[1][0], a, 8);
+		memcpy(t[1][1], c, 8), memcpy(t[1][2], d, 8);
+	} else {
+		memcpy(t[0][0], a, 8), memcpy(t[0][1], b, 8);
+		memcpy(t[0][2], d, 8), memcpy(t[1][0], b, 8);
+		memcpy(t[1][1], c, 8), memcpy(t[1][2], d, 8);
+	}
+}
+
+/* The batch's leaves, as row_leaves_body visits them for each row. */
+static inline __attribute__((always_inline)) void
+batch_leaves(share *sh, const rowset *rs, batch *bt)
+{
+	const state *s = sh->s;
+	int lo = leaf_lo(sh), hi = leaf_hi(sh);
+
+	for (long cj = rs->r0[0] > 0 ? rs->r0[0] : 0; cj <= rs->r1[rs->n - 1]
+	    && cj < s->Q - 1; cj++) {
+		vrows R;
+		vrows_init(&R, (int)cj, 1, 0);
+		for (int ci = lo; ci < hi; ci++) {
+			int t[2][3][2];
+			double *base = base_at(sh, (int)cj, ci);
+			leaf_tris(ci, (int)cj, t);
+			for (int k = 0; k < 2; k++)
+				batch_tri(sh, bt, rs, t[k], &R, cj, rs->r0,
+				    rs->r1, NULL, base);
+		}
+	}
+}
+
+static inline __attribute__((always_inline)) void
+batch_body(share *t, const rowset *rs, batch *b)
+{
+	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++)
+		batch_diamonds(t, rs, h, hk, b);
+	batch_leaves(t, rs, b);
+	if (b->n > 0)
+		batch_flush(t, b);
+}
+
+TL_AVX2 static void
+rows_displaced_avx2(share *t, const rowset *rs)
+{
+	batch b;
+
+	memset(&b, 0, sizeof b);
+	b.inv = 1 / t->s->step;
+	batch_body(t, rs, &b);
+}
+
+static void
+rows_displaced(share *t, const rowset *rs)
+{
+	batch b;
+
+	memset(&b, 0, sizeof b);
+	b.inv = 1 / t->s->step;
+	batch_body(t, rs, &b);
 }
 
 /* Raises the local errors of every diamond of scale h and one kind that
- * the DEM row (level row y) crosses. Square diamonds are centred on odd
- * multiples of h in both axes; edge diamonds on points with exactly one
- * odd multiple: |x - cx| + |y - cy| <= h. */
-static inline __attribute__((always_inline)) void
-row_diamonds_body(share *t, double y, int h, int hk, int edge, batch *b)
+ * the DEM row (level row y) crosses, by tri_row. Square diamonds are
+ * centred on odd multiples of h in both axes; edge diamonds on points
+ * with exactly one odd multiple: |x - cx| + |y - cy| <= h. */
+static void
+row_diamonds(share *t, double y, int h, int hk, int edge)
 {
 	state *s = t->s;
 	double reach = h + s->margin;
@@ -430,19 +597,12 @@ row_diamonds_body(share *t, double y, int h, int hk, int edge, batch *b)
 		x0 = edge && (c & 1) ? 0 : h;
 		if (t->lo > x0) /* the first centre in the share */
 			x0 += (t->lo - x0 + 2 * h - 1) / (2 * h) * (2 * h);
-		vrows R;
-		vrows_init(&R, (int)cy, h, hk);
 		for (long cx = x0; cx < s->cend && cx < t->hi; cx += 2 * h) {
 			int tri[2][3][2];
 			int nt = bt_diamond((int)cx, (int)cy, tri);
 			float *acc = &s->acc[eslot(s, (int)cy) + (cx - s->c0)];
 			for (int k = 0; k < nt; k++) {
-				double err;
-				if (b != NULL) {
-					batch_push(t, b, tri[k], y, &R, acc, NULL);
-					continue;
-				}
-				err = tri_row(t, tri[k], y, hk);
+				double err = tri_row(t, tri[k], y, hk);
 				if (err > *acc)
 					*acc = (float)err;
 			}
@@ -450,44 +610,23 @@ row_diamonds_body(share *t, double y, int h, int hk, int edge, batch *b)
 	}
 }
 
-/* Raises the base errors of the blocks whose finest triangles (a cell's
- * two, diagonal by the parity of ci + cj as in the bintree) the DEM row
- * crosses. */
-static inline __attribute__((always_inline)) void
-row_leaves_body(share *sh, double y, batch *bt)
+/* Raises the base errors of the blocks whose finest triangles the DEM
+ * row crosses, by tri_row. */
+static void
+row_leaves(share *sh, double y)
 {
 	const state *s = sh->s;
 	double mg = s->L->displaced ? 1 : EPS;
 	long r0 = (long)floor(y - mg), r1 = (long)floor(y + mg);
-
 	int lo = leaf_lo(sh), hi = leaf_hi(sh);
 
 	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++) {
-		vrows R;
-		vrows_init(&R, (int)cj, 1, 0);
 		for (int ci = lo; ci < hi; ci++) {
-			int a[2] = { ci, (int)cj }, b[2] = { ci + 1, (int)cj };
-			int c[2] = { ci + 1, (int)cj + 1 };
-			int d[2] = { ci, (int)cj + 1 };
 			int t[2][3][2];
 			double *base = base_at(sh, (int)cj, ci);
-			if ((ci + cj) % 2 == 0) {
-				memcpy(t[0][0], a, 8), memcpy(t[0][1], b, 8);
-				memcpy(t[0][2], c, 8), memcpy(t[1][0], a, 8);
-				memcpy(t[1][1], c, 8), memcpy(t[1][2], d, 8);
-			} else {
-				memcpy(t[0][0], a, 8), memcpy(t[0][1], b, 8);
-				memcpy(t[0][2], d, 8), memcpy(t[1][0], b, 8);
-				memcpy(t[1][1], c, 8), memcpy(t[1][2], d, 8);
-			}
+			leaf_tris(ci, (int)cj, t);
 			for (int k = 0; k < 2; k++) {
-				double err;
-				if (bt != NULL) {
-					batch_push(sh, bt, t[k], y, &R, NULL,
-					    base);
-					continue;
-				}
-				err = tri_row(sh, t[k], y, 0);
+				double err = tri_row(sh, t[k], y, 0);
 				if (err > *base)
 					*base = err;
 			}
@@ -495,56 +634,114 @@ row_leaves_body(share *sh, double y, batch *bt)
 	}
 }
 
-/* Every diamond and leaf the DEM row (level row y) crosses: by tri_row
- * one at a time (b NULL: the reference, lv_error_row with state.ref) or
- * through batch b. */
-static inline __attribute__((always_inline)) void
-row_body(share *t, double y, batch *b)
-{
-	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
-		row_diamonds_body(t, y, h, hk, 0, b);
-		row_diamonds_body(t, y, h, hk, 1, b);
-	}
-	row_leaves_body(t, y, b);
-	if (b != NULL && b->n > 0)
-		batch_flush(t, b, y);
-}
-
+/* Every diamond and leaf the DEM row (level row y) crosses, by tri_row
+ * one at a time: the reference (state.ref), and undisplaced levels
+ * coarser than SCAN_MAXSTEP. The batched path's rowset keeps these
+ * loops' bounds. */
 static void
 row_reference(share *t, double y)
 {
-	row_body(t, y, NULL);
+	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
+		row_diamonds(t, y, h, hk, 0);
+		row_diamonds(t, y, h, hk, 1);
+	}
+	row_leaves(t, y);
 }
 
-TL_AVX2 static void
-row_displaced_avx2(share *t, double y)
-{
-	batch b;
-
-	memset(&b, 0, sizeof b);
-	row_body(t, y, &b);
-}
-
+/* The rowset of DEM rows J0 .. J1-1, their samples dd apart from dd0:
+ * row_diamonds' and row_leaves' bounds, by the same operations. */
 static void
-row_displaced(share *t, double y)
+rowset_init(const state *s, rowset *rs, int J0, int J1, const double *dd0,
+    size_t stride)
 {
-	batch b;
+	rs->J0 = J0, rs->n = J1 - J0;
+	for (int j = 0; j < rs->n; j++) {
+		double y = (J0 + j) / s->step;
+		rs->y[j] = y, rs->dd[j] = dd0 + (size_t)j * stride;
+		for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++) {
+			double reach = h + s->margin;
+			rs->c0[hk][j] = (long)ceil((y - reach) / h);
+			rs->c1[hk][j] = (long)floor((y + reach) / h);
+		}
+		rs->r0[j] = (long)floor(y - 1), rs->r1[j] = (long)floor(y + 1);
+	}
+}
 
-	memset(&b, 0, sizeof b);
-	row_body(t, y, &b);
+/* Level row gj's offsets all 0 (both signs of 0) in the columns t's
+ * triangles reach (centres in [lo, hi), vertices h <= 64 away; leaves
+ * 1), found once per row and share. */
+static int
+flat_row(share *t, int gj)
+{
+	const state *s = t->s;
+	int *f = &t->flat[gj & (RINGV - 1)];
+	int a = t->lo - BT_CELLS - s->c0, b = t->hi + BT_CELLS - s->c0;
+
+	if (*f == gj + 1 || *f == -(gj + 1))
+		return *f > 0;
+	a = a > 0 ? a : 0, b = b < s->P ? b : s->P;
+	{
+		const float *x = s->ox + slot(s, gj), *y = s->oy + slot(s, gj);
+		int k = a;
+		while (k < b && x[k] == 0 && y[k] == 0)
+			k++;
+		*f = k == b ? gj + 1 : -(gj + 1);
+	}
+	return *f > 0;
+}
+
+/* Every row of positions the batch's rows J0 .. J1-1 may reach (centres
+ * h + margin away, their vertices h further: 130 rows) has offsets all 0:
+ * then every position is its grid point exactly (vertex: gi + 0 / sx /
+ * step is gi), the level's geometry an undisplaced one, and the integer
+ * scan raises tri_row's errors bit for bit (undisplaced_scan.c), its
+ * wider reach only visiting triangles the row misses. Level 0 of QEM-3D
+ * is so. */
+static int
+batch_flat(share *t, int J0, int J1)
+{
+	const state *s = t->s;
+	int g0 = (int)floor(J0 / s->step) - 2 * BT_MAXH - 2;
+	int g1 = (int)ceil((J1 - 1) / s->step) + 2 * BT_MAXH + 2;
+
+	if (s->step > SCAN_MAXSTEP)
+		return 0;
+	g0 = g0 > s->r0 ? g0 : s->r0;
+	g1 = g1 < s->loaded - 1 ? g1 : s->loaded - 1;
+	g1 = g1 < s->Q - 1 ? g1 : s->Q - 1;
+	for (int gj = g0; gj <= g1; gj++)
+		if (!flat_row(t, gj))
+			return 0;
+	return 1;
+}
+
+void
+lv_error_rows(share *t, int J0, int J1)
+{
+	const state *s = t->s;
+	size_t stride = (size_t)(s->dend - s->d0 + 1);
+	rowset rs;
+
+	assert(J1 - J0 <= BATCH);
+	if (s->scan || s->ref || !s->L->displaced || batch_flat(t, J0, J1)) {
+		for (int J = J0; J < J1; J++) {
+			t->dd = s->dd + (size_t)(J - J0) * stride;
+			lv_error_row(t, J);
+		}
+		return;
+	}
+	rowset_init(s, &rs, J0, J1, s->dd, stride);
+	if (s->avx2)
+		rows_displaced_avx2(t, &rs);
+	else
+		rows_displaced(t, &rs);
 }
 
 void
 lv_error_row(share *t, int J)
 {
-	double y = J / t->s->step;
-
-	if (t->s->scan)
+	if (t->s->scan || (t->s->L->displaced && !t->s->ref))
 		lv_scan_undisplaced(t, J);
-	else if (t->s->ref || !t->s->L->displaced)
-		row_reference(t, y);
-	else if (t->s->avx2)
-		row_displaced_avx2(t, y);
 	else
-		row_displaced(t, y);
+		row_reference(t, J / t->s->step);
 }

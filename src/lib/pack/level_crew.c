@@ -31,17 +31,6 @@ typedef struct {
 } crew;
 
 static void
-scan_batch(share *t, int J0, int J1)
-{
-	const state *s = t->s;
-
-	for (int J = J0; J < J1; J++) {
-		t->dd = s->dd + (size_t)(J - J0) * (s->dend - s->d0 + 1);
-		lv_error_row(t, J);
-	}
-}
-
-static void
 do_shares(void *arg, int k, int i0, int i1)
 {
 	const crew *c = arg;
@@ -49,7 +38,7 @@ do_shares(void *arg, int k, int i0, int i1)
 	(void)k;
 	for (int i = i0; i < i1; i++)
 		if (c->task == SCAN)
-			scan_batch(&c->s->shares[i], c->J0, c->J1);
+			lv_error_rows(&c->s->shares[i], c->J0, c->J1);
 		else
 			lv_emit_share(&c->s->shares[i], c->bj);
 }

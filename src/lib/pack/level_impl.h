@@ -66,6 +66,10 @@ typedef struct {
 		int tag[8];
 		double *x, *y;  /* VC_ROWS x n */
 	} vc[8];
+	/* displaced levels: whether level row gj's offsets are all 0 in the
+	 * window, by its ring slot: gj + 1 if so, -(gj + 1) if not, 0 not
+	 * yet known */
+	int flat[RINGV];
 } share;
 #define VC_ROWS 8
 
@@ -275,10 +279,13 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
  * undisplaced_scan.c). */
 #define SCAN_MAXSTEP 1024
 
-/* exact_error.c: the local and base errors DEM row J (t->dd) raises in
- * t's columns, by the variant that serves the level; where each column
+/* exact_error.c: the local and base errors DEM rows J0 .. J1-1 (at most
+ * BATCH, the state's dd) raise in t's columns, by the variant that
+ * serves the level; those of DEM row J (t->dd) by the row-at-a-time
+ * variants (undisplaced_scan.c's, or the reference); where each column
  * of the piece falls among the lattice's nodes (state init, displaced
  * levels of a lattice metric). */
+void lv_error_rows(share *t, int J0, int J1);
 void lv_error_row(share *t, int J);
 void lv_node_columns(state *s);
 /* undisplaced_scan.c: lv_error_row on an undisplaced level (s->scan), as
