@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "base/outfile.h"
 
 static const struct option shared_long[] = {
 	{ "help", no_argument, NULL, 'h' },
@@ -90,6 +91,7 @@ cli_init(cli *c, char **argv, const char *usage, int sets)
 	 * instead of killing the process: the failure path removes the
 	 * temporaries and says why */
 	signal(SIGXFSZ, SIG_IGN);
+	tl_out_catch(); /* before any thread: outfile.h */
 }
 
 /* The program's options and the shared ones, in one optstring and one

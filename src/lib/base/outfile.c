@@ -79,6 +79,18 @@ on_signal(int sig)
 	raise(sig);
 }
 
+void
+tl_out_catch(void)
+{
+	struct sigaction sa;
+
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigfillset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, NULL), sigaction(SIGTERM, &sa, NULL);
+	sigaction(SIGHUP, &sa, NULL), sigaction(SIGPIPE, &sa, NULL);
+}
+
 /* Blocks the signals whose handler reads the registry, takes the lock. */
 static void
 tmps_enter(sigset_t *old)
@@ -103,17 +115,10 @@ tmps_leave(const sigset_t *old)
 static int
 tmp_register(const char *path, int dir, int lock, tl_err *e)
 {
-	static const int sigs[] = { SIGINT, SIGTERM, SIGHUP, SIGPIPE };
-	struct sigaction sa;
 	sigset_t old;
 	int i;
 
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigfillset(&sa.sa_mask);
 	tmps_enter(&old);
-	for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++)
-		sigaction(sigs[k], &sa, NULL);
 	tl_rmtree_reserve();
 	for (i = 0; i < MAXTMP && tmps[i].path != NULL; i++)
 		;
@@ -331,6 +336,7 @@ fatal_block(sigset_t *old)
 	sigaddset(&s, SIGINT), sigaddset(&s, SIGTERM);
 	sigaddset(&s, SIGHUP), sigaddset(&s, SIGPIPE);
 	pthread_sigmask(SIG_BLOCK, &s, old);
+	tl_out_catch();
 	__atomic_add_fetch(&making_n, 1, __ATOMIC_SEQ_CST);
 	for (int i = 0; i < 4000 && __atomic_load_n(&dying, __ATOMIC_SEQ_CST);
 	    i++) {

@@ -57,6 +57,13 @@ void tl_out_sweep_dir(const char *dir);
 int tl_dir_install(const char *tmp, const char *path, tl_err *e);
 int tl_outdir_commit(tl_outfile *o, tl_err *e);
 void tl_outdir_abort(tl_outfile *o);
+/* Installs the handler that removes the temporaries on INT, TERM, HUP
+ * and PIPE (then dies of the signal, as by default). Every program calls
+ * it at start (cli_init), before it has threads: a signal that finds the
+ * default action ends the process at once, and a thread then inside the
+ * system call that makes a temporary leaves it. Making an output calls
+ * it too. */
+void tl_out_catch(void);
 /* A temporary is made and registered for the signal handler in one step:
  * the handler, in whatever thread a fatal signal (INT, TERM, HUP, PIPE)
  * runs it, first waits for the steps under way to end, so that it finds
