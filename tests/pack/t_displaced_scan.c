@@ -1,9 +1,13 @@
-/* t_displaced_scan - the displaced levels' batched exact-error path
- * (exact_error.c: four triangles set up at once, vertices by rows) gives
+/* t_displaced_scan - the displaced levels' exact-error paths
+ * (exact_error.c: the batched path, triangles set up for a batch of rows
+ * four lanes at once; and a batch whose rows of positions have offsets
+ * all 0, level 0 of QEM-3D, through the integer scan: batch_flat) give
  * every local and base error bit for bit as the reference, tri_row a
- * triangle at a time (TL_EXACT_REF), in its AVX2 copy and its plain one
- * (TL_NO_AVX2): rough terrain with voids and steep slopes, offsets up to
- * 0.45 of a cell, levels 0 to 3, one thread and shares on three, the
+ * triangle at a time (TL_EXACT_REF), in their AVX2 copy and their plain
+ * one (TL_NO_AVX2): rough terrain with voids and steep slopes, offsets
+ * up to 0.45 of a cell everywhere, 0 everywhere (of both signs), or 0
+ * but in a band of rows (the batches near it take the batched path, the
+ * others the scan), levels 0 to 3, one thread and shares on three, the
  * whole level and a piece alone (a window not at column 0). */
 #include <limits.h>
 #include <math.h>
@@ -21,11 +25,13 @@
 
 static char tmp[PATH_MAX - 64];
 
-/* The level's heights, offsets up to 0.45 of a cell (jitter: metres). */
+/* The level's heights, offsets up to 0.45 of a cell (jitter: metres) in
+ * rows band0 .. band1-1, 0 (jitter 0: -0 or +0) elsewhere. */
 typedef struct {
 	const float *z;
 	int w;
 	double jitter;
+	int band0, band1;
 } rows;
 
 static int
@@ -36,8 +42,9 @@ row_fn(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
 
 	memcpy(z, R->z + (size_t)r * R->w + c0, (size_t)n * sizeof *z);
 	for (int i = 0; x != NULL && i < n; i++) {
-		x[i] = rough_offset(R->jitter, c0 + i, r, 7);
-		y[i] = rough_offset(R->jitter, c0 + i, r, 8);
+		double j = r >= R->band0 && r < R->band1 ? R->jitter : 0;
+		x[i] = rough_offset(j, c0 + i, r, 7);
+		y[i] = rough_offset(j, c0 + i, r, 8);
 	}
 	return 0;
 }
@@ -72,12 +79,12 @@ block_fn(void *ctx, const pyramid_block *b, tl_err *e)
  * environment picks the path. Sizes of E and base into ne, nb. */
 static int
 run(const char *path, int level, int w, int h, const float *v, int threads,
-    int piece, sink *s, size_t *ne, size_t *nb)
+    int piece, const int band[2], sink *s, size_t *ne, size_t *nb)
 {
 	static const dem_opts none;
 	level_args L = { 0 };
 	geo_ground m = { 0 };
-	rows R = { v, w, (double)(1 << level) };
+	rows R = { v, w, (double)(1 << level), band[0], band[1] };
 	level_stats st;
 	tl_err e;
 	dem *d;
@@ -113,8 +120,9 @@ done:
 
 static void
 test_level(const char *path, int W, int H, int level, int threads,
-    int piece)
+    int piece, int b0, int b1)
 {
+	const int band[2] = { b0, b1 };
 	int w = geo_level_size(W, level), h = geo_level_size(H, level);
 	float *v = malloc((size_t)w * h * sizeof *v);
 	sink ref, fast, plain;
@@ -126,21 +134,21 @@ test_level(const char *path, int W, int H, int level, int threads,
 			v[(size_t)j * w + i] = rough(i, j, 1 + level) +
 			    (float)(3 * (i % 50));
 	setenv("TL_EXACT_REF", "1", 1);
-	r = run(path, level, w, h, v, threads, piece, &ref, &ne, &nb);
+	r = run(path, level, w, h, v, threads, piece, band, &ref, &ne, &nb);
 	unsetenv("TL_EXACT_REF");
-	r |= run(path, level, w, h, v, threads, piece, &fast, &ne, &nb);
+	r |= run(path, level, w, h, v, threads, piece, band, &fast, &ne, &nb);
 	setenv("TL_NO_AVX2", "1", 1);
-	r |= run(path, level, w, h, v, threads, piece, &plain, &ne, &nb);
+	r |= run(path, level, w, h, v, threads, piece, band, &plain, &ne, &nb);
 	unsetenv("TL_NO_AVX2");
 	ok(r == 0 && ref.blocks > 0 && fast.blocks == ref.blocks &&
 	    memcmp(ref.e, fast.e, ne * sizeof *ref.e) == 0 &&
 	    memcmp(ref.base, fast.base, nb * sizeof *ref.base) == 0 &&
 	    memcmp(ref.e, plain.e, ne * sizeof *ref.e) == 0 &&
 	    memcmp(ref.base, plain.base, nb * sizeof *ref.base) == 0,
-	    "level %d, %d thread(s), %s: E and base errors of the batched "
-	    "path, AVX2 and plain, are the reference's, bit for bit (%d "
-	    "blocks)", level, threads, piece < 0 ? "whole" : "piece 1 alone",
-	    ref.blocks);
+	    "level %d, %d thread(s), %s, offsets %s: E and base errors are "
+	    "the reference's, bit for bit (%d blocks)", level, threads,
+	    piece < 0 ? "whole" : "piece 1 alone", b1 == INT_MAX ?
+	    "everywhere" : b1 > b0 ? "0 but in a band" : "all 0", ref.blocks);
 	free(ref.e), free(ref.base), free(fast.e), free(fast.base);
 	free(plain.e), free(plain.base), free(v);
 }
@@ -165,10 +173,17 @@ main(void)
 		ok(0, "the DEM");
 	else {
 		for (int level = 0; level <= 3; level++) {
-			test_level(path, W, H, level, 1, -1);
-			test_level(path, W, H, level, 3, -1);
+			int h = geo_level_size(H, level);
+			test_level(path, W, H, level, 1, -1, 0, INT_MAX);
+			test_level(path, W, H, level, 3, -1, 0, INT_MAX);
+			test_level(path, W, H, level, 1, -1, 0, 0);
+			test_level(path, W, H, level, 3, -1, 0, 0);
+			test_level(path, W, H, level, 1, -1, h / 2, h / 2 + 3);
+			test_level(path, W, H, level, 3, -1, h / 2, h / 2 + 3);
 		}
-		test_level(path, W, H, 0, 1, 1);
+		test_level(path, W, H, 0, 1, 1, 0, INT_MAX);
+		test_level(path, W, H, 0, 1, 1, 0, 0);
+		test_level(path, W, H, 0, 1, 1, 100, 103);
 	}
 	free(z);
 	tmpdir_done(tmp);

@@ -29,7 +29,7 @@
  *   displaced levels (QEM-3D), a batch whose rows of positions all
  *   have offsets 0 (level 0; step <= SCAN_MAXSTEP)
  *       undisplaced_scan.c too: the positions are the grid's exactly
- *       (batch_flat; t_displaced_batch).
+ *       (batch_flat; t_displaced_scan).
  *   displaced levels (QEM-3D), other batches
  *       the batched path here: tri_row's general chord of a triangle
  *       with displaced (float32 offset) corners, closed with tolerances

@@ -128,18 +128,6 @@ spread(const double v[3][3], int d, const double q[3], const cpt *c, int n,
 	return fmax(best, l[0] * l[1] * l[2] / sw);
 }
 
-static inline double
-mn(double a, double b)
-{
-	return b < a ? b : a;
-}
-
-static inline double
-mx(double a, double b)
-{
-	return b > a ? b : a;
-}
-
 /* The least circle's radius squared of a triangle of sides squared l
  * (any dimension): half the longest when right or obtuse, else the
  * circumradius (16 area^2 by Heron). */
@@ -154,7 +142,7 @@ encl(const double l[3])
 		return l[k] / 4;
 	h = 2 * (l[0] * l[1] + l[1] * l[2] + l[2] * l[0]) - (l[0] * l[0] +
 	    l[1] * l[1] + l[2] * l[2]);
-	return mx(l[k] / 4, l[0] * l[1] * l[2] / h);
+	return dmax(l[k] / 4, l[0] * l[1] * l[2] / h);
 }
 
 /* spread() over the whole triangle: encl in the metric q. */
@@ -204,8 +192,8 @@ corners_of(const tr_work *w, const int *k, const double r[4], double lo,
 		c->val[j] = p[2] - m->h[k[j]] - gx * (p[0] - m->x[k[j]]) -
 		    gy * (p[1] - m->y[k[j]]);
 		for (int i = 0; i < 3; i++) {
-			c->lo[i] = j ? mn(c->lo[i], p[i]) : p[i];
-			c->hi[i] = j ? mx(c->hi[i], p[i]) : p[i];
+			c->lo[i] = j ? dmin(c->lo[i], p[i]) : p[i];
+			c->hi[i] = j ? dmax(c->hi[i], p[i]) : p[i];
 		}
 	}
 	return 0;
@@ -229,12 +217,12 @@ normals(const double *pos, const int *k, double habs, int equator,
 		double g[3] = { p[0], p[1], p[2] / (1 - e2) };
 		double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
 		double c = sqrt(g[0] * g[0] + g[1] * g[1]) / n;
-		*cmax = mx(*cmax, c), *smax = mx(*smax, fabs(g[2]) / n);
+		*cmax = dmax(*cmax, c), *smax = dmax(*smax, fabs(g[2]) / n);
 		if (j == 0)
 			up0[0] = g[0] / n, up0[1] = g[1] / n, up0[2] = g[2] / n;
 	}
-	*cmax = equator ? 1 : mn(1, *cmax + *da);
-	*smax = mn(1, *smax + *da);
+	*cmax = equator ? 1 : dmin(1, *cmax + *da);
+	*smax = dmin(1, *smax + *da);
 }
 
 /* The tangent of the largest tilt over the triangle of its plane
@@ -292,13 +280,13 @@ tri_bound(const tr_work *w, int t, const double r[4], const double o[4],
 			return 0;
 	}
 	for (int i = 0; i < n; i++)
-		A = mx(A, fabs(p[0][i].b[0] * c.val[0] + p[0][i].b[1] *
+		A = dmax(A, fabs(p[0][i].b[0] * c.val[0] + p[0][i].b[1] *
 		    c.val[1] + p[0][i].b[2] * c.val[2]));
-	double habs = mx(fabs(c.lo[2]), fabs(c.hi[2]));
+	double habs = dmax(fabs(c.lo[2]), fabs(c.hi[2]));
 	normals(w->pos, k, habs, c.lo[1] <= 0 && c.hi[1] >= 0, &cmax, &smax,
 	    up0, &da);
 	double L = (c.hi[0] - c.lo[0]) * DEG, P = (c.hi[1] - c.lo[1]) * DEG;
-	double turn = cmax * L + P, kh = KD2 + habs, W = RMAX + mx(c.hi[2], 0);
+	double turn = cmax * L + P, kh = KD2 + habs, W = RMAX + dmax(c.hi[2], 0);
 	double ext = sqrt(cmax * cmax * L * L + P * P);
 	double eps = fmin(1, fmax(0.01, (c.hi[2] - c.lo[2]) / (kh * ext)));
 	double qn[3] = { W * cmax * cmax, W, 0 }, qt[3] = {
@@ -340,7 +328,7 @@ tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
 			b[t] = d;
 		else if (!(d <= lim))
 			return INFINITY; /* measure it */
-		most = mx(most, d);
+		most = dmax(most, d);
 	}
 	return TR_BOUND_SAFETY * most + 1e-6;
 }

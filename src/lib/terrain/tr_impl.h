@@ -124,6 +124,20 @@ typedef struct {
 const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj,
     const double **lon, const double **lat, tl_err *e);
 
+/* The lesser and greater of a and b, a kept when they tie or b is NaN
+ * (the measure's and the bound's comparisons depend on it). */
+static inline double
+dmin(double a, double b)
+{
+	return b < a ? b : a;
+}
+
+static inline double
+dmax(double a, double b)
+{
+	return b > a ? b : a;
+}
+
 static inline double
 tr_vlon(const tr_grid *g, const double *lon, int r, int c)
 {

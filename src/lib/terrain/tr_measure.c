@@ -33,18 +33,6 @@ typedef struct {
 } locator;
 #define TR_PLANES (4 + 2 * TR_BARY_TERMS + 3) /* doubles a triangle */
 
-static inline double
-dmin(double a, double b)
-{
-	return b < a ? b : a;
-}
-
-static inline double
-dmax(double a, double b)
-{
-	return b > a ? b : a;
-}
-
 static int
 bucket(const locator *l, double c, int k)
 {
