@@ -55,18 +55,23 @@ tr_cli_words(const tr_args *a, const char **w)
 void
 tr_cli_report(const cli *c, const tr_report *r)
 {
-	char at[64];
+	char at[64], d[32];
 
 	for (int z = 0; z <= r->maxzoom; z++) {
 		at[0] = 0;
 		if (r->measured[z] >= 0)
 			snprintf(at, sizeof at, " at %.1f%% of samples",
 			    100 * r->measured[z]);
+		/* no sample measured: no distance to give, not 0 m */
+		if (r->measured[z] == 0)
+			snprintf(d, sizeof d, "-");
+		else
+			snprintf(d, sizeof d, "%.3f m", r->direct[z]);
 		fprintf(stderr, "%s: level %d: %lld tiles, %lld triangles, "
 		    "%.1f KiB; pyramid level %d, tolerance %.3f m (try %d); "
-		    "measured %.3f m%s; bound %.3f m = %.3f E_L\n", c->prog, z,
+		    "measured %s%s; bound %.3f m = %.3f E_L\n", c->prog, z,
 		    r->tiles[z], r->tris[z], r->bytes[z] / 1024.0, r->plevel[z],
-		    r->tau[z], r->tries[z], r->direct[z], at, r->err[z],
+		    r->tau[z], r->tries[z], d, at, r->err[z],
 		    r->err[z] / (TR_E0 / (1 << z)));
 	}
 }
