@@ -81,14 +81,19 @@ quick_skip() {
 }
 
 # mid_run PID OUT: waits until PID's temporary for OUT (.NAME.XXXXXX in
-# OUT's directory) is there, then stops PID; 0 when PID is then stopped
-# before its rename (the caller sends its signal, then CONT), 1 when the
-# run ended first: a signal then tests nothing (a fast machine). A fixed
-# sleep before the kill raced the run's end (CI, stop 30).
+# OUT's directory; a tree's with its .lock) is there, then stops PID; 0
+# when PID is then stopped before its rename (the caller sends its
+# signal, then CONT), 1 when the run ended first: a signal then tests
+# nothing (a fast machine). A fixed sleep before the kill raced the
+# run's end (CI, stop 30).
 mid_run() {
 	_md=$(dirname "$2") _mb=$(basename "$2") _mi=0
 	while [ $_mi -lt 3000 ] && [ ! -e "$2" ]; do
-		if ls -A "$_md" | grep -q "^\.$_mb\.......\$"; then
+		_mt=$(ls -A "$_md" | grep "^\.$_mb\.......\$" | head -1)
+		# a tree's temporary once it holds its lock file: before
+		# that a killed run's is swept only a minute later (sweep.c)
+		if [ -n "$_mt" ] && { [ ! -d "$_md/$_mt" ] ||
+		    [ -e "$_md/$_mt/.lock" ]; }; then
 			kill -STOP "$1" 2>/dev/null || return 1
 			[ ! -e "$2" ] && return 0
 			kill -CONT "$1"; return 1
