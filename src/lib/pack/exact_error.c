@@ -548,34 +548,32 @@ batch_leaves(share *sh, const rowset *rs, batch *bt)
 	}
 }
 
+/* The batch's rows: its set-up and every scale, inlined into both copies
+ * below (the AVX2 one and the plain one differ only in their target). */
 static inline __attribute__((always_inline)) void
-batch_body(share *t, const rowset *rs, batch *b)
+batch_body(share *t, const rowset *rs)
 {
+	batch b;
+
+	memset(&b, 0, sizeof b);
+	b.inv = 1 / t->s->step;
 	for (int h = 1, hk = 0; h <= BT_MAXH; h *= 2, hk++)
-		batch_diamonds(t, rs, h, hk, b);
-	batch_leaves(t, rs, b);
-	if (b->n > 0)
-		batch_flush(t, b);
+		batch_diamonds(t, rs, h, hk, &b);
+	batch_leaves(t, rs, &b);
+	if (b.n > 0)
+		batch_flush(t, &b);
 }
 
 TL_AVX2 static void
 rows_displaced_avx2(share *t, const rowset *rs)
 {
-	batch b;
-
-	memset(&b, 0, sizeof b);
-	b.inv = 1 / t->s->step;
-	batch_body(t, rs, &b);
+	batch_body(t, rs);
 }
 
 static void
 rows_displaced(share *t, const rowset *rs)
 {
-	batch b;
-
-	memset(&b, 0, sizeof b);
-	b.inv = 1 / t->s->step;
-	batch_body(t, rs, &b);
+	batch_body(t, rs);
 }
 
 /* Raises the local errors of every diamond of scale h and one kind that
