@@ -11,8 +11,8 @@
 #include "base/outfile.h"
 #include "base/rmtree.h"
 #include "tap.h"
+#include "tmpdir.h"
 
-#include <dirent.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
@@ -56,23 +56,6 @@ child(void)
 	_exit(0);
 }
 
-static int
-left(void)
-{
-	DIR *d = opendir(dir);
-	struct dirent *de;
-	int n = 0;
-
-	if (d == NULL)
-		return -1;
-	while ((de = readdir(d)) != NULL)
-		if (de->d_name[0] == '.' && strcmp(de->d_name, ".") != 0 &&
-		    strcmp(de->d_name, "..") != 0)
-			n++;
-	closedir(d);
-	return n;
-}
-
 int
 main(void)
 {
@@ -93,7 +76,7 @@ main(void)
 		kill(pid, SIGTERM);
 		waitpid(pid, &st, 0);
 		killed += WIFSIGNALED(st) && WTERMSIG(st) == SIGTERM;
-		if (left() != 0) {
+		if (tmpdir_entries(dir, ".f") != 0) {
 			dirty++;
 			tl_rmtree(dir);
 			mkdir(dir, 0700);
