@@ -80,6 +80,21 @@ for crs in utm lcc; do
 		if ($(i + 1) > 1) bad++; k++ } END { exit !(k > 0 && !bad) }' \
 	    "$T/$crs.check"
 	ok $? "$crs: no tile over E_L"
+	# the bound each level reports (max(tau, base) + the distance from
+	# the selection at each sample's grid place, the CRS map's bending
+	# included) holds every valid sample the validator measures
+	awk 'FNR == NR { if (match($0, / level [0-9]+:/)) {
+		z = substr($0, RSTART + 7, RLENGTH - 8) + 0
+		if (match($0, /bound [0-9.]+ m/))
+			b[z] = substr($0, RSTART + 6, RLENGTH - 8) + 0 }
+		next }
+	    /^level [0-9]+:/ { z = $2 + 0 }
+	    /largest [0-9.]+ m/ { match($0, /largest [0-9.]+ m/)
+		v = substr($0, RSTART + 8, RLENGTH - 10) + 0; k++
+		if (!(z in b) || v > b[z] + 0.001) { bad++
+		    printf "# level %d: %.3f m over its bound %.3f m\n", z, v, b[z] } }
+	    END { exit !(k > 0 && !bad) }' "$T/$crs.report" "$T/$crs.check"
+	ok $? "$crs: each level's reported bound holds at every valid sample"
 	grep -q 'seam 0 coverage 0 error 0' "$T/$crs.check" &&
 	    grep -q ' hole 0 ' "$T/$crs.check"
 	ok $? "$crs: no crack between neighbours, no hole in a tile"

@@ -242,6 +242,30 @@ band(tr_work *w, const gp *c, const double *x, const double *y,
 	return 0;
 }
 
+/* The selected triangle o for the measure (tr_gsel.c) when its part
+ * over the DEM (x, y: k places) lies near the tile's part r of level z:
+ * within a twentieth of a tile, far more than a grid line's image bends
+ * from its chord over one triangle, so every sample drawn in the tile
+ * finds the triangle holding its grid place. */
+static int
+keep_grid(tr_work *w, int z, const gp *o, const double *x, const double *y,
+    int k, const double r[4])
+{
+	double lo[2] = { x[0], y[0] }, hi[2] = { x[0], y[0] };
+	double m = ldexp(180, -z) / 20, gx[3], gy[3], gh[3];
+
+	for (int i = 1; i < k; i++) {
+		lo[0] = fmin(lo[0], x[i]), hi[0] = fmax(hi[0], x[i]);
+		lo[1] = fmin(lo[1], y[i]), hi[1] = fmax(hi[1], y[i]);
+	}
+	if (hi[0] < r[0] - m || lo[0] > r[2] + m || hi[1] < r[1] - m ||
+	    lo[1] > r[3] + m)
+		return 0;
+	for (int i = 0; i < 3; i++)
+		gx[i] = o[i].x, gy[i] = o[i].y, gh[i] = o[i].h;
+	return tr_gsel_add(w, gx, gy, gh);
+}
+
 int
 tr_rim_sel(tr_work *w, const tr_choice *ch, const pyramid_block *b,
     const double *lon, const double *lat, const int t[3][2],
@@ -289,7 +313,7 @@ tr_rim_sel(tr_work *w, const tr_choice *ch, const pyramid_block *b,
 		else
 			x[i] = px[nn], y[i] = py[nn++];
 	}
-	if (fan(w, x, y, h, k, r) < 0)
+	if (keep_grid(w, ch->z, o, x, y, k, r) < 0 || fan(w, x, y, h, k, r) < 0)
 		return -1;
 	return band(w, c, x, y, h, k, tr_rim_band(g, ch->z), r);
 }

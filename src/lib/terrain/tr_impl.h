@@ -107,6 +107,9 @@ typedef struct {
 	int nkept, ckept;
 	size_t kbytes;
 	long long tiles, tris, bytes;
+	double *gsel;           /* projected: the tile's selected triangles
+	                         * in the grid (tr_gsel.c), 9 each */
+	int ngsel, cgsel;
 } tr_work;
 
 /* A level's choice: pyramid level p, tolerance tau, lattice n x n cells
@@ -194,6 +197,23 @@ double tr_rim_band(const tr_grid *g, int z);
 int tr_rim_tile(tr_work *w, const tr_choice *c, int x, int y, tl_err *e);
 /* The triangle just appended takes triangle from's m->rim mark. */
 int tr_rim_inherit(tr_mesh *m, int from, tl_err *e);
+
+/* A projected DEM's selection in its grid (tr_gsel.c): selected
+ * triangle x, y (level-0 places), h appended to w's tile (-1: out of
+ * memory); the tile's triangles copied and bucketed; the height of the
+ * selection at level-0 place (x, y), NaN where no triangle holds it
+ * (*hint: the triangle found last, or -1). */
+typedef struct {
+	double *t;              /* x0 x1 x2 y0 y1 y2 h0 h1 h2 */
+	int nt, nb, *start, *list;
+	double o[2], s[2];
+	size_t bytes;
+} tr_gsel;
+int tr_gsel_add(tr_work *w, const double x[3], const double y[3],
+    const double h[3]);
+int tr_gsel_init(tr_gsel *g, const tr_work *w);
+void tr_gsel_free(tr_gsel *g);
+double tr_gsel_height(const tr_gsel *g, double x, double y, int *hint);
 
 /* Quantise, order, decode w->m for tile (z, x, y): fills u, v, q, pos,
  * the triangles counter-clockwise in u, v; *minh, *maxh the header's

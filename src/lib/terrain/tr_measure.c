@@ -2,12 +2,16 @@
  * every level-0 sample of the pyramid in the tile, the height of the
  * drawn surface (the plane, in ECEF, of the triangle over it between the
  * DECODED vertices, met by the ellipsoid's normal through the sample) is
- * compared with the selection's surface there (the same triangle before
- * quantisation, linear in longitude, latitude, height): d[0], the
- * largest difference, holds every term but the selection's own error
- * (the flat chords' sag, the quantisation, the CRS mapping), which the
- * pyramid's saturated errors bound for the valid samples; and with the
- * sample's height: d[1], the error itself, filled voids included.
+ * compared with the selection's surface at the sample's grid place: for
+ * a geographic DEM the same triangle before quantisation, linear in
+ * longitude, latitude, height (the map from the grid is affine); for a
+ * projected one the plane of the selected triangle holding the place in
+ * the grid (tr_gsel.c), as the drawn triangle, straight between its
+ * vertices' images, is not. d[0], the largest difference, holds every
+ * term but the selection's own error (the flat chords' sag, the
+ * quantisation, the CRS mapping), which the pyramid's saturated errors
+ * bound for the valid samples; and with the sample's height: d[1], the
+ * error itself, filled voids included.
  * A kept tile given its triangles' bounds (tr_kept_check) fails on a
  * sample farther from the selection than its triangle's bound. */
 #include <math.h>
@@ -30,6 +34,7 @@ typedef struct {
 	double *bq;         /* per triangle in u, v: tr_bary.h's terms */
 	double *bf;         /* in lon, lat: the same and the heights */
 	const double *bound; /* per triangle, tr_bound's: checked, or NULL */
+	const tr_gsel *gs;  /* projected: the selection in the grid */
 } locator;
 #define TR_PLANES (4 + 2 * TR_BARY_TERMS + 3) /* doubles a triangle */
 
@@ -151,17 +156,17 @@ locate(const locator *l, double su, double sv, int hint)
 	return locate_far(l, su, sv);
 }
 
-/* A sample's terms into d: the plane of triangle q (decoded, ECEF) met
- * by the normal through the sample's foot f, direction up, against the
- * selection's surface there (the plane, in longitude, latitude and
- * height, of the triangle before quantisation: a piece of a selected
- * triangle, in its plane; past a projected DEM's footprint, out, the
- * sample itself) and against its height z. The selection's height
- * exactly only where the near one (tr_bary.h) leaves it able to raise
- * d[0]: d[0] is the same. */
+/* A geographic DEM's sample's terms into d: the plane of triangle q
+ * (decoded, ECEF) met by the normal through the sample's foot f,
+ * direction up, against the selection's surface there (the plane, in
+ * longitude, latitude and height, of the triangle before quantisation: a
+ * piece of a selected triangle, in its plane, which is the selection's
+ * in the DEM's grid: the map is affine) and against its height z. The
+ * selection's height exactly only where the near one (tr_bary.h) leaves
+ * it able to raise d[0]: d[0] is the same. */
 static inline void
-sample(const locator *l, int q, int out, const double f[3],
-    const double up[3], double x, double y, double z, double d[2])
+sample(const locator *l, int q, const double f[3], const double up[3],
+    double x, double y, double z, double d[2])
 {
 	const double *n = l->plane + 4 * q;
 	const double *fq = l->bf + (TR_BARY_TERMS + 3) * q;
@@ -170,10 +175,24 @@ sample(const locator *l, int q, int out, const double f[3],
 	double v = fabs(hs - z), s;
 
 	d[1] = dmax(d[1], v);
-	if (out)
-		d[0] = dmax(d[0], v);
-	else if (!(fabs(hs - tr_bary_near_flat(fq, x, y, hs, &s)) + s < d[0]))
+	if (!(fabs(hs - tr_bary_near_flat(fq, x, y, hs, &s)) + s < d[0]))
 		d[0] = dmax(d[0], fabs(hs - tr_bary_flat(fq, x, y)));
+}
+
+/* A projected DEM's sample: the drawn surface (as sample()) against
+ * the selection at the sample's grid place, fg (tr_gsel.c), unless out
+ * (past the footprint: against the sample itself, as sample()). */
+static inline void
+sample_grid(const locator *l, int q, int out, const double f[3],
+    const double up[3], double fg, double z, double d[2])
+{
+	const double *n = l->plane + 4 * q;
+	double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
+	    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+	double v = fabs(hs - z);
+
+	d[1] = dmax(d[1], v);
+	d[0] = dmax(d[0], out ? v : fabs(hs - fg));
 }
 
 /* The check of tr_bound (tr_kept_check): sample (f, up) under
@@ -228,7 +247,7 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
     int bj, const double t[4], const double r[4], double d[2], tl_err *e)
 {
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
-	int hint = -1, col[BT_SIZE], ncol = 0, nI = BT_SIZE;
+	int hint = -1, ghint = -1, col[BT_SIZE], ncol = 0, nI = BT_SIZE;
 	double dd[2] = { d[0], d[1] };
 	trig c;
 
@@ -268,7 +287,18 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
 			if ((hint = q) < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
-			sample(l, q, rim && rim[q], f, up, x, y, b->z[k], dd);
+			if (!g->projected)
+				sample(l, q, f, up, x, y, b->z[k], dd);
+			else {
+				int out = rim && rim[q];
+				double fg = out ? 0 : tr_gsel_height(l->gs,
+				    bi * BT_CELLS + I, bj * BT_CELLS + J, &ghint);
+				if (isnan(fg))
+					return tl_fail(e, "tile: sample (%d, %d) in no "
+					    "selected triangle", bi * BT_CELLS + I,
+					    bj * BT_CELLS + J);
+				sample_grid(l, q, out, f, up, fg, b->z[k], dd);
+			}
 			if (l->bound && !(rim && rim[q]) && check(l, q, f, up,
 			    x, y, e) < 0)
 				return -1;
@@ -285,6 +315,7 @@ struct tr_kept {
 	locator l;
 	unsigned char *rim;
 	double *bound;
+	tr_gsel gs;
 	size_t bytes;
 };
 
@@ -294,7 +325,7 @@ tr_kept_free(tr_kept *k)
 	if (k == NULL)
 		return;
 	free(k->l.start), free(k->l.list), free(k->l.plane), free(k->rim);
-	free(k->bound), free(k);
+	free(k->bound), tr_gsel_free(&k->gs), free(k);
 }
 
 size_t
@@ -332,7 +363,14 @@ tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e)
 	}
 	if (k->rim)
 		memcpy(k->rim, w->m.rim, nt);
-	k->bytes = sizeof *k + ((size_t)k->l.nb * k->l.nb + 1 +
+	if (w->g->projected) {
+		if (tr_gsel_init(&k->gs, w) < 0) {
+			tr_kept_free(k);
+			return tl_fail(e, "tile: out of memory");
+		}
+		k->l.gs = &k->gs;
+	}
+	k->bytes = k->gs.bytes + sizeof *k + ((size_t)k->l.nb * k->l.nb + 1 +
 	    (size_t)k->l.start[k->l.nb * k->l.nb]) * sizeof(int) +
 	    (nt ? nt : 1) * TR_PLANES * sizeof(double) + (k->rim ? nt : 0);
 	*out = k;

@@ -285,6 +285,7 @@ tr_mesh_tile(tr_work *w, const tr_choice *ch, int x, int y, tl_err *e)
 	int n = ch->n;
 
 	m->nv = m->nt = 0;
+	w->ngsel = 0;
 	if (m->hash)
 		memset(m->hash, 0, (size_t)m->hcap * sizeof *m->hash);
 	tr_tile_rect(ch->z, x, y, t);
