@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include "terrain/tr_impl.h"
@@ -222,15 +223,18 @@ boxes(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
  * the disk lost after a failed writeback) it is converted, as without
  * the file. A write that fails (ENOSPC, EIO, EFBIG) leaves its block
  * not written (a partial write put the right bytes anyway) and stops
- * all writes: the run goes on, converting what the file lacks. A file
- * that cannot be made, no file: every load converts. The tiles are the
- * same bytes in every case. */
+ * all writes: the run goes on, converting what the file lacks. So does
+ * a file that reaches half the space its file system had free when it
+ * was made, which the output may be sharing. A file that cannot be
+ * made, no file: every load converts. The tiles are the same bytes in
+ * every case. */
 #define LLBLOCK (2 * (size_t)PYRAMID_N * sizeof(double))
 enum { LL_NONE, LL_WRITTEN };
 
 struct tr_llfile {
 	int fd;
-	int nowrite;            /* a write failed: none more (atomic) */
+	long long room;         /* bytes it may still take (atomic); -1
+	                         * after a failed write: no more writes */
 	long long *first;       /* per level: the place of its block 0 */
 	unsigned char *state;   /* per block (atomic) */
 	uint64_t *sum;          /* per block: llsum of its bytes (atomic) */
@@ -270,6 +274,7 @@ llfile(tr_grid *g, const pyramid_index *ix)
 	struct tr_llfile *f = calloc(1, sizeof *f);
 	long long n = 0;
 	tl_err ignored;
+	struct statvfs fs;
 
 	if (f == NULL)
 		return;
@@ -283,8 +288,9 @@ llfile(tr_grid *g, const pyramid_index *ix)
 	f->state = calloc((size_t)n, sizeof *f->state);
 	f->sum = calloc((size_t)n, sizeof *f->sum);
 	if (f->state == NULL || f->sum == NULL ||
-	    (f->fd = tl_scratch(&ignored)) < 0)
+	    (f->fd = tl_scratch(&ignored)) < 0 || fstatvfs(f->fd, &fs) < 0)
 		goto none;
+	f->room = (long long)(fs.f_bavail / 2 * fs.f_frsize);
 	g->ll = f;
 	return;
 none:
@@ -370,10 +376,11 @@ lonlat(tr_work *w, int l, int bi, int bj, double *x, double *y, tl_err *e)
 	}
 	if (convert(w, l, bi, bj, x, y, e) < 0)
 		return -1;
-	if (__atomic_load_n(&f->nowrite, __ATOMIC_RELAXED))
+	if (__atomic_load_n(&f->room, __ATOMIC_RELAXED) < (long long)LLBLOCK ||
+	    __atomic_sub_fetch(&f->room, LLBLOCK, __ATOMIC_RELAXED) < 0)
 		return 0;
 	if (tl_pwrite(f->fd, x, LLBLOCK, off, "scratch", &ignored) < 0) {
-		__atomic_store_n(&f->nowrite, 1, __ATOMIC_RELAXED);
+		__atomic_store_n(&f->room, -1, __ATOMIC_RELAXED);
 		return 0;
 	}
 	__atomic_store_n(&f->sum[k], llsum(x, 2 * PYRAMID_N),
