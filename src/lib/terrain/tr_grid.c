@@ -202,12 +202,13 @@ boxes(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
 /* A projected DEM's blocks' vertex longitudes and latitudes, each block
  * through PROJ once a run. A thread's cache holds 16 blocks; each time a
  * level's selection or a tile's measure came back to a block it had
- * dropped, its 16641 vertices went through PROJ again (half the run on
- * a UTM DEM). Every block of every level has a fixed place in an
- * anonymous scratch file (tl_scratch: unlinked at once, so that no end
- * of the run, SIGKILL included, leaves it behind), LLBLOCK bytes: its
- * 129 x 129 longitudes, then its latitudes; in memory, per block, its
- * state (LL_NONE, LL_WRITTEN) and a hash of the bytes written.
+ * dropped, its 16641 vertices went through PROJ again (on N48W125 in
+ * UTM 10N 4526 conversions of its 995 blocks read, a third of the run).
+ * Every block of every level has a fixed place in an anonymous scratch
+ * file (tl_scratch: unlinked at once, so that no end of the run, SIGKILL
+ * included, leaves it behind), LLBLOCK bytes: its 129 x 129 longitudes,
+ * then its latitudes; in memory, per block, its state (LL_NONE,
+ * LL_WRITTEN) and a hash of the bytes written.
  *
  * No lock: a thread that finds a block not written converts it and
  * writes it, and two threads may do that at once. They write the same
