@@ -110,4 +110,34 @@ ok $? "lcc: -f 3dtiles has the tiles and triangles of -f qm"
 vgis2terrain -q -j 1 "$T/lcc.pyr" "$T/lcc1.qm" 2>/dev/null
 diff -r "$T/lcc.qm" "$T/lcc1.qm" >/dev/null
 ok $? "lcc: -j 1 and -j 2 are byte-identical"
+vgis2terrain -q -j 1 -f 3dtiles "$T/lcc.pyr" "$T/lcc1.t3" 2>/dev/null
+diff -r "$T/lcc.t3" "$T/lcc1.t3" >/dev/null
+ok $? "lcc: -f 3dtiles -j 1 and -j 2 are byte-identical"
+
+# A projected DEM's vertex longitudes and latitudes go through PROJ once a
+# run, into a scratch file in TMPDIR (tr_grid.c): unlinked at once, so a
+# run killed with it open leaves nothing there; a scratch that cannot be
+# made (no TMPDIR) or written (ulimit -f: its writes fail with EFBIG) is
+# a run without it, the same tiles.
+S=$T/tmp; mkdir "$S"
+TMPDIR=$S vgis2terrain -q -j 2 "$T/lcc.pyr" "$T/lcck.qm" 2>/dev/null & pid=$!
+i=0 open=
+while [ $i -lt 2000 ] && [ -z "$open" ] && kill -0 $pid 2>/dev/null; do
+	open=$(ls -l /proc/$pid/fd 2>/dev/null | grep -F " -> $S/" |
+	    grep -F '(deleted)')
+	sleep 0.005; i=$((i + 1))
+done
+kill -STOP $pid 2>/dev/null; named=$(ls -A "$S")
+kill -KILL $pid 2>/dev/null; kill -CONT $pid 2>/dev/null; wait $pid 2>/dev/null
+[ -n "$open" ] && [ -z "$named" ] && [ -z "$(ls -A "$S")" ]
+ok $? "killed with its scratch open (${open##* -> }), it leaves nothing in TMPDIR ($named$(ls -A "$S"))"
+for crs in utm lcc; do
+	TMPDIR=$T/none vgis2terrain -q -j 2 "$T/$crs.pyr" "$T/$crs.nt.qm" &&
+	    diff -r "$T/$crs.qm" "$T/$crs.nt.qm" >/dev/null
+	ok $? "$crs: no scratch file (TMPDIR missing): the same tiles"
+	# one block's longitudes and latitudes are 266 KiB: a second one fails
+	TMPDIR=$S sh -c 'ulimit -f 400; exec "$@"' sh vgis2terrain -q -j 2 \
+	    "$T/$crs.pyr" "$T/$crs.fz.qm" && diff -r "$T/$crs.qm" "$T/$crs.fz.qm" >/dev/null
+	ok $? "$crs: the scratch's writes failing (ulimit -f): the same tiles"
+done
 done_testing

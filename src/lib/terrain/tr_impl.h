@@ -49,6 +49,10 @@ typedef struct {
 	double fp[4];           /* projected: the box of the side samples */
 	double cell;            /* metres: the longest level-0 step */
 	double **box;           /* per level: 4 per block */
+	struct tr_llfile *ll;   /* projected: the blocks' vertex longitudes
+	                         * and latitudes, each through PROJ once a
+	                         * run, for all threads (tr_block); NULL:
+	                         * none, each load converts its own */
 } tr_grid;
 
 /* The grid of the pyramid ix (tr_grid.c); p: a PROJ for a projected
@@ -85,7 +89,8 @@ typedef struct {
 	const tr_grid *g;
 	geo_proj proj;          /* projected DEMs */
 	pyramid_block cache[TR_CACHE];
-	double *clon[TR_CACHE], *clat[TR_CACHE]; /* per block vertex */
+	double *clon[TR_CACHE], *clat[TR_CACHE]; /* per block vertex
+	                         * (one allocation: clat follows clon) */
 	int ckey[TR_CACHE][3], cused[TR_CACHE];
 	unsigned long cstamp[TR_CACHE], clock; /* least recently used goes */
 	int ncache;             /* slots in use: TR_CACHE or TR_CACHE_PROJ */

@@ -160,7 +160,7 @@ work_free(tr_work *w)
 	for (int s = 0; s < TR_CACHE; s++)
 		if (w->cused[s]) {
 			pyramid_block_free(&w->cache[s]);
-			free(w->clon[s]), free(w->clat[s]);
+			free(w->clon[s]); /* clat within it */
 		}
 	if (w->g->projected)
 		geo_proj_close(&w->proj);
