@@ -62,10 +62,10 @@ tr_gsel_init(tr_gsel *g, const tr_work *w)
 		memcpy(g->t, w->gsel, n * 9 * sizeof *g->t);
 	for (size_t i = 0; i < n; i++)
 		for (int k = 0; k < 3; k++) {
-			lo[0] = fmin(lo[0], g->t[9 * i + k]);
-			hi[0] = fmax(hi[0], g->t[9 * i + k]);
-			lo[1] = fmin(lo[1], g->t[9 * i + 3 + k]);
-			hi[1] = fmax(hi[1], g->t[9 * i + 3 + k]);
+			lo[0] = dmin(lo[0], g->t[9 * i + k]);
+			hi[0] = dmax(hi[0], g->t[9 * i + k]);
+			lo[1] = dmin(lo[1], g->t[9 * i + 3 + k]);
+			hi[1] = dmax(hi[1], g->t[9 * i + 3 + k]);
 		}
 	for (int k = 0; k < 2 && n; k++)
 		g->o[k] = lo[k], g->s[k] = g->nb / (hi[k] - lo[k] + 1);
@@ -73,10 +73,10 @@ tr_gsel_init(tr_gsel *g, const tr_work *w)
 	for (int pass = 0; pass < 2; pass++) {
 		for (size_t i = 0; i < n; i++) {
 			const double *t = g->t + 9 * i;
-			int b0 = bucket(g, fmin(t[0], fmin(t[1], t[2])), 0);
-			int b1 = bucket(g, fmax(t[0], fmax(t[1], t[2])), 0);
-			int c0 = bucket(g, fmin(t[3], fmin(t[4], t[5])), 1);
-			int c1 = bucket(g, fmax(t[3], fmax(t[4], t[5])), 1);
+			int b0 = bucket(g, dmin(t[0], dmin(t[1], t[2])), 0);
+			int b1 = bucket(g, dmax(t[0], dmax(t[1], t[2])), 0);
+			int c0 = bucket(g, dmin(t[3], dmin(t[4], t[5])), 1);
+			int c1 = bucket(g, dmax(t[3], dmax(t[4], t[5])), 1);
 			for (int c = c0; c <= c1; c++)
 				for (int b = b0; b <= b1; b++) {
 					int *s = &g->start[c * g->nb + b];
@@ -121,7 +121,7 @@ least(const double *t, double x, double y, double b[2])
 	double d = x1 * y2 - x2 * y1, px = x - t[0], py = y - t[3];
 
 	b[0] = (px * y2 - x2 * py) / d, b[1] = (x1 * py - px * y1) / d;
-	return fmin(1 - b[0] - b[1], fmin(b[0], b[1]));
+	return dmin(1 - b[0] - b[1], dmin(b[0], b[1]));
 }
 
 double
