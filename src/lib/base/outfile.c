@@ -443,7 +443,7 @@ out_open(tl_outfile *o, const char *path, tl_err *e)
 	return 0;
 }
 
-/* Only the count of files being made (fatal_block): a signal's handler
+/* Only the count of files being made (making_begin): a signal's handler
  * then waits for the file to exist before it removes the tree, which a
  * file created after it listed the directory would keep from going.
  * The handler was installed with the tree. */
