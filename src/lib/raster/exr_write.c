@@ -1,6 +1,7 @@
 /* exr_write.c - an EXR scanline file written row by row: rows gathered
  * into a chunk, chunks encoded and written by a thread of their own,
- * the file built under a temporary name and renamed when complete. */
+ * the file built under a temporary name and renamed when complete (or,
+ * inside a tree this process builds, under its final name: outfile.h). */
 #include "raster/exr_impl.h"
 #include "base/outfile.h"
 

@@ -135,8 +135,9 @@ rs_writer *rs_create_fresh(const char *path, const rs_header *h,
 rs_writer *rs_create_tree(const char *path, const rs_header *h,
     enum rs_compression c, tl_err *e);
 int rs_write_row(rs_writer *w, const float *row, tl_err *e);
-/* All rows written: stream trailer, or EXR offsets + rename. Always frees
- * w; on failure the output is discarded as by rs_abort. */
+/* All rows written: stream trailer, or EXR offsets + rename (in a tree,
+ * rs_create_tree, + close). Always frees w; on failure the output is
+ * discarded as by rs_abort. */
 int rs_finish(rs_writer *w, tl_err *e);
 /* Discards: removes the temporary file; a stream gets no trailer, so its
  * reader reports truncation. Safe on NULL. */
