@@ -236,6 +236,52 @@ test_outdir(void)
 	rmdir(tmp("pyr"));
 }
 
+/* A file inside a tree this process builds (tl_out_begin_tree): under
+ * its final name from the start, mode 0666 less the umask, nothing made
+ * beside it; kept by the commit, removed by the abort; a name that
+ * exists refused. */
+static void
+test_tree(void)
+{
+	mode_t mask = umask(027);
+	tl_outfile d, o;
+	tl_err e = { "" };
+	char p[PATH_MAX], q[PATH_MAX];
+	struct stat st;
+
+	if (tl_outdir_begin(&d, tmp("tree"), &e) < 0) {
+		ok(0, "tl_outdir_begin (%s)", e.msg);
+		umask(mask);
+		return;
+	}
+	snprintf(p, sizeof p, "%s/f.exr", d.tmp);
+	snprintf(q, sizeof q, "%s/g.exr", d.tmp);
+	ok(tl_out_begin_tree(&o, p, &e) == 0 && o.tmp == NULL &&
+	    lstat(p, &st) == 0 && S_ISREG(st.st_mode) &&
+	    (st.st_mode & 07777) == 0640 && entries(d.tmp) == 2,
+	    "tl_out_begin_tree: the file under its final name, mode 0666 "
+	    "less the umask 027 (%04o), nothing else but the tree's lock",
+	    (unsigned)(st.st_mode & 07777));
+	ok(write(o.fd, "done\n", 5) == 5 && tl_out_commit(&o, &e) == 0 &&
+	    o.path == NULL && file_is(p, "done\n") && entries(d.tmp) == 2,
+	    "tl_out_commit: the file kept as written");
+	ok(tl_out_begin_tree(&o, p, &e) < 0 && strstr(e.msg, "cannot create")
+	    && file_is(p, "done\n"), "tl_out_begin_tree: a name that exists "
+	    "refused, the file untouched (%s)", e.msg);
+	ok(tl_out_begin_tree(&o, q, &e) == 0 && write(o.fd, "half", 4) == 4,
+	    "a second file");
+	tl_out_abort(&o);
+	ok(access(q, F_OK) != 0 && entries(d.tmp) == 2,
+	    "tl_out_abort: the half-written file removed");
+	tl_out_abort(&o); /* twice is harmless */
+	ok(tl_outdir_commit(&d, &e) == 0 &&
+	    file_is(tmp("tree/f.exr"), "done\n") && entries(tmp("tree")) == 1,
+	    "tl_outdir_commit: the tree publishes the file");
+	unlink(tmp("tree/f.exr"));
+	rmdir(tmp("tree"));
+	umask(mask);
+}
+
 /* A child that begins an output (file or directory, with a file inside
  * the directory) and dies of SIGKILL, or, when live is not NULL, stays
  * alive until *live is closed (its write end): *pid. */
@@ -567,6 +613,7 @@ main(void)
 	test_signal();
 	test_full();
 	test_outdir();
+	test_tree();
 	test_sweep();
 	test_deep();
 	test_progress();

@@ -157,13 +157,36 @@ tmp_unlock(const char *path)
 	tmps_leave(&old);
 }
 
+/* The umask, read once per process: from /proc where it can be read
+ * without changing it (setting it, even back, would give a file another
+ * thread creates meanwhile the wrong mode), else by umask(2) twice. */
+static mode_t the_umask;
+static pthread_once_t umask_once = PTHREAD_ONCE_INIT;
+
+static void
+read_umask(void)
+{
+	FILE *f = fopen("/proc/self/status", "re");
+	char line[256];
+	unsigned m;
+
+	while (f != NULL && fgets(line, sizeof line, f) != NULL)
+		if (sscanf(line, "Umask: %o", &m) == 1) {
+			fclose(f);
+			the_umask = (mode_t)m & 0777;
+			return;
+		}
+	if (f != NULL)
+		fclose(f);
+	the_umask = umask(022);
+	umask(the_umask);
+}
+
 static mode_t
 current_umask(void)
 {
-	mode_t m = umask(022);
-
-	umask(m);
-	return m;
+	pthread_once(&umask_once, read_umask);
+	return the_umask;
 }
 
 /* "dir/.base.XXXXXX" beside path. */
@@ -327,7 +350,7 @@ out_begin(tl_outfile *o, const char *path, tl_err *e)
  * is about to end (a handler that returns, at most 2 s later, would
  * not end it: then it goes on). */
 static void
-fatal_block(sigset_t *old)
+making_begin(sigset_t *old)
 {
 	struct timespec ms = { 0, 1000000 };
 	sigset_t s;
@@ -336,7 +359,6 @@ fatal_block(sigset_t *old)
 	sigaddset(&s, SIGINT), sigaddset(&s, SIGTERM);
 	sigaddset(&s, SIGHUP), sigaddset(&s, SIGPIPE);
 	pthread_sigmask(SIG_BLOCK, &s, old);
-	tl_out_catch();
 	__atomic_add_fetch(&making_n, 1, __ATOMIC_SEQ_CST);
 	for (int i = 0; i < 4000 && __atomic_load_n(&dying, __ATOMIC_SEQ_CST);
 	    i++) {
@@ -344,6 +366,14 @@ fatal_block(sigset_t *old)
 		nanosleep(&ms, NULL);
 		__atomic_add_fetch(&making_n, 1, __ATOMIC_SEQ_CST);
 	}
+}
+
+/* making_begin, the handler installed (as it may not be yet) */
+static void
+fatal_block(sigset_t *old)
+{
+	making_begin(old);
+	tl_out_catch();
 }
 
 static void
@@ -392,13 +422,69 @@ tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e)
 	return r;
 }
 
+/* Under its final name: see tl_out_begin_tree. O_EXCL: the file is
+ * new, ours alone, and neither a link nor a directory followed; the
+ * kernel applies the umask to 0666 as to any new file. */
+static int
+out_open(tl_outfile *o, const char *path, tl_err *e)
+{
+	memset(o, 0, sizeof *o);
+	if ((o->path = strdup(path)) == NULL) {
+		o->fd = -1;
+		return tl_fail(e, "%s: out of memory", path);
+	}
+	o->fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+	if (o->fd < 0) {
+		tl_failsys(e, "%s: cannot create", path);
+		free(o->path);
+		o->path = NULL;
+		return -1;
+	}
+	return 0;
+}
+
+/* Only the count of files being made (making_begin): a signal's handler
+ * then waits for the file to exist before it removes the tree, which a
+ * file created after it listed the directory would keep from going.
+ * The handler was installed with the tree. */
+int
+tl_out_begin_tree(tl_outfile *o, const char *path, tl_err *e)
+{
+	sigset_t old;
+	int r;
+
+	making_begin(&old);
+	r = out_open(o, path, e);
+	fatal_unblock(&old);
+	return r;
+}
+
+/* tl_out_commit of a file under its final name: only close's verdict. */
+static int
+commit_in_place(tl_outfile *o, tl_err *e)
+{
+	int r = 0;
+
+	if (o->fd >= 0 && close(o->fd) != 0) {
+		r = tl_failsys(e, "%s: write", o->path);
+		unlink(o->path);
+	}
+	o->fd = -1;
+	free(o->path);
+	o->path = NULL;
+	return r;
+}
+
 int
 tl_out_commit(tl_outfile *o, tl_err *e)
 {
 	/* the lock, on a second descriptor, lasts until the rename is done:
 	 * a sweeper finds the locked temporary or the committed file */
-	int lk = o->fd >= 0 ? fcntl(o->fd, F_DUPFD_CLOEXEC, 0) : -1, r = 0;
+	int lk, r = 0;
 
+	if (o->tmp == NULL)
+		return commit_in_place(o, e);
+	lk = o->fd >= 0 ? fcntl(o->fd, F_DUPFD_CLOEXEC, 0) : -1;
 	if (o->fd >= 0)
 		fremovexattr(o->fd, MARK); /* the result is no temporary */
 	if (o->fd >= 0 && close(o->fd) != 0)
@@ -419,12 +505,13 @@ tl_out_commit(tl_outfile *o, tl_err *e)
 void
 tl_out_abort(tl_outfile *o)
 {
-	if (o->tmp == NULL)
+	if (o->path == NULL)
 		return;
-	unlink(o->tmp);
+	unlink(o->tmp != NULL ? o->tmp : o->path);
 	if (o->fd >= 0)
 		close(o->fd);
-	tmp_unregister(o->tmp);
+	if (o->tmp != NULL)
+		tmp_unregister(o->tmp);
 	free(o->tmp), free(o->path);
 	o->tmp = o->path = NULL;
 	o->fd = -1;

@@ -23,16 +23,28 @@
  * temporary is created, locked and registered. */
 typedef struct {
 	char *path; /* final name */
-	char *tmp;  /* temporary name, same directory */
+	char *tmp;  /* temporary name, same directory; NULL when the file
+	             * is written under its final name (tl_out_begin_tree) */
 	int fd;     /* open for writing (a file); the lock (a directory) */
 } tl_outfile;
 
 int tl_out_begin(tl_outfile *o, const char *path, tl_err *e);
-/* tl_out_begin for a path inside a tree this process is building
- * (tl_outdir_begin): no dead builder's temporaries can be there, and
- * looking for them costs a listing of the directory per file, quadratic
- * in a level of thousands of blocks. */
+/* tl_out_begin without the sweep, for a directory that no dead
+ * builder's temporaries can be in or that the caller swept once
+ * (tl_out_sweep_dir): looking for them costs a listing of the directory
+ * per file, quadratic in a level of thousands of blocks. The file is
+ * still made under a temporary name, locked, marked and renamed: a plan's
+ * work directory outlives a killed job, and a later job takes the files
+ * there under their final names for complete. */
 int tl_out_begin_fresh(tl_outfile *o, const char *path, tl_err *e);
+/* A new file inside a tree this process builds (tl_outdir_begin, not
+ * yet committed), opened under its final name (O_EXCL: it must not
+ * exist), mode 0666 less the umask: no temporary name, lock, mark or
+ * rename. The tree's rename publishes it whole, and whatever removes
+ * the tree (its abort, a fatal signal, the sweep after a SIGKILL)
+ * removes it half-written. tl_out_commit closes it (a failed close
+ * removes it), tl_out_abort removes it. */
+int tl_out_begin_tree(tl_outfile *o, const char *path, tl_err *e);
 int tl_out_commit(tl_outfile *o, tl_err *e); /* fsync-free close + rename */
 void tl_out_abort(tl_outfile *o);            /* close + unlink, never fails */
 

@@ -134,7 +134,7 @@ write_block(void *ctx, const pyramid_block *b, tl_err *e)
 	pyramid_block_path(path, sizeof path, k->dir, b->level, b->bi, b->bj);
 	k->L->zmin[i] = b->zmin, k->L->zmax[i] = b->zmax;
 	k->L->base[i] = b->base, k->L->emax[i] = b->emax;
-	return pyramid_block_write_z(path, b, k->attrs, k->comp, e);
+	return pyramid_block_write_z(path, b, k->attrs, k->comp, k->tree, e);
 }
 
 /* The index's entry for a level, from its vertex map's header. */
@@ -223,7 +223,7 @@ void
 pk_level_setup(work *w, int l, vmap *v, sink *k, int threads, level_args *L)
 {
 	k->dir = w->tmp, k->attrs = v->h, k->L = &w->ix->lev[l];
-	k->comp = w->a->comp;
+	k->comp = w->a->comp, k->tree = w->tree;
 	memset(L, 0, sizeof *L);
 	L->level = l;
 	L->size[0] = v->h->width, L->size[1] = v->h->height;
@@ -466,7 +466,7 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 	    geo_ground_init(&m, &ix.geo, e) < 0 ||
 	    tl_outdir_begin(&dir, a->dir, e) < 0)
 		goto done;
-	w.tmp = dir.tmp;
+	w.tmp = dir.tmp, w.tree = 1;
 	w.fifo = fifo_inputs(a);
 	/* the count after the levels, whose own faults say more */
 	if (levels_begin(&w, e) < 0 || run_levels(&w, e) < 0 ||

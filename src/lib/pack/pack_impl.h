@@ -28,6 +28,7 @@ typedef struct {
 	const char *dir;
 	const rs_header *attrs; /* the vertex map's fqm:* and geo:* */
 	enum rs_compression comp; /* the blocks' (pack_args) */
+	int tree;         /* dir is work's tree: see work */
 	pyramid_level *L;
 } sink;
 
@@ -36,6 +37,12 @@ typedef struct {
 	const pack_args *a;
 	dem *d;
 	const char *tmp; /* the directory being built */
+	/* 1: tmp is a tree this process builds (tl_outdir_begin), whose
+	 * blocks are written under their final names; 0: a plan's work
+	 * directory, which outlives a killed job and whose files a later
+	 * job takes for complete: each is written under a temporary name
+	 * and renamed (tl_out_begin_fresh) */
+	int tree;
 	pyramid_index *ix;
 	const geo_ground *m;
 	pack_level *out;

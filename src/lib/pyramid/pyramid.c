@@ -86,12 +86,13 @@ int
 pyramid_block_write(const char *path, const pyramid_block *b,
     const rs_header *attrs, tl_err *e)
 {
-	return pyramid_block_write_z(path, b, attrs, RS_ZIP, e);
+	return pyramid_block_write_z(path, b, attrs, RS_ZIP, 0, e);
 }
 
 int
 pyramid_block_write_z(const char *path, const pyramid_block *b,
-    const rs_header *attrs, enum rs_compression comp, tl_err *e)
+    const rs_header *attrs, enum rs_compression comp, int in_tree,
+    tl_err *e)
 {
 	rs_header h;
 	rs_writer *w;
@@ -114,7 +115,8 @@ pyramid_block_write_z(const char *path, const pyramid_block *b,
 	    rs_set_double(&h, VGIS_ATTR_BASE_ERROR, b->base, e) < 0 ||
 	    rs_set_v2d(&h, VGIS_ATTR_ZRANGE, b->zmin, b->zmax, e) < 0)
 		goto done;
-	if ((w = rs_create_fresh(path, &h, comp, e)) == NULL)
+	if ((w = (in_tree ? rs_create_tree : rs_create_fresh)(path, &h, comp,
+	    e)) == NULL)
 		goto done;
 	for (int j = 0; j < BT_SIZE; j++) {
 		for (int c = 0; c < n; c++)

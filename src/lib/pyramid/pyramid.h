@@ -95,14 +95,16 @@ typedef struct {
 int pyramid_block_alloc(pyramid_block *b, int displaced, tl_err *e);
 void pyramid_block_free(pyramid_block *b);
 /* Writes the block with the attributes of `attrs` (geo:*, fqm:*) and its
- * own vgis:* attributes, at a path inside a tree under construction
- * (rs_create_fresh). */
+ * own vgis:* attributes, at a path in a directory that holds no dead
+ * writer's temporaries (rs_create_fresh). */
 int pyramid_block_write(const char *path, const pyramid_block *b,
     const rs_header *attrs, tl_err *e);
 /* ... compressed as comp says (pyramid_block_write: RS_ZIP, the default;
- * tilepack -z). */
+ * tilepack -z); in_tree: path is new, inside a tree this process builds,
+ * and the block is written under its final name (rs_create_tree). */
 int pyramid_block_write_z(const char *path, const pyramid_block *b,
-    const rs_header *attrs, enum rs_compression comp, tl_err *e);
+    const rs_header *attrs, enum rs_compression comp, int in_tree,
+    tl_err *e);
 /* Reads a block, a regular file (a FIFO is refused at once), and checks
  * its size, its channels and vgis:* attributes against what b->level,
  * bi, bj, displaced say it must be, and its content as vgis(5) allows it:

@@ -1,6 +1,7 @@
 /* exr_write.c - an EXR scanline file written row by row: rows gathered
  * into a chunk, chunks encoded and written by a thread of their own,
- * the file built under a temporary name and renamed when complete. */
+ * the file built under a temporary name and renamed when complete (or,
+ * inside a tree this process builds, under its final name: outfile.h). */
 #include "raster/exr_impl.h"
 #include "base/outfile.h"
 
@@ -307,7 +308,7 @@ exr_comp(enum rs_compression c)
 
 int
 rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
-    int fresh, tl_err *e)
+    enum rs_begin how, tl_err *e)
 {
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
 	struct exr_wr *x;
@@ -320,7 +321,8 @@ rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
 		return -1;
 	w->impl = x;
 	x->zipped = c == RS_ZIP || c == RS_ZIPS;
-	if ((fresh ? tl_out_begin_fresh(&x->o, path, e) :
+	if ((how == RS_BEGIN_TREE ? tl_out_begin_tree(&x->o, path, e) :
+	    how == RS_BEGIN_FRESH ? tl_out_begin_fresh(&x->o, path, e) :
 	    tl_out_begin(&x->o, path, e)) < 0)
 		return -1;
 	x->io.fd = x->o.fd;

@@ -285,7 +285,7 @@ check_header(const rs_header *h, const char *name, tl_err *e)
 
 static rs_writer *
 create(const char *path, const rs_header *h, enum rs_compression c,
-    int fresh, tl_err *e)
+    enum rs_begin how, tl_err *e)
 {
 	int stream = strcmp(path, "-") == 0;
 	rs_writer *w;
@@ -307,7 +307,7 @@ create(const char *path, const rs_header *h, enum rs_compression c,
 	if ((stream && rs_ring_bound(1) ? rs_ring_create(w, e) :
 	    stream ? rs_stream_create(w, rs_ring_outfd() >= 0 ?
 	    rs_ring_outfd() : STDOUT_FILENO, e) :
-	    rs_exr_create(w, path, c, fresh, e)) < 0) {
+	    rs_exr_create(w, path, c, how, e)) < 0) {
 		rs_abort(w);
 		return NULL;
 	}
@@ -318,14 +318,21 @@ rs_writer *
 rs_create(const char *path, const rs_header *h, enum rs_compression c,
     tl_err *e)
 {
-	return create(path, h, c, 0, e);
+	return create(path, h, c, RS_BEGIN, e);
 }
 
 rs_writer *
 rs_create_fresh(const char *path, const rs_header *h, enum rs_compression c,
     tl_err *e)
 {
-	return create(path, h, c, strcmp(path, "-") != 0, e);
+	return create(path, h, c, RS_BEGIN_FRESH, e);
+}
+
+rs_writer *
+rs_create_tree(const char *path, const rs_header *h, enum rs_compression c,
+    tl_err *e)
+{
+	return create(path, h, c, RS_BEGIN_TREE, e);
 }
 
 int

@@ -126,13 +126,18 @@ typedef struct rs_writer rs_writer;
  * under a temporary name and renamed by rs_finish. */
 rs_writer *rs_create(const char *path, const rs_header *h,
     enum rs_compression c, tl_err *e);
-/* rs_create of an EXR file inside a tree under construction
- * (tl_out_begin_fresh). */
+/* rs_create of an EXR file in a directory swept once, or that no dead
+ * writer's temporaries can be in (tl_out_begin_fresh). */
 rs_writer *rs_create_fresh(const char *path, const rs_header *h,
     enum rs_compression c, tl_err *e);
+/* rs_create of a new EXR file inside a tree this process builds, under
+ * its final name (tl_out_begin_tree). */
+rs_writer *rs_create_tree(const char *path, const rs_header *h,
+    enum rs_compression c, tl_err *e);
 int rs_write_row(rs_writer *w, const float *row, tl_err *e);
-/* All rows written: stream trailer, or EXR offsets + rename. Always frees
- * w; on failure the output is discarded as by rs_abort. */
+/* All rows written: stream trailer, or EXR offsets + rename (in a tree,
+ * rs_create_tree, + close). Always frees w; on failure the output is
+ * discarded as by rs_abort. */
 int rs_finish(rs_writer *w, tl_err *e);
 /* Discards: removes the temporary file; a stream gets no trailer, so its
  * reader reports truncation. Safe on NULL. */

@@ -52,9 +52,11 @@ int rs_check_size(const rs_header *h, const char *name, tl_err *e);
 
 /* EXR (exr_read.c, exr_write.c): fd is a regular file (or scratch spool), read with pread from base. */
 int rs_exr_open_read(rs_reader *r, long long base, tl_err *e);
-/* fresh: path is in a tree under construction (tl_out_begin_fresh) */
+/* How an EXR file is begun (outfile.h): tl_out_begin, tl_out_begin_fresh,
+ * tl_out_begin_tree. */
+enum rs_begin { RS_BEGIN, RS_BEGIN_FRESH, RS_BEGIN_TREE };
 int rs_exr_create(rs_writer *w, const char *path, enum rs_compression c,
-    int fresh, tl_err *e);
+    enum rs_begin how, tl_err *e);
 
 /* Stream (stream.c): r->pre holds the 8 magic bytes already consumed from r->fd. */
 int rs_stream_open_read(rs_reader *r, tl_err *e);
