@@ -7,6 +7,21 @@
 #include <float.h>
 #include <math.h>
 
+/* fmin and fmax, inline (glibc's are calls, two per sample here): the
+ * same value for any b when a is not NaN, signed zeros included (a tie
+ * gives b, as glibc's minsd/maxsd do), and a NaN b leaves a */
+static inline double
+lmin(double a, double b)
+{
+	return b <= a ? b : a;
+}
+
+static inline double
+lmax(double a, double b)
+{
+	return b >= a ? b : a;
+}
+
 /* Block bj, bi of the saturation band, saturated, into b. */
 static void
 fill_block(const state *s, pyramid_block *b, int bi, int bj)
@@ -38,8 +53,8 @@ fill_block(const state *s, pyramid_block *b, int bi, int bj)
 				b->x[k] = s->ox[o + c];
 				b->y[k] = s->oy[o + c];
 			}
-			b->zmin = fmin(b->zmin, b->z[k]);
-			b->zmax = fmax(b->zmax, b->z[k]);
+			b->zmin = lmin(b->zmin, b->z[k]);
+			b->zmax = lmax(b->zmax, b->z[k]);
 		}
 	}
 	b->emax = emax;
