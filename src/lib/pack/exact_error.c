@@ -721,10 +721,16 @@ lv_error_rows(share *t, int J0, int J1)
 	rowset rs;
 
 	assert(J1 - J0 <= BATCH);
+	if (J1 <= J0)
+		return;
 	if (s->scan || s->ref || !s->L->displaced || batch_flat(t, J0, J1)) {
+		if (s->scan || (s->L->displaced && !s->ref)) {
+			lv_scan_undisplaced(t, J0, J1);
+			return;
+		}
 		for (int J = J0; J < J1; J++) {
 			t->dd = s->dd + (size_t)(J - J0) * stride;
-			lv_error_row(t, J);
+			row_reference(t, J / s->step);
 		}
 		return;
 	}
@@ -733,13 +739,4 @@ lv_error_rows(share *t, int J0, int J1)
 		rows_displaced_avx2(t, &rs);
 	else
 		rows_displaced(t, &rs);
-}
-
-void
-lv_error_row(share *t, int J)
-{
-	if (t->s->scan || (t->s->L->displaced && !t->s->ref))
-		lv_scan_undisplaced(t, J);
-	else
-		row_reference(t, J / t->s->step);
 }

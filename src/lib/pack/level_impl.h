@@ -281,16 +281,14 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 
 /* exact_error.c: the local and base errors DEM rows J0 .. J1-1 (at most
  * BATCH, the state's dd) raise in t's columns, by the variant that
- * serves the level; those of DEM row J (t->dd) by the row-at-a-time
- * variants (undisplaced_scan.c's, or the reference); where each column
- * of the piece falls among the lattice's nodes (state init, displaced
- * levels of a lattice metric). */
+ * serves the level; where each column of the piece falls among the
+ * lattice's nodes (state init, displaced levels of a lattice metric). */
 void lv_error_rows(share *t, int J0, int J1);
-void lv_error_row(share *t, int J);
 void lv_node_columns(state *s);
-/* undisplaced_scan.c: lv_error_row on an undisplaced level (s->scan), as
- * tri_row's loops in exact_error.c would raise them, bit for bit. */
-void lv_scan_undisplaced(share *t, int J);
+/* undisplaced_scan.c: lv_error_rows on an undisplaced level (s->scan, or
+ * a batch of flat rows), as tri_row's loops in exact_error.c would raise
+ * them row by row, bit for bit. */
+void lv_scan_undisplaced(share *t, int J0, int J1);
 /* level_ring.c: level rows up to r (at most the run's last, r1 - 1)
  * loaded into the rings. */
 int lv_ensure(state *s, int r, tl_err *e);

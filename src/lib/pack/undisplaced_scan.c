@@ -253,57 +253,6 @@ tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
 	    heights4(t, 1, cx, stride), heights4(t, 2, cx, stride));
 }
 
-/* How two triangles at the same centres share vertices: t[1]'s vertex
- * k is t[0]'s vertex form(f, k), or its own (-1). f = 0: a diamond's
- * (bt_diamond), their hypotenuse swapped; 1 and 2: a cell's two leaves,
- * their diagonal, by the cell's parity (scan_leaves). A function of
- * constants, folded where it is inlined. */
-static inline __attribute__((always_inline)) int
-form(int f, int k)
-{
-	switch (f) {
-	case 0:
-		return k == 0 ? 1 : k == 1 ? 0 : -1;
-	case 1:
-		return k == 0 ? 0 : k == 1 ? 2 : -1;
-	default:
-		return k == 0 ? 1 : k == 1 ? -1 : 2;
-	}
-}
-
-/* The two at once: the shared vertices' heights loaded once, the larger
- * error of the two, which raises an error as the two one after the other
- * would (f a constant). */
-static inline __attribute__((always_inline)) v4d
-pair_at4(const state *s, const double *dd, const tmpl *t, int f, int cx,
-    int stride)
-{
-	v4d v[3], u[3];
-
-#pragma GCC unroll 3
-	for (int k = 0; k < 3; k++)
-		v[k] = heights4(&t[0], k, cx, stride);
-#pragma GCC unroll 3
-	for (int k = 0; k < 3; k++)
-		u[k] = form(f, k) >= 0 ? v[form(f, k)] :
-		    heights4(&t[1], k, cx, stride);
-	return v4max(tri_at4z(s, dd, &t[0], cx, stride, v[0], v[1], v[2]),
-	    tri_at4z(s, dd, &t[1], cx, stride, u[0], u[1], u[2]));
-}
-
-/* Whether t[1] shares t[0]'s vertices as form(f, k) says. */
-static int
-pair_form(const tmpl *t, int f)
-{
-	for (int k = 0; k < 3; k++) {
-		int m = form(f, k);
-		if (m >= 0 && (t[1].ox[k] != t[0].ox[m] ||
-		    t[1].oy[k] != t[0].oy[m]))
-			return 0;
-	}
-	return 1;
-}
-
 /* Where an error goes: a diamond's local error (a float per centre
  * column) or, for leaves, its block's base error (a double per block
  * column). The order of a maximum does not matter. */
@@ -467,126 +416,245 @@ scan_template(const state *s, const double *dd, const tmpl *t,
 		scan_template_body(s, dd, t, o, 1, first, end, stride);
 }
 
-/* A diamond's two templates t[0], t[1] at centres first, first +
- * stride, ... below end, as scan_template would scan each: both on the
- * grid at the same centres (their columns span the same range), both
- * chords short, pair_at4 where both are inside the DEM row, each alone
- * elsewhere. */
-static inline __attribute__((always_inline)) void
-scan_pair_body(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int leaves, int f, int first, int end, int stride)
-{
-	long S = (long)s->step, last = s->dend - 1;
-	long lo = t[0].lo < t[1].lo ? t[0].lo : t[1].lo;
-	long hi = t[0].hi > t[1].hi ? t[0].hi : t[1].hi;
-	gather g = { o, -1, { 0, 0, 0, 0 } };
-	int cx;
+/* A batch of DEM rows at once (lv_error_rows' BATCH): a triangle's plane
+ * depends on its centre, not on the row, so four centres' planes are set
+ * up once (their heights loaded, e1, e2, n0, n1, dz and n0 x p00, by
+ * tri_at4z's operations) and measured along each of the batch's rows
+ * whose chord through them is short; only z0, which the row's y enters,
+ * is found per row, by tri_at4z's expression. Errors raise their sinks
+ * by max, whose order does not matter, so the rows' errors go together.
+ * A row's chord of a triangle: its template (make_tmpl). */
+typedef struct {
+	const tmpl *t;      /* the row's template of the triangle */
+	const double *dd;   /* the row's samples */
+	double xlo;         /* t->lo x inv: tri_at4z's first x less cd */
+} brow;
 
-	window(s, t, &first, &end, stride);
-	cx = first;
-	for (; cx < end && (long)cx * S + lo < s->d0; cx += stride)
-		for (int k = 0; k < 2; k++)
-			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
-	for (; cx + (LANES - 1) * stride < end &&
-	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
-	    cx += LANES * stride)
-		raise4(o, &g, leaves, cx, stride,
-		    pair_at4(s, dd, t, f, cx, stride));
-	for (; cx < end; cx += stride)
-		for (int k = 0; k < 2; k++)
-			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
-	gather_flush(&g);
+/* A triangle and the rows measured together: n of them, their chords
+ * short, n2 a power of 2 (tri_at4z's conditions) */
+typedef struct {
+	int n;
+	brow r[BATCH];
+} btri;
+
+/* b's triangle at centres cx, cx + stride, ... (LANES, cd as doubles)
+ * along each of its rows, raising w: tri_at4z's operations lane by lane,
+ * the row-free ones once. */
+static inline __attribute__((always_inline)) v4d
+btri_at4(const state *s, const btri *b, int cx, int stride, v4d cd, v4d w)
+{
+	const tmpl *t = b->r[0].t;
+	v4d z0, z1, z2, e1, e2, n0, n1, n0p, dz;
+	long S = (long)s->step, c[LANES];
+	double inv = t->inv, rn2 = t->rn2;
+
+#pragma GCC unroll 4
+	for (int k = 0; k < LANES; k++)
+		c[k] = (long)(cx + k * stride) * S;
+	z0 = heights4(t, 0, cx, stride);
+	z1 = heights4(t, 1, cx, stride);
+	z2 = heights4(t, 2, cx, stride);
+	e1 = z1 - z0, e2 = z2 - z0;
+	n0 = t->d1y * e2 - e1 * t->d2y;
+	n1 = e1 * t->d2x - t->d1x * e2;
+	dz = -n0 * rn2;
+	n0p = n0 * (cd + (double)t->ox[0]);
+	for (int j = 0; j < b->n; j++) {
+		const brow *r = &b->r[j];
+		const tmpl *u = r->t;
+		const double *q0, *q1, *q2, *q3;
+		v4d z = z0 - (n1 * u->ym - n0p) * rn2, x = cd + r->xlo;
+		long n = u->hi - u->lo;
+		q0 = r->dd + (c[0] + u->wlo), q1 = r->dd + (c[1] + u->wlo);
+		q2 = r->dd + (c[2] + u->wlo), q3 = r->dd + (c[3] + u->wlo);
+		w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
+		if (n >= 1)
+			x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
+		if (n >= 2)
+			x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
+		for (long o = 3; o <= n; o++)
+			x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
+	}
+	return w;
 }
 
-/* The copies: a diamond's pair into local errors, a cell's (either
- * parity) into base errors; AVX2 and plain. */
+/* The nb triangles b (of the same centres) at centres first, first +
+ * stride, ... below end, LANES at a time where every row's chord is
+ * inside the DEM row and every vertex in the window: those centres,
+ * [*va, *vb), are left to the caller's rows one by one. */
 static inline __attribute__((always_inline)) void
-scan_pair_copy(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int f, int first, int end, int stride)
+batch_body(const state *s, const btri *b, int nb, const sink *o, int leaves,
+    int first, int end, int stride, int *va, int *vb)
 {
-	if (f == 0)
-		scan_pair_body(s, dd, t, o, 0, 0, first, end, stride);
-	else if (f == 1)
-		scan_pair_body(s, dd, t, o, 1, 1, first, end, stride);
-	else
-		scan_pair_body(s, dd, t, o, 1, 2, first, end, stride);
+	long S = (long)s->step, last = s->dend - 1, lo = 0, hi = 0;
+	gather g = { o, -1, { 0, 0, 0, 0 } };
+	int cx, any = 0;
+
+	for (int k = 0; k < nb; k++) {
+		if (b[k].n == 0)
+			continue;
+		window(s, b[k].r[0].t, &first, &end, stride);
+		for (int j = 0; j < b[k].n; j++) {
+			const tmpl *u = b[k].r[j].t;
+			lo = !any || u->lo < lo ? u->lo : lo;
+			hi = !any || u->hi > hi ? u->hi : hi;
+			any = 1;
+		}
+	}
+	while (first < end && (long)first * S + lo < s->d0)
+		first += stride;
+	for (cx = first; cx + (LANES - 1) * stride < end &&
+	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
+	    cx += LANES * stride) {
+		v4d cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride +
+		    cx, v4d), w = { -1, -1, -1, -1 };
+		for (int k = 0; k < nb; k++)
+			if (b[k].n > 0)
+				w = btri_at4(s, &b[k], cx, stride, cd, w);
+		raise4(o, &g, leaves, cx, stride, w);
+	}
+	gather_flush(&g);
+	*va = first, *vb = cx;
 }
 
 TL_AVX2 static void
-scan_pair_avx2(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int f, int first, int end, int stride)
+batch_avx2(const state *s, const btri *b, int nb, const sink *o, int first,
+    int end, int stride, int *va, int *vb)
 {
-	scan_pair_copy(s, dd, t, o, f, first, end, stride);
+	if (o->acc != NULL)
+		batch_body(s, b, nb, o, 0, first, end, stride, va, vb);
+	else
+		batch_body(s, b, nb, o, 1, first, end, stride, va, vb);
 }
 
-/* t[0] and t[1] of one shape (nt of them), paired where
- * scan_pair_body applies; f: the form they would pair by (0 for
- * diamonds, 1 or 2 for a cell's leaves). */
 static void
-scan_shape(const state *s, const double *dd, const tmpl *t, int nt, int f,
-    const sink *o, int first, int end, int stride)
+batch_plain(const state *s, const btri *b, int nb, const sink *o, int first,
+    int end, int stride, int *va, int *vb)
 {
-	if (nt == 2 && t[0].ok && t[1].ok && t[0].rn2 != 0 && t[1].rn2 != 0 &&
-	    t[0].hi - t[0].lo < SHORT && t[1].hi - t[1].lo < SHORT &&
-	    t[0].xmin == t[1].xmin && t[0].xmax == t[1].xmax &&
-	    pair_form(t, f)) {
-		if (s->avx2)
-			scan_pair_avx2(s, dd, t, o, f, first, end, stride);
-		else
-			scan_pair_copy(s, dd, t, o, f, first, end, stride);
-		return;
-	}
+	if (o->acc != NULL)
+		batch_body(s, b, nb, o, 0, first, end, stride, va, vb);
+	else
+		batch_body(s, b, nb, o, 1, first, end, stride, va, vb);
+}
+
+/* The rows of a batch: J0 .. J0 + n - 1, row J's samples at dd[J - J0] */
+typedef struct {
+	int J0, n;
+	double y[BATCH];
+	const double *dd[BATCH];
+} rows;
+
+/* The nt triangles tri about (cx, cy) at centres first, first + stride,
+ * ... below end, along the batch's rows, into the sink mk() makes (once
+ * a row crosses one): each row's template of each; the short chords
+ * batched, the others (and the centres batch_body leaves) scanned row by
+ * row as scan_template does. */
+typedef void (*sink_fn)(share *sh, int cy, sink *o);
+
+static void
+scan_rows(share *sh, const rows *R, const int tri[][3][2], int nt, int cx,
+    int cy, sink_fn mk, int first, int end, int stride)
+{
+	const state *s = sh->s;
+	tmpl T[BATCH][2];
+	btri b[2];
+	int ok[BATCH][2], any = 0, va, vb;
+	sink o;
+
 	for (int k = 0; k < nt; k++)
-		scan_template(s, dd, &t[k], o, first, end, stride);
+		b[k].n = 0;
+	for (int j = 0; j < R->n; j++)
+		for (int k = 0; k < nt; k++) {
+			tmpl *t = &T[j][k];
+			make_tmpl(s, t, tri[k], cx, cy, R->J0 + j, R->y[j]);
+			ok[j][k] = t->ok && t->n2 != 0;
+			any |= ok[j][k];
+			if (ok[j][k] && t->rn2 != 0 && t->hi - t->lo < SHORT) {
+				brow *r = &b[k].r[b[k].n++];
+				r->t = t, r->dd = R->dd[j];
+				r->xlo = t->lo * t->inv;
+				ok[j][k] = 2;
+			}
+		}
+	if (!any)
+		return;
+	mk(sh, cy, &o);
+	if (s->avx2)
+		batch_avx2(s, b, nt, &o, first, end, stride, &va, &vb);
+	else
+		batch_plain(s, b, nt, &o, first, end, stride, &va, &vb);
+	va = va < end ? va : end;
+	vb = vb < end ? vb : end;
+	for (int j = 0; j < R->n; j++)
+		for (int k = 0; k < nt; k++) {
+			if (ok[j][k] == 1)
+				scan_template(s, R->dd[j], &T[j][k], &o, first,
+				    end, stride);
+			if (ok[j][k] != 2)
+				continue;
+			scan_template(s, R->dd[j], &T[j][k], &o, first, va,
+			    stride);
+			scan_template(s, R->dd[j], &T[j][k], &o, vb, end,
+			    stride);
+		}
 }
 
-/* row_diamonds (exact_error.c) by templates: the diamonds along a centre row
- * alternate between two shapes (square diamonds' diagonals alternate;
- * edge diamonds are all alike). Those centred in the share's columns. */
 static void
-scan_diamonds(share *sh, int J, double y, int h, int edge)
+diamond_sink(share *sh, int cy, sink *o)
+{
+	const state *s = sh->s;
+
+	o->acc = &s->acc[eslot(s, cy)], o->c0 = s->c0;
+	o->base = NULL, o->b0 = 0;
+}
+
+/* row_diamonds (exact_error.c) for the batch's rows: the diamonds along a
+ * centre row alternate between two shapes (square diamonds' diagonals
+ * alternate; edge diamonds are all alike). Those centred in the share's
+ * columns; the centre rows any of the rows reaches (a row that misses a
+ * triangle has no chord through it). */
+static void
+scan_diamonds(share *sh, const rows *R, int h, int edge)
 {
 	state *s = sh->s;
 	double reach = h + s->margin;
-	long c0 = (long)ceil((y - reach) / h);
-	long c1 = (long)floor((y + reach) / h);
+	long c0 = (long)ceil((R->y[0] - reach) / h);
+	long c1 = (long)floor((R->y[R->n - 1] + reach) / h);
+	int end = sh->hi < s->cend ? sh->hi : s->cend;
 
 	for (long c = c0 > 0 ? c0 : 0; c <= c1 && c * h < s->Q; c++) {
-		int cy = (int)(c * h), x0, nt[2];
-		tmpl T[2][2];
-		sink o = { 0 };
+		int cy = (int)(c * h), x0;
 		if (!edge && (c & 1) == 0)
 			continue; /* square centres: odd multiples */
 		x0 = edge && (c & 1) ? 0 : h;
 		if (x0 >= s->cend)
 			continue;
-		for (int ph = 0; ph < 2; ph++) {
-			int tri[2][3][2], cx = x0 + 2 * h * ph;
-			nt[ph] = bt_diamond(cx, cy, tri);
-			for (int k = 0; k < nt[ph]; k++)
-				make_tmpl(s, &T[ph][k], tri[k], cx, cy, J, y);
-		}
-		if (!(nt[0] && (T[0][0].ok || T[0][1].ok)) &&
-		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
-			continue;
-		o.acc = &s->acc[eslot(s, cy)], o.c0 = s->c0;
 		/* each shape's centres in the share: every other one */
-		int end = sh->hi < s->cend ? sh->hi : s->cend;
 		for (int ph = 0; ph < 2; ph++) {
-			int first = x0 + 2 * h * ph;
+			int tri[2][3][2], cx = x0 + 2 * h * ph, first = cx;
+			int nt = bt_diamond(cx, cy, tri);
 			if (first < sh->lo)
 				first += (sh->lo - first + 4 * h - 1) /
 				    (4 * h) * (4 * h);
-			scan_shape(s, sh->dd, T[ph], nt[ph], 0, &o, first,
+			scan_rows(sh, R, tri, nt, cx, cy, diamond_sink, first,
 			    end, 4 * h);
 		}
 	}
 }
 
-/* row_leaves (exact_error.c) by templates: a cell's diagonal alternates with
- * ci + cj. */
 static void
-scan_leaves(share *sh, int J, double y)
+leaf_sink(share *sh, int cj, sink *o)
+{
+	int lo = leaf_lo(sh);
+
+	o->acc = NULL, o->c0 = 0;
+	o->base = base_at(sh, cj, lo), o->b0 = lo / BT_CELLS;
+}
+
+/* row_leaves (exact_error.c) by templates, for the batch's rows: a cell's
+ * diagonal alternates with ci + cj. */
+static void
+scan_leaves(share *sh, const rows *R)
 {
 	state *s = sh->s;
 	int lo = leaf_lo(sh), end = leaf_hi(sh);
@@ -594,10 +662,10 @@ scan_leaves(share *sh, int J, double y)
 	if (lo >= end) /* a share of the halo only */
 		return;
 
-	long r0 = (long)floor(y - EPS), r1 = (long)floor(y + EPS);
+	long r0 = (long)floor(R->y[0] - EPS);
+	long r1 = (long)floor(R->y[R->n - 1] + EPS);
 
 	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++) {
-		tmpl T[2][2];
 		for (int ph = 0; ph < 2; ph++) {
 			int ci = ph, j = (int)cj;
 			int a[2] = { ci, j }, b[2] = { ci + 1, j };
@@ -612,25 +680,29 @@ scan_leaves(share *sh, int J, double y)
 				SET(t[1][0], b), SET(t[1][1], c), SET(t[1][2], d);
 			}
 #undef SET
-			for (int k = 0; k < 2; k++)
-				make_tmpl(s, &T[ph][k], t[k], ci, j, J, y);
+			/* the cells of this parity, every other one */
+			scan_rows(sh, R, t, 2, ci, j, leaf_sink,
+			    lo + ((lo & 1) != ph), end, 2);
 		}
-		sink o = { NULL, 0, base_at(sh, (int)cj, lo), lo / BT_CELLS };
-		/* the cells of each parity, every other one */
-		for (int ph = 0; ph < 2; ph++)
-			scan_shape(s, sh->dd, T[ph], 2, (ph + cj) % 2 ? 2 : 1,
-			    &o, lo + ((lo & 1) != ph), end, 2);
 	}
 }
 
 void
-lv_scan_undisplaced(share *t, int J)
+lv_scan_undisplaced(share *t, int J0, int J1)
 {
-	double y = J / t->s->step;
+	const state *s = t->s;
+	size_t stride = (size_t)(s->dend - s->d0 + 1);
+	rows R;
 
-	for (int h = 1; h <= BT_MAXH; h *= 2) {
-		scan_diamonds(t, J, y, h, 0);
-		scan_diamonds(t, J, y, h, 1);
+	assert(J1 > J0 && J1 - J0 <= BATCH);
+	R.J0 = J0, R.n = J1 - J0;
+	for (int j = 0; j < R.n; j++) {
+		R.y[j] = (J0 + j) / s->step;
+		R.dd[j] = s->dd + (size_t)j * stride;
 	}
-	scan_leaves(t, J, y);
+	for (int h = 1; h <= BT_MAXH; h *= 2) {
+		scan_diamonds(t, &R, h, 0);
+		scan_diamonds(t, &R, h, 1);
+	}
+	scan_leaves(t, &R);
 }
