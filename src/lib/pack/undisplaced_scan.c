@@ -561,11 +561,25 @@ scan_rows(share *sh, const rows *R, const int tri[][3][2], int nt, int cx,
 	int ok[BATCH][2], any = 0, va, vb;
 	sink o;
 
-	for (int k = 0; k < nt; k++)
+	long S = (long)s->step, ylo[2], yhi[2];
+
+	/* the rows that can cross each: chord's first test, before the
+	 * template is made */
+	for (int k = 0; k < nt; k++) {
 		b[k].n = 0;
+		ylo[k] = yhi[k] = tri[k][0][1];
+		for (int v = 1; v < 3; v++) {
+			ylo[k] = tri[k][v][1] < ylo[k] ? tri[k][v][1] : ylo[k];
+			yhi[k] = tri[k][v][1] > yhi[k] ? tri[k][v][1] : yhi[k];
+		}
+		ylo[k] *= S, yhi[k] *= S;
+	}
 	for (int j = 0; j < R->n; j++)
 		for (int k = 0; k < nt; k++) {
 			tmpl *t = &T[j][k];
+			ok[j][k] = 0;
+			if (R->J0 + j < ylo[k] || R->J0 + j > yhi[k])
+				continue;
 			make_tmpl(s, t, tri[k], cx, cy, R->J0 + j, R->y[j]);
 			ok[j][k] = t->ok && t->n2 != 0;
 			any |= ok[j][k];
