@@ -26,26 +26,28 @@
 #include <stdlib.h>
 
 /* A triangle relative to a centre (cx, cy) on the current DEM row. */
+
+/* A triangle relative to its centre (cx, cy), whatever the DEM row: the
+ * row-free part of tri_row's set-up. */
 typedef struct {
-	int ok;             /* the row crosses it and its rows are on the grid */
+	int ok;             /* its rows are on the grid */
 	int ox[3], oy[3];   /* its vertices less the centre, in order */
 	int wx[3];          /* ox less the window's c0: where, in the
 	                     * window's rows, centre cx's vertices are */
-	long wlo;           /* lo less the window's d0: where, in dd */
 	int xmin, xmax;     /* of ox */
-	long lo, hi;        /* the row's columns less cx x step */
 	const float *zr[3]; /* the vertices' rows of heights */
-	/* tri_row's p[k] - p[0] in x and y, its normal's z (n[2]), its
-	 * y - p[0][1]: whole numbers and their differences, exact */
-	double d1x, d1y, d2x, d2y, n2, ym;
+	/* tri_row's p[k] - p[0] in x and y, its normal's z (n[2]): whole
+	 * numbers and their differences, exact */
+	double d1x, d1y, d2x, d2y, n2;
 	double rn2;         /* 1 / n2 when n2 is a power of 2, else 0 */
 	double inv;         /* 1 / step, exact: found once, not per centre */
 } tmpl;
 
 /* tri_row's chord, in whole DEM columns: the row r (DEM rows, less cy x
- * step) against each edge; level edges count when the row is on them. */
-static void
-chord(tmpl *t, long S, long r)
+ * step) against each edge; level edges count when the row is on them.
+ * Whether the row crosses t; its columns less cx x step in lo, hi. */
+static int
+chord(const tmpl *t, long S, long r, long *lo, long *hi)
 {
 	long X[3], Y[3], ymin, ymax, xl = 0, xr = 0;
 	int any = 0;
@@ -55,10 +57,8 @@ chord(tmpl *t, long S, long r)
 	ymin = ymax = Y[0];
 	for (int k = 1; k < 3; k++)
 		ymin = Y[k] < ymin ? Y[k] : ymin, ymax = Y[k] > ymax ? Y[k] : ymax;
-	if (r < ymin || r > ymax) {
-		t->ok = 0;
-		return;
-	}
+	if (r < ymin || r > ymax)
+		return 0;
 	for (int k = 0; k < 3; k++) {
 		long ax = X[k], ay = Y[k], bx = X[(k + 1) % 3], by = Y[(k + 1) % 3];
 		long x0, x1;
@@ -80,17 +80,15 @@ chord(tmpl *t, long S, long r)
 			xr = x1;
 		any = 1;
 	}
-	t->ok = any;
-	t->lo = xl, t->hi = xr;
+	*lo = xl, *hi = xr;
+	return any;
 }
 
-/* The template of triangle tri about (cx, cy) for DEM row J. */
+/* The template of triangle tri about (cx, cy); its rows of heights are
+ * set once a DEM row crosses it (the_rows). */
 static void
-make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
-    int J, double y)
+make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy)
 {
-	long S = (long)s->step;
-
 	t->ok = 1;
 	for (int k = 0; k < 3; k++) {
 		t->ox[k] = tri[k][0] - cx, t->oy[k] = tri[k][1] - cy;
@@ -105,18 +103,11 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 		t->xmin = t->ox[k] < t->xmin ? t->ox[k] : t->xmin;
 		t->xmax = t->ox[k] > t->xmax ? t->ox[k] : t->xmax;
 	}
-	chord(t, S, (long)J - (long)cy * S);
-	if (!t->ok)
-		return;
-	t->wlo = t->lo - s->d0;
-	for (int k = 0; k < 3; k++)
-		t->zr[k] = s->z + slot(s, cy + t->oy[k]);
 	t->d1x = (double)tri[1][0] - tri[0][0];
 	t->d1y = (double)tri[1][1] - tri[0][1];
 	t->d2x = (double)tri[2][0] - tri[0][0];
 	t->d2y = (double)tri[2][1] - tri[0][1];
 	t->n2 = t->d1x * t->d2y - t->d1y * t->d2x;
-	t->ym = y - (double)tri[0][1];
 	t->inv = 1 / s->step;
 	/* x / n2 is x x (1 / n2), rounded once, when n2 is a power of 2
 	 * (every triangle here: legs h or 2h, or 1 for leaves) */
@@ -127,44 +118,30 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 	}
 }
 
-/* tri_row for template t placed at (cx, cy): -1 when off the grid or no
- * valid sample. The plane is tri_row's, operation for operation: its
- * coordinate differences are the template's (exact either way), its
- * divisions by n2 multiplications by 1 / n2 where that is exact. */
-static inline __attribute__((always_inline)) double
-tri_at(const state *s, const double *dd, const tmpl *t, int cx)
-{
-	double z0, z1, z2, e1, e2, n0, n1, p00, z, dz;
-	long S = (long)s->step, a, b;
+/* A DEM row's chord through a triangle (chord), and what tri_row takes
+ * from the row: its y less p[0][1] (whole numbers over a power of 2,
+ * exact) */
+typedef struct {
+	const double *dd;   /* the row's samples: DEM column i at i - d0 */
+	long lo, hi;        /* its columns less cx x step */
+	long wlo;           /* lo less the window's d0 */
+	double ym;
+	double xlo;         /* lo x inv */
+} brow;
 
-	a = (long)cx * S + t->lo, b = (long)cx * S + t->hi;
-	if (a < s->d0)
-		a = s->d0;
-	if (b > s->dend - 1)
-		b = s->dend - 1;
-	if (a > b)
-		return -1;
-	z0 = t->zr[0][cx + t->wx[0]];
-	z1 = t->zr[1][cx + t->wx[1]];
-	z2 = t->zr[2][cx + t->wx[2]];
-	e1 = z1 - z0, e2 = z2 - z0;
-	n0 = t->d1y * e2 - e1 * t->d2y;
-	n1 = e1 * t->d2x - t->d1x * e2;
-	p00 = cx + t->ox[0];
-	if (t->rn2 != 0) {
-		dz = -n0 * t->rn2;
-		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
-	} else {
-		dz = -n0 / t->n2;
-		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
-	}
-	return sweep(dd, s->d0, a, b, z, dz, t->inv);
-}
+/* A triangle and the batch's rows through it: ns short chords (at most
+ * SHORT samples, n2 a power of 2), measured LANES centres at a time; nl
+ * others, a centre at a time. */
+typedef struct {
+	tmpl t;
+	int ns, nl;
+	brow s[BATCH], l[BATCH];
+} btri;
 
 /* Four centres at once: short chords (every one of level 0's, most of
- * level 1's) make tri_at's set-up the cost, and its arithmetic is the
- * same for every centre of a template: each lane does tri_at's and
- * sweep's operations in their order (v4d, level_impl.h). */
+ * level 1's) make the set-up the cost, and its arithmetic is the same
+ * for every centre of a template: each lane does tri_row's and sweep's
+ * operations in their order (v4d, level_impl.h). */
 #define LANES 4
 typedef int v4i __attribute__((vector_size(16)));
 typedef float v4f __attribute__((vector_size(16)));
@@ -197,60 +174,94 @@ sample4(const double *q0, const double *q1, const double *q2,
 	return v4max(v4abs(z + dz * x - v), w);
 }
 
-/* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
- * every chord inside the DEM row, the vertices' heights z0, z1, z2
- * (heights4), n2 a power of 2 (rn2: tri_at's multiplying branch, the
- * only one every scanned triangle takes; the callers send any other to
- * tri_at). The maximum keeps w where d is NaN (an invalid sample), as
- * sweep does. */
+/* b's triangle at centres cx, cx + stride, ... (LANES of them, cd as
+ * doubles) along each of its short rows, every chord inside the DEM
+ * row, raising w: tri_row's plane lane by lane, set up once for all the
+ * rows (heights, e1, e2, n0, n1, dz and n0 x p00), its z0 per row (the
+ * multiplying branch: n2 a power of 2), then sweep's samples. The
+ * maximum keeps w where d is NaN (an invalid sample), as sweep does. */
 static inline __attribute__((always_inline)) v4d
-tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
-    int stride, v4d z0, v4d z1, v4d z2)
+btri_at4(const state *s, const btri *b, int cx, int stride, v4d cd, v4d w)
 {
-	v4d cd, p00, e1, e2, n0, n1, z, dz, x;
-	v4d w = { -1, -1, -1, -1 };
-	const double *q0, *q1, *q2, *q3;
-	long S = (long)s->step, c[LANES], n;
-	double inv = t->inv;
+	const tmpl *t = &b->t;
+	v4d z0, z1, z2, e1, e2, n0, n1, n0p, dz;
+	long S = (long)s->step, c[LANES];
+	double inv = t->inv, rn2 = t->rn2;
 
 #pragma GCC unroll 4
 	for (int k = 0; k < LANES; k++)
-		c[k] = cx + k * stride;
-	/* the centres as doubles at once (whole numbers: exact) */
-	cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride + cx, v4d);
-	p00 = cd + (double)t->ox[0];
+		c[k] = (long)(cx + k * stride) * S;
+	z0 = heights4(t, 0, cx, stride);
+	z1 = heights4(t, 1, cx, stride);
+	z2 = heights4(t, 2, cx, stride);
 	e1 = z1 - z0, e2 = z2 - z0;
 	n0 = t->d1y * e2 - e1 * t->d2y;
 	n1 = e1 * t->d2x - t->d1x * e2;
-	assert(t->rn2 != 0);
-	dz = -n0 * t->rn2;
-	z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
-	/* the columns as doubles: whole numbers, so adding 1 is exact; DEM
-	 * column i at i - d0 in dd */
-	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
-	q2 = dd + (c[2] * S + t->wlo), q3 = dd + (c[3] * S + t->wlo);
-	/* x: the columns times inv, (c S + lo) / S, stepped by inv: every
-	 * term a whole number over a power of 2, so c + lo / S is that
-	 * exactly, and so is each step (see sweep) */
-	x = cd + t->lo * inv;
-	/* the first three samples unrolled (most chords here are 1 to 3
-	 * samples: no loop to set up), then the rest: the same steps */
-	n = t->hi - t->lo;
-	w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
-	if (n >= 1)
-		x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
-	if (n >= 2)
-		x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
-	for (long o = 3; o <= n; o++)
-		x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
+	assert(rn2 != 0);
+	dz = -n0 * rn2;
+	n0p = n0 * (cd + (double)t->ox[0]);
+	for (int j = 0; j < b->ns; j++) {
+		const brow *r = &b->s[j];
+		const double *q0, *q1, *q2, *q3;
+		/* x: the columns times inv, (c S + lo) / S, stepped by inv:
+		 * every term a whole number over a power of 2, so c + lo / S
+		 * is that exactly, and so is each step (see sweep) */
+		v4d z = z0 - (n1 * r->ym - n0p) * rn2, x = cd + r->xlo;
+		long n = r->hi - r->lo;
+		q0 = r->dd + (c[0] + r->wlo), q1 = r->dd + (c[1] + r->wlo);
+		q2 = r->dd + (c[2] + r->wlo), q3 = r->dd + (c[3] + r->wlo);
+		/* the first three samples unrolled (most chords here are 1
+		 * to 3 samples: no loop to set up), then the rest */
+		w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
+		if (n >= 1)
+			x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
+		if (n >= 2)
+			x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
+		for (long o = 3; o <= n; o++)
+			x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
+	}
 	return w;
 }
 
-static inline __attribute__((always_inline)) v4d
-tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
+/* b's triangle at centre cx along its rows a (na of them) and l (nl),
+ * each chord clipped to the window's DEM columns: tri_row's plane set up
+ * once (divisions by n2 multiplications by 1 / n2 where that is exact),
+ * its z0 per row, sweep's samples into one maximum; -1 when none. */
+static inline __attribute__((always_inline)) double
+btri_at1(const state *s, const tmpl *t, const brow *a, int na,
+    const brow *l, int nl, int cx)
 {
-	return tri_at4z(s, dd, t, cx, stride, heights4(t, 0, cx, stride),
-	    heights4(t, 1, cx, stride), heights4(t, 2, cx, stride));
+	double z0, z1, z2, e1, e2, n0, n1, n0p, p00, dz, w;
+	long S = (long)s->step, last = s->dend - 1;
+	v4d m = { -1, -1, -1, -1 };
+
+	z0 = t->zr[0][cx + t->wx[0]];
+	z1 = t->zr[1][cx + t->wx[1]];
+	z2 = t->zr[2][cx + t->wx[2]];
+	e1 = z1 - z0, e2 = z2 - z0;
+	n0 = t->d1y * e2 - e1 * t->d2y;
+	n1 = e1 * t->d2x - t->d1x * e2;
+	p00 = cx + t->ox[0];
+	n0p = n0 * p00;
+	dz = t->rn2 != 0 ? -n0 * t->rn2 : -n0 / t->n2;
+	for (int j = 0; j < na + nl; j++) {
+		const brow *r = j < na ? &a[j] : &l[j - na];
+		long i0 = (long)cx * S + r->lo, i1 = (long)cx * S + r->hi;
+		double z;
+		i0 = i0 > s->d0 ? i0 : s->d0;
+		i1 = i1 < last ? i1 : last;
+		if (i0 > i1)
+			continue;
+		if (t->rn2 != 0)
+			z = z0 - (n1 * r->ym - n0p) * t->rn2;
+		else
+			z = z0 - (n1 * r->ym - n0p) / t->n2;
+		sweep_into(r->dd, s->d0, i0, i1, z, dz, t->inv, &m);
+	}
+	w = m[0];
+	for (int k = 1; k < LANES; k++)
+		w = m[k] > w ? m[k] : w;
+	return w;
 }
 
 /* Where an error goes: a diamond's local error (a float per centre
@@ -361,180 +372,91 @@ window(const state *s, const tmpl *t, int *first, int *end, int stride)
 		    stride;
 }
 
-/* Template t at centres first, first + stride, ... below end, each
- * raising its sink: the range where it is on the grid found once, short
- * chords inside the DEM row LANES centres at a time. Raising by each
- * triangle in turn is raising by their maximum: a float's rounding keeps
- * the order. */
-static inline __attribute__((always_inline)) void
-scan_template_body(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int leaves, int first, int end, int stride)
-{
-	long S = (long)s->step, last = s->dend - 1;
-	gather g = { o, -1, { 0, 0, 0, 0 } };
-	int cx;
-
-	if (!t->ok || t->n2 == 0)
-		return;
-	/* the centres whose vertices are in the window */
-	window(s, t, &first, &end, stride);
-	cx = first;
-	if (t->hi - t->lo < SHORT && t->rn2 != 0) {
-		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
-			raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
-		for (; cx + (LANES - 1) * stride < end &&
-		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
-		    cx += LANES * stride)
-			/* from the register, not through memory */
-			raise4(o, &g, leaves, cx, stride,
-			    tri_at4(s, dd, t, cx, stride));
-	}
-	for (; cx < end; cx += stride)
-		raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
-	gather_flush(&g);
-}
-
-TL_AVX2 static void
-scan_template_avx2(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
-{
-	if (o->acc != NULL)
-		scan_template_body(s, dd, t, o, 0, first, end, stride);
-	else
-		scan_template_body(s, dd, t, o, 1, first, end, stride);
-}
-
-static void
-scan_template(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
-{
-	if (s->avx2)
-		scan_template_avx2(s, dd, t, o, first, end, stride);
-	else if (o->acc != NULL)
-		scan_template_body(s, dd, t, o, 0, first, end, stride);
-	else
-		scan_template_body(s, dd, t, o, 1, first, end, stride);
-}
-
-/* A batch of DEM rows at once (lv_error_rows' BATCH): a triangle's plane
- * depends on its centre, not on the row, so four centres' planes are set
- * up once (their heights loaded, e1, e2, n0, n1, dz and n0 x p00, by
- * tri_at4z's operations) and measured along each of the batch's rows
- * whose chord through them is short; only z0, which the row's y enters,
- * is found per row, by tri_at4z's expression. Errors raise their sinks
- * by max, whose order does not matter, so the rows' errors go together.
- * A row's chord of a triangle: its template (make_tmpl). */
-typedef struct {
-	const tmpl *t;      /* the row's template of the triangle */
-	const double *dd;   /* the row's samples */
-	double xlo;         /* t->lo x inv: tri_at4z's first x less cd */
-} brow;
-
-/* A triangle and the rows measured together: n of them, their chords
- * short, n2 a power of 2 (tri_at4z's conditions) */
-typedef struct {
-	int n;
-	brow r[BATCH];
-} btri;
-
-/* b's triangle at centres cx, cx + stride, ... (LANES, cd as doubles)
- * along each of its rows, raising w: tri_at4z's operations lane by lane,
- * the row-free ones once. */
-static inline __attribute__((always_inline)) v4d
-btri_at4(const state *s, const btri *b, int cx, int stride, v4d cd, v4d w)
-{
-	const tmpl *t = b->r[0].t;
-	v4d z0, z1, z2, e1, e2, n0, n1, n0p, dz;
-	long S = (long)s->step, c[LANES];
-	double inv = t->inv, rn2 = t->rn2;
-
-#pragma GCC unroll 4
-	for (int k = 0; k < LANES; k++)
-		c[k] = (long)(cx + k * stride) * S;
-	z0 = heights4(t, 0, cx, stride);
-	z1 = heights4(t, 1, cx, stride);
-	z2 = heights4(t, 2, cx, stride);
-	e1 = z1 - z0, e2 = z2 - z0;
-	n0 = t->d1y * e2 - e1 * t->d2y;
-	n1 = e1 * t->d2x - t->d1x * e2;
-	dz = -n0 * rn2;
-	n0p = n0 * (cd + (double)t->ox[0]);
-	for (int j = 0; j < b->n; j++) {
-		const brow *r = &b->r[j];
-		const tmpl *u = r->t;
-		const double *q0, *q1, *q2, *q3;
-		v4d z = z0 - (n1 * u->ym - n0p) * rn2, x = cd + r->xlo;
-		long n = u->hi - u->lo;
-		q0 = r->dd + (c[0] + u->wlo), q1 = r->dd + (c[1] + u->wlo);
-		q2 = r->dd + (c[2] + u->wlo), q3 = r->dd + (c[3] + u->wlo);
-		w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
-		if (n >= 1)
-			x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
-		if (n >= 2)
-			x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
-		for (long o = 3; o <= n; o++)
-			x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
-	}
-	return w;
-}
-
-/* The nb triangles b (of the same centres) at centres first, first +
- * stride, ... below end, LANES at a time where every row's chord is
- * inside the DEM row and every vertex in the window: those centres,
- * [*va, *vb), are left to the caller's rows one by one. */
+/* A DEM row's triangles a batch of rows at once (lv_error_rows' BATCH):
+ * a triangle's plane depends on its centre, not on the row, so it is
+ * set up once per centre (or LANES of them) for every row of the batch
+ * through it, and only z0, which the row's y enters, is found per row,
+ * by tri_row's expression. Errors raise their sinks by max, whose order
+ * does not matter (a float's rounding keeps the order), so a centre's
+ * rows go together.
+ *
+ * The nb triangles b (a diamond's or a cell's, of the same centres) at
+ * centres first, first + stride, ... below end: LANES at a time where
+ * every short chord is inside the DEM row and every vertex of those
+ * triangles in the window, their short rows; a centre at a time the
+ * long rows, and every row at the centres left. */
 static inline __attribute__((always_inline)) void
 batch_body(const state *s, const btri *b, int nb, const sink *o, int leaves,
-    int first, int end, int stride, int *va, int *vb)
+    int first, int end, int stride)
 {
 	long S = (long)s->step, last = s->dend - 1, lo = 0, hi = 0;
 	gather g = { o, -1, { 0, 0, 0, 0 } };
-	int cx, any = 0;
+	int va = first, vb = end, cx, any = 0;
 
 	for (int k = 0; k < nb; k++) {
-		if (b[k].n == 0)
+		if (b[k].ns == 0)
 			continue;
-		window(s, b[k].r[0].t, &first, &end, stride);
-		for (int j = 0; j < b[k].n; j++) {
-			const tmpl *u = b[k].r[j].t;
-			lo = !any || u->lo < lo ? u->lo : lo;
-			hi = !any || u->hi > hi ? u->hi : hi;
+		window(s, &b[k].t, &va, &vb, stride);
+		for (int j = 0; j < b[k].ns; j++) {
+			const brow *r = &b[k].s[j];
+			lo = !any || r->lo < lo ? r->lo : lo;
+			hi = !any || r->hi > hi ? r->hi : hi;
 			any = 1;
 		}
 	}
-	while (first < end && (long)first * S + lo < s->d0)
-		first += stride;
-	for (cx = first; cx + (LANES - 1) * stride < end &&
+	while (any && va < vb && (long)va * S + lo < s->d0)
+		va += stride;
+	for (cx = va; any && cx + (LANES - 1) * stride < vb &&
 	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
 	    cx += LANES * stride) {
 		v4d cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride +
 		    cx, v4d), w = { -1, -1, -1, -1 };
 		for (int k = 0; k < nb; k++)
-			if (b[k].n > 0)
+			if (b[k].ns > 0)
 				w = btri_at4(s, &b[k], cx, stride, cd, w);
 		raise4(o, &g, leaves, cx, stride, w);
 	}
+	vb = any ? cx : va;
+	/* [va, vb): the short rows done; each triangle's rows at its
+	 * centres (window) one by one */
+	for (int k = 0; k < nb; k++) {
+		const btri *t = &b[k];
+		int f = first, e = end;
+		if (t->ns + t->nl == 0)
+			continue;
+		window(s, &t->t, &f, &e, stride);
+		for (cx = f; cx < e && cx < va; cx += stride)
+			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, t->s,
+			    t->ns, t->l, t->nl, cx));
+		for (; cx < e && cx < vb; cx += stride)
+			if (t->nl > 0)
+				raise1(o, &g, leaves, cx, btri_at1(s, &t->t,
+				    NULL, 0, t->l, t->nl, cx));
+		for (; cx < e; cx += stride)
+			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, t->s,
+			    t->ns, t->l, t->nl, cx));
+	}
 	gather_flush(&g);
-	*va = first, *vb = cx;
 }
 
 TL_AVX2 static void
 batch_avx2(const state *s, const btri *b, int nb, const sink *o, int first,
-    int end, int stride, int *va, int *vb)
+    int end, int stride)
 {
 	if (o->acc != NULL)
-		batch_body(s, b, nb, o, 0, first, end, stride, va, vb);
+		batch_body(s, b, nb, o, 0, first, end, stride);
 	else
-		batch_body(s, b, nb, o, 1, first, end, stride, va, vb);
+		batch_body(s, b, nb, o, 1, first, end, stride);
 }
 
 static void
 batch_plain(const state *s, const btri *b, int nb, const sink *o, int first,
-    int end, int stride, int *va, int *vb)
+    int end, int stride)
 {
 	if (o->acc != NULL)
-		batch_body(s, b, nb, o, 0, first, end, stride, va, vb);
+		batch_body(s, b, nb, o, 0, first, end, stride);
 	else
-		batch_body(s, b, nb, o, 1, first, end, stride, va, vb);
+		batch_body(s, b, nb, o, 1, first, end, stride);
 }
 
 /* The rows of a batch: J0 .. J0 + n - 1, row J's samples at dd[J - J0] */
@@ -545,10 +467,9 @@ typedef struct {
 } rows;
 
 /* The nt triangles tri about (cx, cy) at centres first, first + stride,
- * ... below end, along the batch's rows, into the sink mk() makes (once
- * a row crosses one): each row's template of each; the short chords
- * batched, the others (and the centres batch_body leaves) scanned row by
- * row as scan_template does. */
+ * ... below end, along the batch's rows that cross them (the rows
+ * between a triangle's lowest and highest vertex, then chord), into the
+ * sink mk() makes once a row does. */
 typedef void (*sink_fn)(share *sh, int cy, sink *o);
 
 static void
@@ -556,63 +477,49 @@ scan_rows(share *sh, const rows *R, const int tri[][3][2], int nt, int cx,
     int cy, sink_fn mk, int first, int end, int stride)
 {
 	const state *s = sh->s;
-	tmpl T[BATCH][2];
+	long S = (long)s->step;
 	btri b[2];
-	int ok[BATCH][2], any = 0, va, vb;
+	int any = 0;
 	sink o;
 
-	long S = (long)s->step, ylo[2], yhi[2];
-
-	/* the rows that can cross each: chord's first test, before the
-	 * template is made */
 	for (int k = 0; k < nt; k++) {
-		b[k].n = 0;
-		ylo[k] = yhi[k] = tri[k][0][1];
+		btri *t = &b[k];
+		long ylo = tri[k][0][1], yhi = ylo;
+		t->ns = t->nl = 0;
+		make_tmpl(s, &t->t, tri[k], cx, cy);
+		if (!t->t.ok || t->t.n2 == 0)
+			continue;
 		for (int v = 1; v < 3; v++) {
-			ylo[k] = tri[k][v][1] < ylo[k] ? tri[k][v][1] : ylo[k];
-			yhi[k] = tri[k][v][1] > yhi[k] ? tri[k][v][1] : yhi[k];
+			ylo = tri[k][v][1] < ylo ? tri[k][v][1] : ylo;
+			yhi = tri[k][v][1] > yhi ? tri[k][v][1] : yhi;
 		}
-		ylo[k] *= S, yhi[k] *= S;
-	}
-	for (int j = 0; j < R->n; j++)
-		for (int k = 0; k < nt; k++) {
-			tmpl *t = &T[j][k];
-			ok[j][k] = 0;
-			if (R->J0 + j < ylo[k] || R->J0 + j > yhi[k])
+		for (int j = 0; j < R->n; j++) {
+			long J = R->J0 + j, lo, hi;
+			brow *r;
+			if (J < ylo * S || J > yhi * S ||
+			    !chord(&t->t, S, J - (long)cy * S, &lo, &hi))
 				continue;
-			make_tmpl(s, t, tri[k], cx, cy, R->J0 + j, R->y[j]);
-			ok[j][k] = t->ok && t->n2 != 0;
-			any |= ok[j][k];
-			if (ok[j][k] && t->rn2 != 0 && t->hi - t->lo < SHORT) {
-				brow *r = &b[k].r[b[k].n++];
-				r->t = t, r->dd = R->dd[j];
-				r->xlo = t->lo * t->inv;
-				ok[j][k] = 2;
-			}
+			r = t->t.rn2 != 0 && hi - lo < SHORT ? &t->s[t->ns++] :
+			    &t->l[t->nl++];
+			r->dd = R->dd[j], r->lo = lo, r->hi = hi;
+			r->wlo = lo - s->d0;
+			r->ym = R->y[j] - (double)tri[k][0][1];
+			r->xlo = lo * t->t.inv;
 		}
+		if (t->ns + t->nl == 0)
+			continue;
+		for (int v = 0; v < 3; v++)
+			t->t.zr[v] = s->z + slot(s, tri[k][v][1]);
+		any = 1;
+	}
 	if (!any)
 		return;
 	mk(sh, cy, &o);
 	if (s->avx2)
-		batch_avx2(s, b, nt, &o, first, end, stride, &va, &vb);
+		batch_avx2(s, b, nt, &o, first, end, stride);
 	else
-		batch_plain(s, b, nt, &o, first, end, stride, &va, &vb);
-	va = va < end ? va : end;
-	vb = vb < end ? vb : end;
-	for (int j = 0; j < R->n; j++)
-		for (int k = 0; k < nt; k++) {
-			if (ok[j][k] == 1)
-				scan_template(s, R->dd[j], &T[j][k], &o, first,
-				    end, stride);
-			if (ok[j][k] != 2)
-				continue;
-			scan_template(s, R->dd[j], &T[j][k], &o, first, va,
-			    stride);
-			scan_template(s, R->dd[j], &T[j][k], &o, vb, end,
-			    stride);
-		}
+		batch_plain(s, b, nt, &o, first, end, stride);
 }
-
 static void
 diamond_sink(share *sh, int cy, sink *o)
 {
