@@ -428,10 +428,10 @@ batch_body(const state *s, const btri *b, int nb, const sink *o, int leaves,
 		for (cx = f; cx < e && cx < va; cx += stride)
 			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, t->s,
 			    t->ns, t->l, t->nl, cx));
-		for (; cx < e && cx < vb; cx += stride)
-			if (t->nl > 0)
-				raise1(o, &g, leaves, cx, btri_at1(s, &t->t,
-				    NULL, 0, t->l, t->nl, cx));
+		for (; t->nl > 0 && cx < e && cx < vb; cx += stride)
+			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, NULL, 0,
+			    t->l, t->nl, cx));
+		cx = cx > vb ? cx : vb; /* both first + a multiple of stride */
 		for (; cx < e; cx += stride)
 			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, t->s,
 			    t->ns, t->l, t->nl, cx));
