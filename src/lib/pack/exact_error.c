@@ -25,7 +25,8 @@
  *       undisplaced_scan.c: every triangle has integer vertices and
  *       level, upright or 45-degree edges, so its chord along a DEM row is
  *       whole DEM columns, found once per row, scale, kind and centre row
- *       and shifted along it: no per-triangle geometry. The common case.
+ *       and shifted along it: no per-triangle geometry; each triangle's
+ *       plane set up once for the batch's rows. The common case.
  *   displaced levels (QEM-3D), a batch whose rows of positions all
  *   have offsets 0 (level 0; step <= SCAN_MAXSTEP)
  *       undisplaced_scan.c too: the positions are the grid's exactly

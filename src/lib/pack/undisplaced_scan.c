@@ -19,13 +19,16 @@
  * same z0 + dz * x - DEM in doubles (x = i / step, a power of two, is
  * i times 1/step exactly), the same maximum (the order of a maximum
  * without NaN does not matter; an invalid sample is NaN here and never
- * wins). */
+ * wins).
+ *
+ * The rows come a batch at a time (BATCH, lv_error_rows): the plane's
+ * normal depends on the triangle, not on the row, so each triangle's is
+ * found once per centre for every row of the batch through it, and only
+ * z0, which the row's y enters, per row (batch_body). */
 #include "pack/level_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
-
-/* A triangle relative to a centre (cx, cy) on the current DEM row. */
 
 /* A triangle relative to its centre (cx, cy), whatever the DEM row: the
  * row-free part of tri_row's set-up. */
@@ -146,10 +149,11 @@ typedef struct {
 typedef int v4i __attribute__((vector_size(16)));
 typedef float v4f __attribute__((vector_size(16)));
 /* chords of fewer samples than this go LANES centres at a time; longer
- * ones are swept along the row (sweep), which loads contiguously but
- * sets up a centre at a time and gathers its maxima through memory: up
- * to here (levels 1 to 3's mid scales) the lanes' set-up shared by four
- * outweighs their loads a sample at a time (perf stat, N48W125) */
+ * ones are swept along the row (sweep_into), which loads contiguously
+ * but sets up a centre at a time: up to here (levels 1 to 3's mid
+ * scales) the lanes' set-up shared by four outweighs their loads a
+ * sample at a time (perf stat, N48W125; with the set-up once per batch,
+ * 16 to 64 measured the same, scripts/bench-kernel) */
 #define SHORT 28
 
 /* The heights of vertex r of template t at centres cx, cx + stride, ...
