@@ -189,12 +189,9 @@ btri_at4(const state *s, const btri *b, int cx, int stride, v4d cd, v4d w)
 {
 	const tmpl *t = &b->t;
 	v4d z0, z1, z2, e1, e2, n0, n1, n0p, dz;
-	long S = (long)s->step, c[LANES];
+	long S = (long)s->step, c0 = (long)cx * S, d = (long)stride * S;
 	double inv = t->inv, rn2 = t->rn2;
 
-#pragma GCC unroll 4
-	for (int k = 0; k < LANES; k++)
-		c[k] = (long)(cx + k * stride) * S;
 	z0 = heights4(t, 0, cx, stride);
 	z1 = heights4(t, 1, cx, stride);
 	z2 = heights4(t, 2, cx, stride);
@@ -212,8 +209,9 @@ btri_at4(const state *s, const btri *b, int cx, int stride, v4d cd, v4d w)
 		 * is that exactly, and so is each step (see sweep) */
 		v4d z = z0 - (n1 * r->ym - n0p) * rn2, x = cd + r->xlo;
 		long n = r->hi - r->lo;
-		q0 = r->dd + (c[0] + r->wlo), q1 = r->dd + (c[1] + r->wlo);
-		q2 = r->dd + (c[2] + r->wlo), q3 = r->dd + (c[3] + r->wlo);
+		/* the lanes' chords stride x S apart in the row */
+		q0 = r->dd + (c0 + r->wlo), q1 = q0 + d;
+		q2 = q1 + d, q3 = q2 + d;
 		/* the first three samples unrolled (most chords here are 1
 		 * to 3 samples: no loop to set up), then the rest */
 		w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
