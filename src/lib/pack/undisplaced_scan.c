@@ -73,9 +73,12 @@ chord(const tmpl *t, long S, long r, long *lo, long *hi)
 			if ((r - ay) * (by > ay ? 1 : -1) < 0 ||
 			    (by - r) * (by > ay ? 1 : -1) < 0)
 				continue;
-			/* slopes 0 or +-1: exact */
-			assert(((r - ay) * (bx - ax)) % (by - ay) == 0);
-			x0 = x1 = ax + (r - ay) * (bx - ax) / (by - ay);
+			/* slopes 0 or +-1: (r - ay) (bx - ax) / (by - ay)
+			 * exactly, without a division */
+			assert(bx == ax || bx - ax == by - ay ||
+			    bx - ax == ay - by);
+			x0 = x1 = ax + (bx == ax ? 0 : bx - ax == by - ay ?
+			    r - ay : ay - r);
 		}
 		if (!any || x0 < xl)
 			xl = x0;
