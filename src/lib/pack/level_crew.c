@@ -8,7 +8,6 @@
 
 #include <assert.h>
 #include <math.h>
-#include <string.h>
 
 /* A block row is final once no DEM row left can reach the local errors
  * its saturation band reads: 64 rows past that band, plus the margin. */
@@ -71,28 +70,6 @@ emit_row(state *s, crew *c, int bj, tl_err *e)
 	return 0;
 }
 
-/* dd[i] = v[i] ? z[i] : NAN, i < n, four at a time (the same bits: the
- * conversion is exact, the NaN is NAN's) */
-static void
-to_doubles(double *dd, const float *z, const unsigned char *v, long n)
-{
-	const v4d nan = { NAN, NAN, NAN, NAN };
-	long i = 0;
-
-	for (; i + 4 <= n; i += 4) {
-		typedef float v4f __attribute__((vector_size(16)));
-		v4f f;
-		v4l m = (v4l){ v[i], v[i + 1], v[i + 2], v[i + 3] } != 0;
-		v4d d;
-		memcpy(&f, z + i, sizeof f);
-		d = __builtin_convertvector(f, v4d);
-		d = (v4d)((m & (v4l)d) | (~m & (v4l)nan));
-		memcpy(dd + i, &d, sizeof d);
-	}
-	for (; i < n; i++)
-		dd[i] = v[i] ? (double)z[i] : NAN;
-}
-
 /* The window's columns of DEM rows J0 .. J1-1 as doubles, NaN where not
  * valid; the valid samples of the piece's own columns counted (the
  * pieces' own columns partition the DEM's). */
@@ -109,7 +86,8 @@ read_batch(state *s, int J0, int J1, tl_err *e)
 		if (dem_read_span(s->d, J, (int)s->d0, (int)n, s->dz, s->dv,
 		    e) < 0)
 			return -1;
-		to_doubles(dd, s->dz, s->dv, n);
+		for (long i = 0; i < n; i++)
+			dd[i] = s->dv[i] ? (double)s->dz[i] : NAN;
 		for (long i = own0; i < own1; i++)
 			k += s->dv[i];
 		s->st->samples += k;
