@@ -7,8 +7,9 @@
  * one (TL_NO_AVX2): rough terrain with voids and steep slopes, offsets
  * up to 0.45 of a cell everywhere, 0 everywhere (of both signs), or 0
  * but in a band of rows (the batches near it take the batched path, the
- * others the scan), levels 0 to 3, one thread and shares on three, the
- * whole level and a piece alone (a window not at column 0). */
+ * others the scan), levels 0 to 3 (and 5, offsets 0: the scan's long
+ * chords only), one thread and shares on three, the whole level and a
+ * piece alone (a window not at column 0). */
 #include <limits.h>
 #include <math.h>
 #include <pthread.h>
@@ -181,6 +182,10 @@ main(void)
 			test_level(path, W, H, level, 1, -1, h / 2, h / 2 + 3);
 			test_level(path, W, H, level, 3, -1, h / 2, h / 2 + 3);
 		}
+		/* level 5, offsets all 0: the integer scan with every
+		 * chord long (a leaf's 33 samples), a centre at a time */
+		test_level(path, W, H, 5, 1, -1, 0, 0);
+		test_level(path, W, H, 5, 3, -1, 0, 0);
 		test_level(path, W, H, 0, 1, 1, 0, INT_MAX);
 		test_level(path, W, H, 0, 1, 1, 0, 0);
 		test_level(path, W, H, 0, 1, 1, 100, 103);

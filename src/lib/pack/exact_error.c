@@ -25,7 +25,8 @@
  *       undisplaced_scan.c: every triangle has integer vertices and
  *       level, upright or 45-degree edges, so its chord along a DEM row is
  *       whole DEM columns, found once per row, scale, kind and centre row
- *       and shifted along it: no per-triangle geometry. The common case.
+ *       and shifted along it: no per-triangle geometry; each triangle's
+ *       plane set up once for the batch's rows. The common case.
  *   displaced levels (QEM-3D), a batch whose rows of positions all
  *   have offsets 0 (level 0; step <= SCAN_MAXSTEP)
  *       undisplaced_scan.c too: the positions are the grid's exactly
@@ -721,10 +722,16 @@ lv_error_rows(share *t, int J0, int J1)
 	rowset rs;
 
 	assert(J1 - J0 <= BATCH);
+	if (J1 <= J0)
+		return;
 	if (s->scan || s->ref || !s->L->displaced || batch_flat(t, J0, J1)) {
+		if (s->scan || (s->L->displaced && !s->ref)) {
+			lv_scan_undisplaced(t, J0, J1);
+			return;
+		}
 		for (int J = J0; J < J1; J++) {
 			t->dd = s->dd + (size_t)(J - J0) * stride;
-			lv_error_row(t, J);
+			row_reference(t, J / s->step);
 		}
 		return;
 	}
@@ -733,13 +740,4 @@ lv_error_rows(share *t, int J0, int J1)
 		rows_displaced_avx2(t, &rs);
 	else
 		rows_displaced(t, &rs);
-}
-
-void
-lv_error_row(share *t, int J)
-{
-	if (t->s->scan || (t->s->L->displaced && !t->s->ref))
-		lv_scan_undisplaced(t, J);
-	else
-		row_reference(t, J / t->s->step);
 }

@@ -226,14 +226,14 @@ v4max(v4d d, v4d w)
 	return r;
 }
 
-/* max |z0 + dz * (i / step) - DEM[i]| over the valid DEM columns i in
- * [a, b], DEM[i] being dd[i - d0]; -1 when none is. Eight samples a step
- * into two maxima, so that no chain of dependent maxima sets the pace (a
- * maximum's order does not matter); i / step is i x inv, i exact as a
- * double. */
-static inline __attribute__((always_inline)) double
-sweep(const double *dd, long d0, long a, long b, double z0, double dz,
-    double inv)
+/* |z0 + dz * (i / step) - DEM[i]| over the valid DEM columns i in
+ * [a, b], DEM[i] being dd[i - d0], into the lanes of the maximum m
+ * (which holds no NaN). Eight samples a step into two maxima, so that no
+ * chain of dependent maxima sets the pace (a maximum's order does not
+ * matter); i / step is i x inv, i exact as a double. */
+static inline __attribute__((always_inline)) void
+sweep_into(const double *dd, long d0, long a, long b, double z0, double dz,
+    double inv, v4d *m)
 {
 	double w = -1;
 	long i = a;
@@ -243,7 +243,7 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 		 * and 8 / step are exact, so is their sum */
 		v4d x0 = (v4d){ a, a + 1, a + 2, a + 3 } * inv;
 		v4d x1 = (v4d){ a + 4, a + 5, a + 6, a + 7 } * inv;
-		v4d w0 = { -1, -1, -1, -1 }, w1 = w0;
+		v4d w0 = *m, w1 = { -1, -1, -1, -1 };
 		v4d s8 = { 8 * inv, 8 * inv, 8 * inv, 8 * inv };
 		for (; i + 7 <= b; i += 8, x0 += s8, x1 += s8) {
 			v4d v0, v1;
@@ -252,17 +252,12 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 			w0 = v4max(v4abs(z0 + dz * x0 - v0), w0);
 			w1 = v4max(v4abs(z0 + dz * x1 - v1), w1);
 		}
-		w0 = v4max(w0, w1); /* neither holds a NaN */
-		for (int k = 0; k < 4; k++)
-			w = w0[k] > w ? w0[k] : w;
+		*m = v4max(w0, w1); /* neither holds a NaN */
 	}
 	if (i + 3 <= b) { /* four more at once */
 		v4d x0 = { i, i + 1, i + 2, i + 3 }, v0;
 		memcpy(&v0, dd + (i - d0), sizeof v0);
-		v0 = v4max(v4abs(z0 + dz * (x0 * inv) - v0),
-		    (v4d){ w, w, w, w });
-		for (int k = 0; k < 4; k++)
-			w = v0[k] > w ? v0[k] : w;
+		*m = v4max(v4abs(z0 + dz * (x0 * inv) - v0), *m);
 		i += 4;
 	}
 	for (; i <= b; i++) {
@@ -270,6 +265,21 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 		if (d > w)
 			w = d;
 	}
+	(*m)[0] = w > (*m)[0] ? w : (*m)[0];
+}
+
+/* The largest of those; -1 when none is valid. */
+static inline __attribute__((always_inline)) double
+sweep(const double *dd, long d0, long a, long b, double z0, double dz,
+    double inv)
+{
+	v4d m = { -1, -1, -1, -1 };
+	double w;
+
+	sweep_into(dd, d0, a, b, z0, dz, inv, &m);
+	w = m[0];
+	for (int k = 1; k < 4; k++)
+		w = m[k] > w ? m[k] : w;
 	return w;
 }
 
@@ -281,16 +291,14 @@ sweep(const double *dd, long d0, long a, long b, double z0, double dz,
 
 /* exact_error.c: the local and base errors DEM rows J0 .. J1-1 (at most
  * BATCH, the state's dd) raise in t's columns, by the variant that
- * serves the level; those of DEM row J (t->dd) by the row-at-a-time
- * variants (undisplaced_scan.c's, or the reference); where each column
- * of the piece falls among the lattice's nodes (state init, displaced
- * levels of a lattice metric). */
+ * serves the level; where each column of the piece falls among the
+ * lattice's nodes (state init, displaced levels of a lattice metric). */
 void lv_error_rows(share *t, int J0, int J1);
-void lv_error_row(share *t, int J);
 void lv_node_columns(state *s);
-/* undisplaced_scan.c: lv_error_row on an undisplaced level (s->scan), as
- * tri_row's loops in exact_error.c would raise them, bit for bit. */
-void lv_scan_undisplaced(share *t, int J);
+/* undisplaced_scan.c: lv_error_rows on an undisplaced level (s->scan, or
+ * a batch of flat rows), as tri_row's loops in exact_error.c would raise
+ * them row by row, bit for bit. */
+void lv_scan_undisplaced(share *t, int J0, int J1);
 /* level_ring.c: level rows up to r (at most the run's last, r1 - 1)
  * loaded into the rings. */
 int lv_ensure(state *s, int r, tl_err *e);

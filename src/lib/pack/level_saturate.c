@@ -12,14 +12,59 @@
 #include <assert.h>
 #include <string.h>
 
-static void
-raise(state *s, int g0, int lo, int hi, float *e, int ci, int cj)
+/* e raised to c: the order of raises kept, though no error is NaN */
+static inline float
+up(float e, float c)
 {
-	if (ci >= 0 && ci < s->P && cj >= lo && cj < hi) {
-		float c = s->satband[(size_t)(cj - g0) * s->P + ci];
-		if (c > *e)
-			*e = c;
+	return c > e ? c : e;
+}
+
+/* Row r's E at columns gi0, gi0 + 2h, ... raised by their children in
+ * rows a and b (NULL: outside the band) at columns gi - d and gi + d
+ * (those inside the row), in that order: a's two, then b's. */
+static void
+raise_row(float *r, const float *a, const float *b, int gi0, int h, int d,
+    int P)
+{
+	for (int gi = gi0; gi < P; gi += 2 * h) {
+		float e = r[gi];
+		int lo = gi - d >= 0, hi = gi + d < P;
+		if (a != NULL) {
+			if (lo)
+				e = up(e, a[gi - d]);
+			if (hi)
+				e = up(e, a[gi + d]);
+		}
+		if (b != NULL) {
+			if (lo)
+				e = up(e, b[gi - d]);
+			if (hi)
+				e = up(e, b[gi + d]);
+		}
+		r[gi] = e;
 	}
+}
+
+/* Row r's E at columns h, 3h, ... raised by rows a and b's (NULL:
+ * outside the band) at the same columns, a's then b's. */
+static void
+raise_col(float *r, const float *a, const float *b, int h, int P)
+{
+	for (int gi = h; gi < P; gi += 2 * h) {
+		float e = r[gi];
+		if (a != NULL)
+			e = up(e, a[gi]);
+		if (b != NULL)
+			e = up(e, b[gi]);
+		r[gi] = e;
+	}
+}
+
+/* Band row gj, or NULL outside [lo, hi). */
+static inline float *
+band(float *sat, int P, int g0, int lo, int hi, int gj)
+{
+	return gj >= lo && gj < hi ? sat + (size_t)(gj - g0) * P : NULL;
 }
 
 /* E = max(local, E of children), children first: edge(1), square(1),
@@ -45,25 +90,18 @@ lv_saturate(state *s, int bj)
 			    (gj / h) % 2 ? 0 : -1;
 			if (gi0 < 0)
 				continue;
-			for (int gi = gi0; gi < P; gi += 2 * h) {
-				float *e = &sat[(size_t)(gj - g0) * P + gi];
-				raise(s, g0, lo, hi, e, gi - g, gj - g);
-				raise(s, g0, lo, hi, e, gi + g, gj - g);
-				raise(s, g0, lo, hi, e, gi - g, gj + g);
-				raise(s, g0, lo, hi, e, gi + g, gj + g);
-			}
+			raise_row(band(sat, P, g0, lo, hi, gj), band(sat, P, g0,
+			    lo, hi, gj - g), band(sat, P, g0, lo, hi, gj + g),
+			    gi0, h, g, P);
 		}
-		/* square(h): children (gi +- h, gj), (gi, gj +- h) */
+		/* square(h): children (gi +- h, gj), then (gi, gj +- h) */
 		for (int gj = lo; gj < hi; gj++) {
+			float *r = band(sat, P, g0, lo, hi, gj);
 			if (gj % h != 0 || (gj / h) % 2 == 0)
 				continue;
-			for (int gi = h; gi < P; gi += 2 * h) {
-				float *e = &sat[(size_t)(gj - g0) * P + gi];
-				raise(s, g0, lo, hi, e, gi - h, gj);
-				raise(s, g0, lo, hi, e, gi + h, gj);
-				raise(s, g0, lo, hi, e, gi, gj - h);
-				raise(s, g0, lo, hi, e, gi, gj + h);
-			}
+			raise_row(r, r, NULL, h, h, h, P);
+			raise_col(r, band(sat, P, g0, lo, hi, gj - h),
+			    band(sat, P, g0, lo, hi, gj + h), h, P);
 		}
 	}
 }

@@ -19,33 +19,38 @@
  * same z0 + dz * x - DEM in doubles (x = i / step, a power of two, is
  * i times 1/step exactly), the same maximum (the order of a maximum
  * without NaN does not matter; an invalid sample is NaN here and never
- * wins). */
+ * wins).
+ *
+ * The rows come a batch at a time (BATCH, lv_error_rows): the plane's
+ * normal depends on the triangle, not on the row, so each triangle's is
+ * found once per centre for every row of the batch through it, and only
+ * z0, which the row's y enters, per row (batch_body). */
 #include "pack/level_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
 
-/* A triangle relative to a centre (cx, cy) on the current DEM row. */
+/* A triangle relative to its centre (cx, cy), whatever the DEM row: the
+ * row-free part of tri_row's set-up. */
 typedef struct {
-	int ok;             /* the row crosses it and its rows are on the grid */
+	int ok;             /* its rows are on the grid */
 	int ox[3], oy[3];   /* its vertices less the centre, in order */
 	int wx[3];          /* ox less the window's c0: where, in the
 	                     * window's rows, centre cx's vertices are */
-	long wlo;           /* lo less the window's d0: where, in dd */
 	int xmin, xmax;     /* of ox */
-	long lo, hi;        /* the row's columns less cx x step */
 	const float *zr[3]; /* the vertices' rows of heights */
-	/* tri_row's p[k] - p[0] in x and y, its normal's z (n[2]), its
-	 * y - p[0][1]: whole numbers and their differences, exact */
-	double d1x, d1y, d2x, d2y, n2, ym;
+	/* tri_row's p[k] - p[0] in x and y, its normal's z (n[2]): whole
+	 * numbers and their differences, exact */
+	double d1x, d1y, d2x, d2y, n2;
 	double rn2;         /* 1 / n2 when n2 is a power of 2, else 0 */
 	double inv;         /* 1 / step, exact: found once, not per centre */
 } tmpl;
 
 /* tri_row's chord, in whole DEM columns: the row r (DEM rows, less cy x
- * step) against each edge; level edges count when the row is on them. */
-static void
-chord(tmpl *t, long S, long r)
+ * step) against each edge; level edges count when the row is on them.
+ * Whether the row crosses t; its columns less cx x step in lo, hi. */
+static int
+chord(const tmpl *t, long S, long r, long *lo, long *hi)
 {
 	long X[3], Y[3], ymin, ymax, xl = 0, xr = 0;
 	int any = 0;
@@ -55,10 +60,8 @@ chord(tmpl *t, long S, long r)
 	ymin = ymax = Y[0];
 	for (int k = 1; k < 3; k++)
 		ymin = Y[k] < ymin ? Y[k] : ymin, ymax = Y[k] > ymax ? Y[k] : ymax;
-	if (r < ymin || r > ymax) {
-		t->ok = 0;
-		return;
-	}
+	if (r < ymin || r > ymax)
+		return 0;
 	for (int k = 0; k < 3; k++) {
 		long ax = X[k], ay = Y[k], bx = X[(k + 1) % 3], by = Y[(k + 1) % 3];
 		long x0, x1;
@@ -70,9 +73,12 @@ chord(tmpl *t, long S, long r)
 			if ((r - ay) * (by > ay ? 1 : -1) < 0 ||
 			    (by - r) * (by > ay ? 1 : -1) < 0)
 				continue;
-			/* slopes 0 or +-1: exact */
-			assert(((r - ay) * (bx - ax)) % (by - ay) == 0);
-			x0 = x1 = ax + (r - ay) * (bx - ax) / (by - ay);
+			/* slopes 0 or +-1: (r - ay) (bx - ax) / (by - ay)
+			 * exactly, without a division */
+			assert(bx == ax || bx - ax == by - ay ||
+			    bx - ax == ay - by);
+			x0 = x1 = ax + (bx == ax ? 0 : bx - ax == by - ay ?
+			    r - ay : ay - r);
 		}
 		if (!any || x0 < xl)
 			xl = x0;
@@ -80,17 +86,15 @@ chord(tmpl *t, long S, long r)
 			xr = x1;
 		any = 1;
 	}
-	t->ok = any;
-	t->lo = xl, t->hi = xr;
+	*lo = xl, *hi = xr;
+	return any;
 }
 
-/* The template of triangle tri about (cx, cy) for DEM row J. */
+/* The template of triangle tri about (cx, cy); its rows of heights are
+ * set once a DEM row crosses it (the_rows). */
 static void
-make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
-    int J, double y)
+make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy)
 {
-	long S = (long)s->step;
-
 	t->ok = 1;
 	for (int k = 0; k < 3; k++) {
 		t->ox[k] = tri[k][0] - cx, t->oy[k] = tri[k][1] - cy;
@@ -105,18 +109,11 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 		t->xmin = t->ox[k] < t->xmin ? t->ox[k] : t->xmin;
 		t->xmax = t->ox[k] > t->xmax ? t->ox[k] : t->xmax;
 	}
-	chord(t, S, (long)J - (long)cy * S);
-	if (!t->ok)
-		return;
-	t->wlo = t->lo - s->d0;
-	for (int k = 0; k < 3; k++)
-		t->zr[k] = s->z + slot(s, cy + t->oy[k]);
 	t->d1x = (double)tri[1][0] - tri[0][0];
 	t->d1y = (double)tri[1][1] - tri[0][1];
 	t->d2x = (double)tri[2][0] - tri[0][0];
 	t->d2y = (double)tri[2][1] - tri[0][1];
 	t->n2 = t->d1x * t->d2y - t->d1y * t->d2x;
-	t->ym = y - (double)tri[0][1];
 	t->inv = 1 / s->step;
 	/* x / n2 is x x (1 / n2), rounded once, when n2 is a power of 2
 	 * (every triangle here: legs h or 2h, or 1 for leaves) */
@@ -127,52 +124,39 @@ make_tmpl(const state *s, tmpl *t, const int tri[3][2], int cx, int cy,
 	}
 }
 
-/* tri_row for template t placed at (cx, cy): -1 when off the grid or no
- * valid sample. The plane is tri_row's, operation for operation: its
- * coordinate differences are the template's (exact either way), its
- * divisions by n2 multiplications by 1 / n2 where that is exact. */
-static inline __attribute__((always_inline)) double
-tri_at(const state *s, const double *dd, const tmpl *t, int cx)
-{
-	double z0, z1, z2, e1, e2, n0, n1, p00, z, dz;
-	long S = (long)s->step, a, b;
+/* A DEM row's chord through a triangle (chord), and what tri_row takes
+ * from the row: its y less p[0][1] (whole numbers over a power of 2,
+ * exact) */
+typedef struct {
+	const double *dd;   /* the row's samples: DEM column i at i - d0 */
+	long lo, hi;        /* its columns less cx x step */
+	long wlo;           /* lo less the window's d0 */
+	double ym;
+	double xlo;         /* lo x inv */
+} brow;
 
-	a = (long)cx * S + t->lo, b = (long)cx * S + t->hi;
-	if (a < s->d0)
-		a = s->d0;
-	if (b > s->dend - 1)
-		b = s->dend - 1;
-	if (a > b)
-		return -1;
-	z0 = t->zr[0][cx + t->wx[0]];
-	z1 = t->zr[1][cx + t->wx[1]];
-	z2 = t->zr[2][cx + t->wx[2]];
-	e1 = z1 - z0, e2 = z2 - z0;
-	n0 = t->d1y * e2 - e1 * t->d2y;
-	n1 = e1 * t->d2x - t->d1x * e2;
-	p00 = cx + t->ox[0];
-	if (t->rn2 != 0) {
-		dz = -n0 * t->rn2;
-		z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
-	} else {
-		dz = -n0 / t->n2;
-		z = z0 - (n1 * t->ym - n0 * p00) / t->n2;
-	}
-	return sweep(dd, s->d0, a, b, z, dz, t->inv);
-}
+/* A triangle and the batch's rows through it: ns short chords (at most
+ * SHORT samples, n2 a power of 2), measured LANES centres at a time; nl
+ * others, a centre at a time. */
+typedef struct {
+	tmpl t;
+	int ns, nl;
+	brow s[BATCH], l[BATCH];
+} btri;
 
 /* Four centres at once: short chords (every one of level 0's, most of
- * level 1's) make tri_at's set-up the cost, and its arithmetic is the
- * same for every centre of a template: each lane does tri_at's and
- * sweep's operations in their order (v4d, level_impl.h). */
+ * level 1's) make the set-up the cost, and its arithmetic is the same
+ * for every centre of a template: each lane does tri_row's and sweep's
+ * operations in their order (v4d, level_impl.h). */
 #define LANES 4
 typedef int v4i __attribute__((vector_size(16)));
 typedef float v4f __attribute__((vector_size(16)));
 /* chords of fewer samples than this go LANES centres at a time; longer
- * ones are swept along the row (sweep), which loads contiguously but
- * sets up a centre at a time and gathers its maxima through memory: up
- * to here (levels 1 to 3's mid scales) the lanes' set-up shared by four
- * outweighs their loads a sample at a time (perf stat, N48W125) */
+ * ones are swept along the row (sweep_into), which loads contiguously
+ * but sets up a centre at a time: up to here (levels 1 to 3's mid
+ * scales) the lanes' set-up shared by four outweighs their loads a
+ * sample at a time (perf stat, N48W125; with the set-up once per batch,
+ * 16 to 64 measured the same, scripts/bench-kernel) */
 #define SHORT 28
 
 /* The heights of vertex r of template t at centres cx, cx + stride, ...
@@ -197,111 +181,92 @@ sample4(const double *q0, const double *q1, const double *q2,
 	return v4max(v4abs(z + dz * x - v), w);
 }
 
-/* tri_at of centres cx, cx + stride, ... (LANES of them), lane by lane,
- * every chord inside the DEM row, the vertices' heights z0, z1, z2
- * (heights4), n2 a power of 2 (rn2: tri_at's multiplying branch, the
- * only one every scanned triangle takes; the callers send any other to
- * tri_at). The maximum keeps w where d is NaN (an invalid sample), as
- * sweep does. */
+/* b's triangle at centres cx, cx + stride, ... (LANES of them, cd as
+ * doubles) along each of its short rows, every chord inside the DEM
+ * row, raising w: tri_row's plane lane by lane, set up once for all the
+ * rows (heights, e1, e2, n0, n1, dz and n0 x p00), its z0 per row (the
+ * multiplying branch: n2 a power of 2), then sweep's samples. The
+ * maximum keeps w where d is NaN (an invalid sample), as sweep does. */
 static inline __attribute__((always_inline)) v4d
-tri_at4z(const state *s, const double *dd, const tmpl *t, int cx,
-    int stride, v4d z0, v4d z1, v4d z2)
+btri_at4(const state *s, const btri *b, int cx, int stride, v4d cd, v4d w)
 {
-	v4d cd, p00, e1, e2, n0, n1, z, dz, x;
-	v4d w = { -1, -1, -1, -1 };
-	const double *q0, *q1, *q2, *q3;
-	long S = (long)s->step, c[LANES], n;
-	double inv = t->inv;
+	const tmpl *t = &b->t;
+	v4d z0, z1, z2, e1, e2, n0, n1, n0p, dz;
+	long S = (long)s->step, c0 = (long)cx * S, d = (long)stride * S;
+	double inv = t->inv, rn2 = t->rn2;
 
-#pragma GCC unroll 4
-	for (int k = 0; k < LANES; k++)
-		c[k] = cx + k * stride;
-	/* the centres as doubles at once (whole numbers: exact) */
-	cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride + cx, v4d);
-	p00 = cd + (double)t->ox[0];
+	z0 = heights4(t, 0, cx, stride);
+	z1 = heights4(t, 1, cx, stride);
+	z2 = heights4(t, 2, cx, stride);
 	e1 = z1 - z0, e2 = z2 - z0;
 	n0 = t->d1y * e2 - e1 * t->d2y;
 	n1 = e1 * t->d2x - t->d1x * e2;
-	assert(t->rn2 != 0);
-	dz = -n0 * t->rn2;
-	z = z0 - (n1 * t->ym - n0 * p00) * t->rn2;
-	/* the columns as doubles: whole numbers, so adding 1 is exact; DEM
-	 * column i at i - d0 in dd */
-	q0 = dd + (c[0] * S + t->wlo), q1 = dd + (c[1] * S + t->wlo);
-	q2 = dd + (c[2] * S + t->wlo), q3 = dd + (c[3] * S + t->wlo);
-	/* x: the columns times inv, (c S + lo) / S, stepped by inv: every
-	 * term a whole number over a power of 2, so c + lo / S is that
-	 * exactly, and so is each step (see sweep) */
-	x = cd + t->lo * inv;
-	/* the first three samples unrolled (most chords here are 1 to 3
-	 * samples: no loop to set up), then the rest: the same steps */
-	n = t->hi - t->lo;
-	w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
-	if (n >= 1)
-		x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
-	if (n >= 2)
-		x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
-	for (long o = 3; o <= n; o++)
-		x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
+	assert(rn2 != 0);
+	dz = -n0 * rn2;
+	n0p = n0 * (cd + (double)t->ox[0]);
+	for (int j = 0; j < b->ns; j++) {
+		const brow *r = &b->s[j];
+		const double *q0, *q1, *q2, *q3;
+		/* x: the columns times inv, (c S + lo) / S, stepped by inv:
+		 * every term a whole number over a power of 2, so c + lo / S
+		 * is that exactly, and so is each step (see sweep) */
+		v4d z = z0 - (n1 * r->ym - n0p) * rn2, x = cd + r->xlo;
+		long n = r->hi - r->lo;
+		/* the lanes' chords stride x S apart in the row */
+		q0 = r->dd + (c0 + r->wlo), q1 = q0 + d;
+		q2 = q1 + d, q3 = q2 + d;
+		/* the first three samples unrolled (most chords here are 1
+		 * to 3 samples: no loop to set up), then the rest */
+		w = sample4(q0, q1, q2, q3, 0, x, z, dz, w);
+		if (n >= 1)
+			x += inv, w = sample4(q0, q1, q2, q3, 1, x, z, dz, w);
+		if (n >= 2)
+			x += inv, w = sample4(q0, q1, q2, q3, 2, x, z, dz, w);
+		for (long o = 3; o <= n; o++)
+			x += inv, w = sample4(q0, q1, q2, q3, o, x, z, dz, w);
+	}
 	return w;
 }
 
-static inline __attribute__((always_inline)) v4d
-tri_at4(const state *s, const double *dd, const tmpl *t, int cx, int stride)
+/* b's triangle at centre cx along its rows a (na of them) and l (nl),
+ * each chord clipped to the window's DEM columns: tri_row's plane set up
+ * once (divisions by n2 multiplications by 1 / n2 where that is exact),
+ * its z0 per row, sweep's samples into one maximum; -1 when none. */
+static inline __attribute__((always_inline)) double
+btri_at1(const state *s, const tmpl *t, const brow *a, int na,
+    const brow *l, int nl, int cx)
 {
-	return tri_at4z(s, dd, t, cx, stride, heights4(t, 0, cx, stride),
-	    heights4(t, 1, cx, stride), heights4(t, 2, cx, stride));
-}
+	double z0, z1, z2, e1, e2, n0, n1, n0p, p00, dz, w;
+	long S = (long)s->step, last = s->dend - 1;
+	v4d m = { -1, -1, -1, -1 };
 
-/* How two triangles at the same centres share vertices: t[1]'s vertex
- * k is t[0]'s vertex form(f, k), or its own (-1). f = 0: a diamond's
- * (bt_diamond), their hypotenuse swapped; 1 and 2: a cell's two leaves,
- * their diagonal, by the cell's parity (scan_leaves). A function of
- * constants, folded where it is inlined. */
-static inline __attribute__((always_inline)) int
-form(int f, int k)
-{
-	switch (f) {
-	case 0:
-		return k == 0 ? 1 : k == 1 ? 0 : -1;
-	case 1:
-		return k == 0 ? 0 : k == 1 ? 2 : -1;
-	default:
-		return k == 0 ? 1 : k == 1 ? -1 : 2;
+	z0 = t->zr[0][cx + t->wx[0]];
+	z1 = t->zr[1][cx + t->wx[1]];
+	z2 = t->zr[2][cx + t->wx[2]];
+	e1 = z1 - z0, e2 = z2 - z0;
+	n0 = t->d1y * e2 - e1 * t->d2y;
+	n1 = e1 * t->d2x - t->d1x * e2;
+	p00 = cx + t->ox[0];
+	n0p = n0 * p00;
+	dz = t->rn2 != 0 ? -n0 * t->rn2 : -n0 / t->n2;
+	for (int j = 0; j < na + nl; j++) {
+		const brow *r = j < na ? &a[j] : &l[j - na];
+		long i0 = (long)cx * S + r->lo, i1 = (long)cx * S + r->hi;
+		double z;
+		i0 = i0 > s->d0 ? i0 : s->d0;
+		i1 = i1 < last ? i1 : last;
+		if (i0 > i1)
+			continue;
+		if (t->rn2 != 0)
+			z = z0 - (n1 * r->ym - n0p) * t->rn2;
+		else
+			z = z0 - (n1 * r->ym - n0p) / t->n2;
+		sweep_into(r->dd, s->d0, i0, i1, z, dz, t->inv, &m);
 	}
-}
-
-/* The two at once: the shared vertices' heights loaded once, the larger
- * error of the two, which raises an error as the two one after the other
- * would (f a constant). */
-static inline __attribute__((always_inline)) v4d
-pair_at4(const state *s, const double *dd, const tmpl *t, int f, int cx,
-    int stride)
-{
-	v4d v[3], u[3];
-
-#pragma GCC unroll 3
-	for (int k = 0; k < 3; k++)
-		v[k] = heights4(&t[0], k, cx, stride);
-#pragma GCC unroll 3
-	for (int k = 0; k < 3; k++)
-		u[k] = form(f, k) >= 0 ? v[form(f, k)] :
-		    heights4(&t[1], k, cx, stride);
-	return v4max(tri_at4z(s, dd, &t[0], cx, stride, v[0], v[1], v[2]),
-	    tri_at4z(s, dd, &t[1], cx, stride, u[0], u[1], u[2]));
-}
-
-/* Whether t[1] shares t[0]'s vertices as form(f, k) says. */
-static int
-pair_form(const tmpl *t, int f)
-{
-	for (int k = 0; k < 3; k++) {
-		int m = form(f, k);
-		if (m >= 0 && (t[1].ox[k] != t[0].ox[m] ||
-		    t[1].oy[k] != t[0].oy[m]))
-			return 0;
-	}
-	return 1;
+	w = m[0];
+	for (int k = 1; k < LANES; k++)
+		w = m[k] > w ? m[k] : w;
+	return w;
 }
 
 /* Where an error goes: a diamond's local error (a float per centre
@@ -412,181 +377,210 @@ window(const state *s, const tmpl *t, int *first, int *end, int stride)
 		    stride;
 }
 
-/* Template t at centres first, first + stride, ... below end, each
- * raising its sink: the range where it is on the grid found once, short
- * chords inside the DEM row LANES centres at a time. Raising by each
- * triangle in turn is raising by their maximum: a float's rounding keeps
- * the order. */
+/* A DEM row's triangles a batch of rows at once (lv_error_rows' BATCH):
+ * a triangle's plane depends on its centre, not on the row, so it is
+ * set up once per centre (or LANES of them) for every row of the batch
+ * through it, and only z0, which the row's y enters, is found per row,
+ * by tri_row's expression. Errors raise their sinks by max, whose order
+ * does not matter (a float's rounding keeps the order), so a centre's
+ * rows go together.
+ *
+ * The nb triangles b (a diamond's or a cell's, of the same centres) at
+ * centres first, first + stride, ... below end: LANES at a time where
+ * every short chord is inside the DEM row and every vertex of those
+ * triangles in the window, their short rows; a centre at a time the
+ * long rows, and every row at the centres left. */
 static inline __attribute__((always_inline)) void
-scan_template_body(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int leaves, int first, int end, int stride)
+batch_body(const state *s, const btri *b, int nb, const sink *o, int leaves,
+    int first, int end, int stride)
 {
-	long S = (long)s->step, last = s->dend - 1;
+	long S = (long)s->step, last = s->dend - 1, lo = 0, hi = 0;
 	gather g = { o, -1, { 0, 0, 0, 0 } };
-	int cx;
+	int va = first, vb = end, cx, any = 0;
 
-	if (!t->ok || t->n2 == 0)
-		return;
-	/* the centres whose vertices are in the window */
-	window(s, t, &first, &end, stride);
-	cx = first;
-	if (t->hi - t->lo < SHORT && t->rn2 != 0) {
-		for (; cx < end && (long)cx * S + t->lo < s->d0; cx += stride)
-			raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
-		for (; cx + (LANES - 1) * stride < end &&
-		    (long)(cx + (LANES - 1) * stride) * S + t->hi <= last;
-		    cx += LANES * stride)
-			/* from the register, not through memory */
-			raise4(o, &g, leaves, cx, stride,
-			    tri_at4(s, dd, t, cx, stride));
+	for (int k = 0; k < nb; k++) {
+		if (b[k].ns == 0)
+			continue;
+		window(s, &b[k].t, &va, &vb, stride);
+		for (int j = 0; j < b[k].ns; j++) {
+			const brow *r = &b[k].s[j];
+			lo = !any || r->lo < lo ? r->lo : lo;
+			hi = !any || r->hi > hi ? r->hi : hi;
+			any = 1;
+		}
 	}
-	for (; cx < end; cx += stride)
-		raise1(o, &g, leaves, cx, tri_at(s, dd, t, cx));
+	while (any && va < vb && (long)va * S + lo < s->d0)
+		va += stride;
+	for (cx = va; any && cx + (LANES - 1) * stride < vb &&
+	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
+	    cx += LANES * stride) {
+		v4d cd = __builtin_convertvector((v4i){ 0, 1, 2, 3 } * stride +
+		    cx, v4d), w = { -1, -1, -1, -1 };
+		for (int k = 0; k < nb; k++)
+			if (b[k].ns > 0)
+				w = btri_at4(s, &b[k], cx, stride, cd, w);
+		raise4(o, &g, leaves, cx, stride, w);
+	}
+	vb = any ? cx : va;
+	/* [va, vb): the short rows done; each triangle's rows at its
+	 * centres (window) one by one */
+	for (int k = 0; k < nb; k++) {
+		const btri *t = &b[k];
+		int f = first, e = end;
+		if (t->ns + t->nl == 0)
+			continue;
+		window(s, &t->t, &f, &e, stride);
+		for (cx = f; cx < e && cx < va; cx += stride)
+			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, t->s,
+			    t->ns, t->l, t->nl, cx));
+		for (; t->nl > 0 && cx < e && cx < vb; cx += stride)
+			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, NULL, 0,
+			    t->l, t->nl, cx));
+		cx = cx > vb ? cx : vb; /* both first + a multiple of stride */
+		for (; cx < e; cx += stride)
+			raise1(o, &g, leaves, cx, btri_at1(s, &t->t, t->s,
+			    t->ns, t->l, t->nl, cx));
+	}
 	gather_flush(&g);
 }
 
 TL_AVX2 static void
-scan_template_avx2(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
+batch_avx2(const state *s, const btri *b, int nb, const sink *o, int first,
+    int end, int stride)
 {
 	if (o->acc != NULL)
-		scan_template_body(s, dd, t, o, 0, first, end, stride);
+		batch_body(s, b, nb, o, 0, first, end, stride);
 	else
-		scan_template_body(s, dd, t, o, 1, first, end, stride);
+		batch_body(s, b, nb, o, 1, first, end, stride);
 }
 
 static void
-scan_template(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int first, int end, int stride)
+batch_plain(const state *s, const btri *b, int nb, const sink *o, int first,
+    int end, int stride)
 {
-	if (s->avx2)
-		scan_template_avx2(s, dd, t, o, first, end, stride);
-	else if (o->acc != NULL)
-		scan_template_body(s, dd, t, o, 0, first, end, stride);
+	if (o->acc != NULL)
+		batch_body(s, b, nb, o, 0, first, end, stride);
 	else
-		scan_template_body(s, dd, t, o, 1, first, end, stride);
+		batch_body(s, b, nb, o, 1, first, end, stride);
 }
 
-/* A diamond's two templates t[0], t[1] at centres first, first +
- * stride, ... below end, as scan_template would scan each: both on the
- * grid at the same centres (their columns span the same range), both
- * chords short, pair_at4 where both are inside the DEM row, each alone
- * elsewhere. */
-static inline __attribute__((always_inline)) void
-scan_pair_body(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int leaves, int f, int first, int end, int stride)
-{
-	long S = (long)s->step, last = s->dend - 1;
-	long lo = t[0].lo < t[1].lo ? t[0].lo : t[1].lo;
-	long hi = t[0].hi > t[1].hi ? t[0].hi : t[1].hi;
-	gather g = { o, -1, { 0, 0, 0, 0 } };
-	int cx;
+/* The rows of a batch: J0 .. J0 + n - 1, row J's samples at dd[J - J0] */
+typedef struct {
+	int J0, n;
+	double y[BATCH];
+	const double *dd[BATCH];
+} rows;
 
-	window(s, t, &first, &end, stride);
-	cx = first;
-	for (; cx < end && (long)cx * S + lo < s->d0; cx += stride)
-		for (int k = 0; k < 2; k++)
-			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
-	for (; cx + (LANES - 1) * stride < end &&
-	    (long)(cx + (LANES - 1) * stride) * S + hi <= last;
-	    cx += LANES * stride)
-		raise4(o, &g, leaves, cx, stride,
-		    pair_at4(s, dd, t, f, cx, stride));
-	for (; cx < end; cx += stride)
-		for (int k = 0; k < 2; k++)
-			raise1(o, &g, leaves, cx, tri_at(s, dd, &t[k], cx));
-	gather_flush(&g);
-}
+/* The nt triangles tri about (cx, cy) at centres first, first + stride,
+ * ... below end, along the batch's rows that cross them (the rows
+ * between a triangle's lowest and highest vertex, then chord), into the
+ * sink mk() makes once a row does. */
+typedef void (*sink_fn)(share *sh, int cy, sink *o);
 
-/* The copies: a diamond's pair into local errors, a cell's (either
- * parity) into base errors; AVX2 and plain. */
-static inline __attribute__((always_inline)) void
-scan_pair_copy(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int f, int first, int end, int stride)
-{
-	if (f == 0)
-		scan_pair_body(s, dd, t, o, 0, 0, first, end, stride);
-	else if (f == 1)
-		scan_pair_body(s, dd, t, o, 1, 1, first, end, stride);
-	else
-		scan_pair_body(s, dd, t, o, 1, 2, first, end, stride);
-}
-
-TL_AVX2 static void
-scan_pair_avx2(const state *s, const double *dd, const tmpl *t,
-    const sink *o, int f, int first, int end, int stride)
-{
-	scan_pair_copy(s, dd, t, o, f, first, end, stride);
-}
-
-/* t[0] and t[1] of one shape (nt of them), paired where
- * scan_pair_body applies; f: the form they would pair by (0 for
- * diamonds, 1 or 2 for a cell's leaves). */
 static void
-scan_shape(const state *s, const double *dd, const tmpl *t, int nt, int f,
-    const sink *o, int first, int end, int stride)
+scan_rows(share *sh, const rows *R, const int tri[][3][2], int nt, int cx,
+    int cy, sink_fn mk, int first, int end, int stride)
 {
-	if (nt == 2 && t[0].ok && t[1].ok && t[0].rn2 != 0 && t[1].rn2 != 0 &&
-	    t[0].hi - t[0].lo < SHORT && t[1].hi - t[1].lo < SHORT &&
-	    t[0].xmin == t[1].xmin && t[0].xmax == t[1].xmax &&
-	    pair_form(t, f)) {
-		if (s->avx2)
-			scan_pair_avx2(s, dd, t, o, f, first, end, stride);
-		else
-			scan_pair_copy(s, dd, t, o, f, first, end, stride);
-		return;
+	const state *s = sh->s;
+	long S = (long)s->step;
+	btri b[2];
+	int any = 0;
+	sink o;
+
+	for (int k = 0; k < nt; k++) {
+		btri *t = &b[k];
+		long ylo = tri[k][0][1], yhi = ylo;
+		t->ns = t->nl = 0;
+		make_tmpl(s, &t->t, tri[k], cx, cy);
+		if (!t->t.ok || t->t.n2 == 0)
+			continue;
+		for (int v = 1; v < 3; v++) {
+			ylo = tri[k][v][1] < ylo ? tri[k][v][1] : ylo;
+			yhi = tri[k][v][1] > yhi ? tri[k][v][1] : yhi;
+		}
+		for (int j = 0; j < R->n; j++) {
+			long J = R->J0 + j, lo, hi;
+			brow *r;
+			if (J < ylo * S || J > yhi * S ||
+			    !chord(&t->t, S, J - (long)cy * S, &lo, &hi))
+				continue;
+			r = t->t.rn2 != 0 && hi - lo < SHORT ? &t->s[t->ns++] :
+			    &t->l[t->nl++];
+			r->dd = R->dd[j], r->lo = lo, r->hi = hi;
+			r->wlo = lo - s->d0;
+			r->ym = R->y[j] - (double)tri[k][0][1];
+			r->xlo = lo * t->t.inv;
+		}
+		if (t->ns + t->nl == 0)
+			continue;
+		for (int v = 0; v < 3; v++)
+			t->t.zr[v] = s->z + slot(s, tri[k][v][1]);
+		any = 1;
 	}
-	for (int k = 0; k < nt; k++)
-		scan_template(s, dd, &t[k], o, first, end, stride);
+	if (!any)
+		return;
+	mk(sh, cy, &o);
+	if (s->avx2)
+		batch_avx2(s, b, nt, &o, first, end, stride);
+	else
+		batch_plain(s, b, nt, &o, first, end, stride);
+}
+static void
+diamond_sink(share *sh, int cy, sink *o)
+{
+	const state *s = sh->s;
+
+	o->acc = &s->acc[eslot(s, cy)], o->c0 = s->c0;
+	o->base = NULL, o->b0 = 0;
 }
 
-/* row_diamonds (exact_error.c) by templates: the diamonds along a centre row
- * alternate between two shapes (square diamonds' diagonals alternate;
- * edge diamonds are all alike). Those centred in the share's columns. */
+/* row_diamonds (exact_error.c) for the batch's rows: the diamonds along a
+ * centre row alternate between two shapes (square diamonds' diagonals
+ * alternate; edge diamonds are all alike). Those centred in the share's
+ * columns; the centre rows any of the rows reaches (a row that misses a
+ * triangle has no chord through it). */
 static void
-scan_diamonds(share *sh, int J, double y, int h, int edge)
+scan_diamonds(share *sh, const rows *R, int h, int edge)
 {
 	state *s = sh->s;
 	double reach = h + s->margin;
-	long c0 = (long)ceil((y - reach) / h);
-	long c1 = (long)floor((y + reach) / h);
+	long c0 = (long)ceil((R->y[0] - reach) / h);
+	long c1 = (long)floor((R->y[R->n - 1] + reach) / h);
+	int end = sh->hi < s->cend ? sh->hi : s->cend;
 
 	for (long c = c0 > 0 ? c0 : 0; c <= c1 && c * h < s->Q; c++) {
-		int cy = (int)(c * h), x0, nt[2];
-		tmpl T[2][2];
-		sink o = { 0 };
+		int cy = (int)(c * h), x0;
 		if (!edge && (c & 1) == 0)
 			continue; /* square centres: odd multiples */
 		x0 = edge && (c & 1) ? 0 : h;
 		if (x0 >= s->cend)
 			continue;
-		for (int ph = 0; ph < 2; ph++) {
-			int tri[2][3][2], cx = x0 + 2 * h * ph;
-			nt[ph] = bt_diamond(cx, cy, tri);
-			for (int k = 0; k < nt[ph]; k++)
-				make_tmpl(s, &T[ph][k], tri[k], cx, cy, J, y);
-		}
-		if (!(nt[0] && (T[0][0].ok || T[0][1].ok)) &&
-		    !(nt[1] && (T[1][0].ok || T[1][1].ok)))
-			continue;
-		o.acc = &s->acc[eslot(s, cy)], o.c0 = s->c0;
 		/* each shape's centres in the share: every other one */
-		int end = sh->hi < s->cend ? sh->hi : s->cend;
 		for (int ph = 0; ph < 2; ph++) {
-			int first = x0 + 2 * h * ph;
+			int tri[2][3][2], cx = x0 + 2 * h * ph, first = cx;
+			int nt = bt_diamond(cx, cy, tri);
 			if (first < sh->lo)
 				first += (sh->lo - first + 4 * h - 1) /
 				    (4 * h) * (4 * h);
-			scan_shape(s, sh->dd, T[ph], nt[ph], 0, &o, first,
+			scan_rows(sh, R, tri, nt, cx, cy, diamond_sink, first,
 			    end, 4 * h);
 		}
 	}
 }
 
-/* row_leaves (exact_error.c) by templates: a cell's diagonal alternates with
- * ci + cj. */
 static void
-scan_leaves(share *sh, int J, double y)
+leaf_sink(share *sh, int cj, sink *o)
+{
+	int lo = leaf_lo(sh);
+
+	o->acc = NULL, o->c0 = 0;
+	o->base = base_at(sh, cj, lo), o->b0 = lo / BT_CELLS;
+}
+
+/* row_leaves (exact_error.c) by templates, for the batch's rows: a cell's
+ * diagonal alternates with ci + cj. */
+static void
+scan_leaves(share *sh, const rows *R)
 {
 	state *s = sh->s;
 	int lo = leaf_lo(sh), end = leaf_hi(sh);
@@ -594,10 +588,10 @@ scan_leaves(share *sh, int J, double y)
 	if (lo >= end) /* a share of the halo only */
 		return;
 
-	long r0 = (long)floor(y - EPS), r1 = (long)floor(y + EPS);
+	long r0 = (long)floor(R->y[0] - EPS);
+	long r1 = (long)floor(R->y[R->n - 1] + EPS);
 
 	for (long cj = r0 > 0 ? r0 : 0; cj <= r1 && cj < s->Q - 1; cj++) {
-		tmpl T[2][2];
 		for (int ph = 0; ph < 2; ph++) {
 			int ci = ph, j = (int)cj;
 			int a[2] = { ci, j }, b[2] = { ci + 1, j };
@@ -612,25 +606,29 @@ scan_leaves(share *sh, int J, double y)
 				SET(t[1][0], b), SET(t[1][1], c), SET(t[1][2], d);
 			}
 #undef SET
-			for (int k = 0; k < 2; k++)
-				make_tmpl(s, &T[ph][k], t[k], ci, j, J, y);
+			/* the cells of this parity, every other one */
+			scan_rows(sh, R, t, 2, ci, j, leaf_sink,
+			    lo + ((lo & 1) != ph), end, 2);
 		}
-		sink o = { NULL, 0, base_at(sh, (int)cj, lo), lo / BT_CELLS };
-		/* the cells of each parity, every other one */
-		for (int ph = 0; ph < 2; ph++)
-			scan_shape(s, sh->dd, T[ph], 2, (ph + cj) % 2 ? 2 : 1,
-			    &o, lo + ((lo & 1) != ph), end, 2);
 	}
 }
 
 void
-lv_scan_undisplaced(share *t, int J)
+lv_scan_undisplaced(share *t, int J0, int J1)
 {
-	double y = J / t->s->step;
+	const state *s = t->s;
+	size_t stride = (size_t)(s->dend - s->d0 + 1);
+	rows R;
 
-	for (int h = 1; h <= BT_MAXH; h *= 2) {
-		scan_diamonds(t, J, y, h, 0);
-		scan_diamonds(t, J, y, h, 1);
+	assert(J1 > J0 && J1 - J0 <= BATCH);
+	R.J0 = J0, R.n = J1 - J0;
+	for (int j = 0; j < R.n; j++) {
+		R.y[j] = (J0 + j) / s->step;
+		R.dd[j] = s->dd + (size_t)j * stride;
 	}
-	scan_leaves(t, J, y);
+	for (int h = 1; h <= BT_MAXH; h *= 2) {
+		scan_diamonds(t, &R, h, 0);
+		scan_diamonds(t, &R, h, 1);
+	}
+	scan_leaves(t, &R);
 }
