@@ -46,18 +46,26 @@ kept_list(const tr_export *x, int *n)
 	return l;
 }
 
-/* Blocks i0 .. i1-1 of level 0, each read once (when a kept tile meets
- * it) and measured for every kept tile: thread k's d into x->dd. */
+/* The blocks of level 0, a few at a time (tr_take), each read once
+ * (when a kept tile meets it) and measured for every kept tile: thread
+ * k's d into x->dd. */
 static void
-pass_range(void *arg, int k, int i0, int i1)
+pass_range(void *arg, int k, int r0, int r1)
 {
 	tr_export *x = arg;
 	tr_work *w = &x->w[k];
 	const pyramid_level *L0 = &x->ix.lev[0];
 	const struct tr_keptz *l = x->kl;
 	double *dd = x->dd + 2 * (size_t)k * x->nkeep;
+	int i0 = 0, i1 = 0, chunk = x->count / (8 * x->nt);
 
-	for (int b = i0; b < i1 && !x->failed[k]; b++) {
+	(void)r0, (void)r1;
+	for (int b = 0; !x->failed[k]; b++) {
+		if (b >= i1 && !tr_take(x, x->count, chunk > 0 ? chunk : 1, &i0,
+		    &i1))
+			break;
+		if (b < i0)
+			b = i0;
 		int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
 		const double *lon, *lat;
 		const pyramid_block *pb;
@@ -95,7 +103,8 @@ pass(tr_export *x, tr_part *p, tl_err *e)
 	}
 	x->kl = l;
 	memset(x->failed, 0, (size_t)x->nt * sizeof *x->failed);
-	tl_pool_for(x->pool, L0->blocks[0] * L0->blocks[1], pass_range, x);
+	x->count = L0->blocks[0] * L0->blocks[1], x->next = 0;
+	tl_pool_for(x->pool, x->count, pass_range, x);
 	for (int k = 0; k < x->nt; k++)
 		if (x->failed[k]) {
 			*e = x->err[k];

@@ -46,6 +46,8 @@ typedef struct {
 	tr_choice c;
 	int x0, y0, nx, i0;
 	int ny;                 /* rows of a range of whole rows, else 0 */
+	int count, next;        /* the loop's places; the next chunk a
+	                         * thread takes (atomic: tr_take) */
 	size_t keep;            /* > 0: tiles kept for one pass over level 0
 	                         * (tr_batch), up to keep bytes a thread */
 	const struct tr_keptz *kl; /* the pass: the kept tiles */
@@ -60,6 +62,14 @@ int tr_open(tr_export *x, const tr_args *a, tl_err *e);
 void tr_close(tr_export *x);
 /* Tiles in level z. */
 long long tr_count(const tr_export *x, int z);
+/* Chunk after chunk of [0, n), chunk places each, taken by whichever
+ * thread comes next (x->next, 0 at the loop's start) into [*i0, *i1):
+ * tiles and blocks cost what their land and level make them, and the
+ * pool's one range a thread (tl_pool_for) left one thread working alone
+ * for most of a sweep. A tile's bytes depend on its level's choice alone
+ * and the parts are sums and maxima: which thread takes what changes
+ * nothing. 0 when none is left. */
+int tr_take(tr_export *x, int n, int chunk, int *i0, int *i1);
 /* Try t's choice for level z. */
 void tr_choose(const pyramid_index *ix, int z, int t, tr_choice *c);
 /* Level z's tile directories under tmp, those already there kept. */

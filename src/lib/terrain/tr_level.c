@@ -136,23 +136,40 @@ one_tile(tr_export *j, const tr_choice *c, tr_work *w, int x, int y,
 	return write_file(path, w, e);
 }
 
+int
+tr_take(tr_export *x, int n, int chunk, int *i0, int *i1)
+{
+	int c = __atomic_fetch_add(&x->next, 1, __ATOMIC_RELAXED);
+
+	if ((long long)c * chunk >= n)
+		return 0;
+	*i0 = c * chunk, *i1 = n - *i0 < chunk ? n : *i0 + chunk;
+	return 1;
+}
+
 static void
-run_range(void *arg, int k, int i0, int i1)
+run_range(void *arg, int k, int r0, int r1)
 {
 	tr_export *j = arg;
+	/* about 8 chunks a thread, each a run of neighbouring tiles (their
+	 * blocks shared through the thread's cache) */
+	int n = j->count, chunk = n / (8 * j->nt), i0, i1;
 
-	for (int i = i0; i < i1 && !j->failed[k]; i++) {
-		int x, y;
-		/* whole rows: in strips (tr_tile_at), else row by row */
-		if (j->ny > 0) {
-			tr_tile_at(j->w[k].g, j->c.z, j->nx, j->ny, i, &x, &y);
-			y += j->i0 / j->nx;
-		} else
-			x = (j->i0 + i) % j->nx, y = (j->i0 + i) / j->nx;
-		if (one_tile(j, &j->c, &j->w[k], j->x0 + x, j->y0 + y,
-		    &j->err[k]) < 0)
-			j->failed[k] = 1;
-	}
+	(void)r0, (void)r1;
+	while (!j->failed[k] && tr_take(j, n, chunk > 0 ? chunk : 1, &i0, &i1))
+		for (int i = i0; i < i1 && !j->failed[k]; i++) {
+			int x, y;
+			/* whole rows: in strips (tr_tile_at), else row by row */
+			if (j->ny > 0) {
+				tr_tile_at(j->w[k].g, j->c.z, j->nx, j->ny, i, &x,
+				    &y);
+				y += j->i0 / j->nx;
+			} else
+				x = (j->i0 + i) % j->nx, y = (j->i0 + i) / j->nx;
+			if (one_tile(j, &j->c, &j->w[k], j->x0 + x, j->y0 + y,
+			    &j->err[k]) < 0)
+				j->failed[k] = 1;
+		}
 }
 
 /* The pyramid level for tolerance tau: the coarsest undisplaced one
@@ -246,6 +263,7 @@ tr_try(tr_export *x, const char *tmp, int z, int i0, int i1, int t,
 		x->w[k].err = x->w[k].direct = 0,
 		x->w[k].nsamp = x->w[k].nmeas = 0,
 		x->w[k].tiles = x->w[k].tris = x->w[k].bytes = 0;
+	x->count = i1 - i0, x->next = 0;
 	tl_pool_for(x->pool, i1 - i0, run_range, x);
 	for (int k = 0; k < x->nt; k++)
 		if (x->failed[k]) {
@@ -332,15 +350,23 @@ sweep_tile(const sweep *s, int i, int *z, int *x, int *y)
 	    *y <= av[*z][3];
 }
 
+/* An ancestor's places at a time (tr_take), in their order: its tiles of
+ * every level share its blocks through the thread's cache. */
 static void
-sweep_range(void *arg, int k, int i0, int i1)
+sweep_range(void *arg, int k, int r0, int r1)
 {
 	sweep *s = arg;
 	tr_export *j = s->x;
 	tr_work *w = &j->w[k];
+	int i0 = 0, i1 = 0;
 
-	for (int i = i0; i < i1 && !j->failed[k]; i++) {
+	(void)r0, (void)r1;
+	for (int i = 0; !j->failed[k]; i++) {
 		int z, x, y;
+		if (i >= i1 && !tr_take(j, j->count, s->d, &i0, &i1))
+			break;
+		if (i < i0)
+			i = i0;
 		if (!sweep_tile(s, i, &z, &x, &y))
 			continue;
 		tr_part *p = &s->p[(size_t)k * (TR_MAXZ + 1) + z];
@@ -412,7 +438,7 @@ tr_sweep(tr_export *x, const char *tmp, int g, tr_part *p, tl_err *e)
 		if (tr_dirs(x, tmp, z, e) < 0)
 			goto done;
 	}
-	x->tmp = tmp;
+	x->tmp = tmp, x->count = n, x->next = 0;
 	tl_pool_for(x->pool, n, sweep_range, &s);
 	for (int k = 0; k < x->nt; k++)
 		if (x->failed[k]) {
