@@ -67,10 +67,10 @@ pass_range(void *arg, int k, int r0, int r1)
 		if (b < i0)
 			b = i0;
 		int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
-		const double *lon, *lat;
+		const double *lon, *lat, *fu = NULL;
 		const pyramid_block *pb;
-		for (int i = 0; i < x->nkeep && !any; i++)
-			any = tr_kept_meets(&x->g, l[i].k, b);
+		for (int i = 0; i < x->nkeep && any < 2; i++)
+			any += tr_kept_meets(&x->g, l[i].k, b);
 		if (!any)
 			continue;
 		if ((pb = tr_block(w, 0, bi, bj, &lon, &lat, &x->err[k])) ==
@@ -78,9 +78,17 @@ pass_range(void *arg, int k, int r0, int r1)
 			x->failed[k] = 1;
 			break;
 		}
+		/* a projected block's feet once for the tiles (one a level)
+		 * that measure it: their sines and cosines were a fifth of
+		 * the export; without the memory, each tile its own */
+		if (x->g.projected && any > 1 && (w->fu != NULL || (w->fu =
+		    malloc(6 * (size_t)PYRAMID_N * sizeof *w->fu)) != NULL)) {
+			tr_block_feet(&x->g, lon, lat, bi, bj, w->fu);
+			fu = w->fu;
+		}
 		for (int i = 0; i < x->nkeep; i++)
 			if (tr_kept_block(&x->g, l[i].k, b, bi, bj, pb, lon, lat,
-			    dd + 2 * i, &x->err[k]) < 0) {
+			    fu, dd + 2 * i, &x->err[k]) < 0) {
 				x->failed[k] = 1;
 				break;
 			}

@@ -112,6 +112,8 @@ typedef struct {
 	int nkept, ckept;
 	size_t kbytes;
 	long long tiles, tris, bytes;
+	double *fu;             /* projected: a block's feet (tr_block_feet)
+	                         * for the first levels' pass, or NULL */
 	double *gsel;           /* projected: the tile's selected triangles
 	                         * in the grid (tr_gsel.c), 9 each */
 	int ngsel, cgsel;
@@ -239,7 +241,14 @@ typedef struct tr_kept tr_kept;
 int tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e);
 int tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi,
     int bj, const pyramid_block *b, const double *lon, const double *lat,
-    double d[2], tl_err *e);
+    const double *fu, double d[2], tl_err *e);
+/* A projected level-0 block's vertices' feet and normals (the
+ * ellipsoid's points under them and its unit normals there, 6 doubles
+ * each, geo_ellipsoid) into fu, 6 x 129 x 129: once for all the kept
+ * tiles that measure the block (tr_batch), the same doubles as each
+ * computing its own; tr_kept_block takes them, or NULL. */
+void tr_block_feet(const tr_grid *g, const double *lon, const double *lat,
+    int bi, int bj, double *fu);
 /* Whether level-0 block kb meets the tile's part of the terrain. */
 int tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb);
 /* Its samples in every level-0 block, through the thread's cache. */

@@ -238,13 +238,26 @@ trig_init(trig *c, const double *lon, const double *lat, const double r[4])
 	}
 }
 
+void
+tr_block_feet(const tr_grid *g, const double *lon, const double *lat,
+    int bi, int bj, double *fu)
+{
+	for (int J = 0; J < BT_SIZE && bj * BT_CELLS + J < g->h0; J++)
+		for (int I = 0; I < BT_SIZE && bi * BT_CELLS + I < g->w0; I++) {
+			int k = J * BT_SIZE + I;
+			geo_ellipsoid(lon[k], lat[k], fu + 6 * k, fu + 6 * k + 3);
+		}
+}
+
 /* The samples of level-0 block (bi, bj) b, its vertices at lon, lat,
  * in tile t (of rectangle r) under locator l; rim: per triangle, 1 past
- * a projected DEM's footprint (or NULL). */
+ * a projected DEM's footprint (or NULL); fu, a projected block's feet
+ * and normals (tr_block_feet) or NULL. */
 static int
 measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
-    const double *lat, const locator *l, const unsigned char *rim, int bi,
-    int bj, const double t[4], const double r[4], double d[2], tl_err *e)
+    const double *lat, const double *fu, const locator *l,
+    const unsigned char *rim, int bi, int bj, const double t[4],
+    const double r[4], double d[2], tl_err *e)
 {
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	int hint = -1, ghint = -1, col[BT_SIZE], ncol = 0, nI = BT_SIZE;
@@ -282,7 +295,11 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
 			else {
 				q = locate(l, (x - r[0]) / wd * QM_MAX,
 				    (y - r[1]) / wd * QM_MAX, hint);
-				geo_ellipsoid(x, y, f, up);
+				if (fu != NULL)
+					memcpy(f, fu + 6 * k, sizeof f),
+					memcpy(up, fu + 6 * k + 3, sizeof up);
+				else
+					geo_ellipsoid(x, y, f, up);
 			}
 			if ((hint = q) < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
@@ -399,11 +416,11 @@ tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb)
 int
 tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi, int bj,
     const pyramid_block *b, const double *lon, const double *lat,
-    double d[2], tl_err *e)
+    const double *fu, double d[2], tl_err *e)
 {
 	if (!tr_kept_meets(g, k, kb))
 		return 0;
-	return measure_block(g, b, lon, lat, &k->l, k->rim, bi, bj, k->t,
+	return measure_block(g, b, lon, lat, fu, &k->l, k->rim, bi, bj, k->t,
 	    k->r, d, e);
 }
 
@@ -421,7 +438,7 @@ tr_kept_walk(tr_work *w, const tr_kept *kp, double d[2], tl_err *e)
 		const pyramid_block *b;
 		if (tr_kept_meets(w->g, kp, k) && ((b = tr_block(w, 0, bi, bj,
 		    &lon, &lat, e)) == NULL || tr_kept_block(w->g, kp, k, bi, bj,
-		    b, lon, lat, d, e) < 0))
+		    b, lon, lat, NULL, d, e) < 0))
 			return -1;
 	}
 	return 0;
