@@ -46,53 +46,56 @@ kept_list(const tr_export *x, int *n)
 	return l;
 }
 
-/* The blocks of level 0, a few at a time (tr_take), each read once
- * (when a kept tile meets it) and measured for every kept tile: thread
- * k's d into x->dd. */
+/* Block b of level 0, read once (when a kept tile meets it) and
+ * measured for every kept tile: thread k's d into dd. */
+static void
+pass_block(tr_export *x, int k, int b, double *dd)
+{
+	tr_work *w = &x->w[k];
+	const pyramid_level *L0 = &x->ix.lev[0];
+	const struct tr_keptz *l = x->kl;
+	int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
+	const double *lon, *lat, *fu = NULL;
+	const pyramid_block *pb;
+
+	for (int i = 0; i < x->nkeep && any < 2; i++)
+		any += tr_kept_meets(&x->g, l[i].k, b);
+	if (!any)
+		return;
+	if ((pb = tr_block(w, 0, bi, bj, &lon, &lat, &x->err[k])) == NULL) {
+		x->failed[k] = 1;
+		return;
+	}
+	/* a projected block's feet once for the tiles (one a level) that
+	 * measure it: their sines and cosines were a fifth of the export;
+	 * without the memory, each tile its own */
+	if (x->g.projected && any > 1 && (w->fu != NULL || (w->fu =
+	    malloc(6 * (size_t)PYRAMID_N * sizeof *w->fu)) != NULL)) {
+		tr_block_feet(&x->g, lon, lat, bi, bj, w->fu);
+		fu = w->fu;
+	}
+	for (int i = 0; i < x->nkeep; i++)
+		if (tr_kept_block(&x->g, l[i].k, b, bi, bj, pb, lon, lat,
+		    fu, dd + 2 * i, &x->err[k]) < 0) {
+			x->failed[k] = 1;
+			break;
+		}
+}
+
+/* The blocks of level 0, a few at a time (tr_take): thread k's d
+ * into x->dd. */
 static void
 pass_range(void *arg, int k, int r0, int r1)
 {
 	tr_export *x = arg;
-	tr_work *w = &x->w[k];
-	const pyramid_level *L0 = &x->ix.lev[0];
-	const struct tr_keptz *l = x->kl;
 	double *dd = x->dd + 2 * (size_t)k * x->nkeep;
-	int i0 = 0, i1 = 0, chunk = x->count / (8 * x->nt);
+	int i0, i1, chunk = x->count / (8 * x->nt);
 
 	(void)r0, (void)r1;
-	for (int b = 0; !x->failed[k]; b++) {
-		if (b >= i1 && !tr_take(x, x->count, chunk > 0 ? chunk : 1, &i0,
-		    &i1))
-			break;
-		if (b < i0)
-			b = i0;
-		int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
-		const double *lon, *lat, *fu = NULL;
-		const pyramid_block *pb;
-		for (int i = 0; i < x->nkeep && any < 2; i++)
-			any += tr_kept_meets(&x->g, l[i].k, b);
-		if (!any)
-			continue;
-		if ((pb = tr_block(w, 0, bi, bj, &lon, &lat, &x->err[k])) ==
-		    NULL) {
-			x->failed[k] = 1;
-			break;
-		}
-		/* a projected block's feet once for the tiles (one a level)
-		 * that measure it: their sines and cosines were a fifth of
-		 * the export; without the memory, each tile its own */
-		if (x->g.projected && any > 1 && (w->fu != NULL || (w->fu =
-		    malloc(6 * (size_t)PYRAMID_N * sizeof *w->fu)) != NULL)) {
-			tr_block_feet(&x->g, lon, lat, bi, bj, w->fu);
-			fu = w->fu;
-		}
-		for (int i = 0; i < x->nkeep; i++)
-			if (tr_kept_block(&x->g, l[i].k, b, bi, bj, pb, lon, lat,
-			    fu, dd + 2 * i, &x->err[k]) < 0) {
-				x->failed[k] = 1;
-				break;
-			}
-	}
+	while (!x->failed[k] && tr_take(x, x->count, chunk > 0 ? chunk : 1,
+	    &i0, &i1))
+		for (int b = i0; b < i1 && !x->failed[k]; b++)
+			pass_block(x, k, b, dd);
 }
 
 /* The kept tiles measured, their distances into their levels' parts. */

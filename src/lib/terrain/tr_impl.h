@@ -115,7 +115,7 @@ typedef struct {
 	double *fu;             /* projected: a block's feet (tr_block_feet)
 	                         * for the first levels' pass, or NULL */
 	double *gsel;           /* projected: the tile's selected triangles
-	                         * in the grid (tr_gsel.c), 9 each */
+	                         * in the grid (tr_gsel.c), 11 each */
 	int ngsel, cgsel;
 } tr_work;
 
@@ -211,7 +211,7 @@ int tr_rim_inherit(tr_mesh *m, int from, tl_err *e);
  * selection at level-0 place (x, y), NaN where no triangle holds it
  * (*hint: the triangle found last, or -1). */
 typedef struct {
-	double *t;              /* x0 x1 x2 y0 y1 y2 h0 h1 h2 */
+	double *t;              /* tr_bary.h's terms and heights */
 	int nt, nb, *start, *list;
 	double o[2], s[2];
 	size_t bytes;

@@ -358,29 +358,27 @@ sweep_range(void *arg, int k, int r0, int r1)
 	sweep *s = arg;
 	tr_export *j = s->x;
 	tr_work *w = &j->w[k];
-	int i0 = 0, i1 = 0;
+	int i0, i1;
 
 	(void)r0, (void)r1;
-	for (int i = 0; !j->failed[k]; i++) {
-		int z, x, y;
-		if (i >= i1 && !tr_take(j, j->count, s->d, &i0, &i1))
-			break;
-		if (i < i0)
-			i = i0;
-		if (!sweep_tile(s, i, &z, &x, &y))
-			continue;
-		tr_part *p = &s->p[(size_t)k * (TR_MAXZ + 1) + z];
-		w->err = w->direct = 0, w->tiles = w->tris = w->bytes = 0;
-		w->nsamp = w->nmeas = 0;
-		if (one_tile(j, &s->c[z], w, x, y, &j->err[k]) < 0) {
-			j->failed[k] = 1;
-			break;
+	while (!j->failed[k] && tr_take(j, j->count, s->d, &i0, &i1))
+		for (int i = i0; i < i1 && !j->failed[k]; i++) {
+			int z, x, y;
+			if (!sweep_tile(s, i, &z, &x, &y))
+				continue;
+			tr_part *p = &s->p[(size_t)k * (TR_MAXZ + 1) + z];
+			w->err = w->direct = 0, w->tiles = w->tris = w->bytes = 0;
+			w->nsamp = w->nmeas = 0;
+			if (one_tile(j, &s->c[z], w, x, y, &j->err[k]) < 0) {
+				j->failed[k] = 1;
+				break;
+			}
+			p->err = fmax(p->err, w->err);
+			p->direct = fmax(p->direct, w->direct);
+			p->tiles += w->tiles, p->tris += w->tris;
+			p->bytes += w->bytes;
+			p->nsamp += w->nsamp, p->nmeas += w->nmeas;
 		}
-		p->err = fmax(p->err, w->err);
-		p->direct = fmax(p->direct, w->direct);
-		p->tiles += w->tiles, p->tris += w->tris, p->bytes += w->bytes;
-		p->nsamp += w->nsamp, p->nmeas += w->nmeas;
-	}
 }
 
 /* Sweep places of levels g .. maxz, or -1 when the levels' rectangles

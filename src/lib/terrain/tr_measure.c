@@ -156,22 +156,31 @@ locate(const locator *l, double su, double sv, int hint)
 	return locate_far(l, su, sv);
 }
 
-/* A geographic DEM's sample's terms into d: the plane of triangle q
+/* The drawn surface's height over a sample: the plane of triangle q
  * (decoded, ECEF) met by the normal through the sample's foot f,
- * direction up, against the selection's surface there (the plane, in
- * longitude, latitude and height, of the triangle before quantisation: a
- * piece of a selected triangle, in its plane, which is the selection's
- * in the DEM's grid: the map is affine) and against its height z. The
+ * direction up. */
+static inline double
+drawn(const locator *l, int q, const double f[3], const double up[3])
+{
+	const double *n = l->plane + 4 * q;
+
+	return (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
+	    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+}
+
+/* A geographic DEM's sample's terms into d: the drawn surface over it
+ * against the selection's surface there (the plane, in longitude,
+ * latitude and height, of the triangle before quantisation: a piece of a
+ * selected triangle, in its plane, which is the selection's in the DEM's
+ * grid: the map is affine) and against its height z. The
  * selection's height exactly only where the near one (tr_bary.h) leaves
  * it able to raise d[0]: d[0] is the same. */
 static inline void
 sample(const locator *l, int q, const double f[3], const double up[3],
     double x, double y, double z, double d[2])
 {
-	const double *n = l->plane + 4 * q;
 	const double *fq = l->bf + (TR_BARY_TERMS + 3) * q;
-	double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
-	    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+	double hs = drawn(l, q, f, up);
 	double v = fabs(hs - z), s;
 
 	d[1] = dmax(d[1], v);
@@ -179,16 +188,14 @@ sample(const locator *l, int q, const double f[3], const double up[3],
 		d[0] = dmax(d[0], fabs(hs - tr_bary_flat(fq, x, y)));
 }
 
-/* A projected DEM's sample: the drawn surface (as sample()) against
- * the selection at the sample's grid place, fg (tr_gsel.c), unless out
- * (past the footprint: against the sample itself, as sample()). */
+/* A projected DEM's sample: the drawn surface against the selection
+ * at the sample's grid place, fg (tr_gsel.c), or, out (past the
+ * footprint), against the sample's height z itself. */
 static inline void
 sample_grid(const locator *l, int q, int out, const double f[3],
     const double up[3], double fg, double z, double d[2])
 {
-	const double *n = l->plane + 4 * q;
-	double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
-	    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+	double hs = drawn(l, q, f, up);
 	double v = fabs(hs - z);
 
 	d[1] = dmax(d[1], v);
@@ -201,9 +208,7 @@ static int
 check(const locator *l, int q, const double f[3], const double up[3],
     double x, double y, tl_err *e)
 {
-	const double *n = l->plane + 4 * q;
-	double hs = (n[3] - n[0] * f[0] - n[1] * f[1] - n[2] * f[2]) /
-	    (n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+	double hs = drawn(l, q, f, up);
 	double d = fabs(hs - tr_bary_flat(l->bf + (TR_BARY_TERMS + 3) * q, x,
 	    y));
 
