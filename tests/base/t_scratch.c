@@ -1,7 +1,9 @@
 /* t_scratch - per-run scratch directories (scratch.h): made in TMPDIR
  * with a held lock; the next run removes those of dead runs (their lock
  * free, or no lock and older than a minute) and keeps a live run's and a
- * young one's; the removal goes any depth and follows no symlink. */
+ * young one's; the removal goes any depth and follows no symlink. Runs
+ * that start together (each sweeping the others' directories while it
+ * makes its own) never remove a live run's directory. */
 #include "base/scratch.h"
 #include "tap.h"
 
@@ -105,6 +107,54 @@ test_sweep(void)
 	    "once its owner is killed, the live one goes too");
 }
 
+/* ROUNDS of make, use, end in each of PROCS processes at once: each
+ * scratch_begin sweeps while the others make theirs. A directory taken
+ * between its lock file's creation and its flock was the CI failure of
+ * dem2rgb's plans ("z3.code: No such file or directory"). */
+#define PROCS 4
+#define ROUNDS 300
+
+static int
+race_child(void)
+{
+	char p[4200];
+	scratch s;
+	tl_err e;
+	int bad = 0;
+
+	for (int r = 0; r < ROUNDS; r++) {
+		if (scratch_begin(&s, "tlr", &e) < 0)
+			return 1;
+		snprintf(p, sizeof p, "%s/work", s.path);
+		int fd = open(p, O_CREAT | O_WRONLY | O_CLOEXEC, 0600);
+		if (fd < 0)
+			bad++;
+		else
+			close(fd);
+		if (!exists(p))
+			bad++;
+		scratch_end(&s);
+	}
+	return bad != 0;
+}
+
+static void
+test_race(void)
+{
+	pid_t pid[PROCS];
+	int lost = 0, st;
+
+	for (int i = 0; i < PROCS; i++)
+		if ((pid[i] = fork()) == 0)
+			_exit(race_child());
+	for (int i = 0; i < PROCS; i++)
+		if (pid[i] < 0 || waitpid(pid[i], &st, 0) < 0 ||
+		    !WIFEXITED(st) || WEXITSTATUS(st) != 0)
+			lost++;
+	ok(lost == 0, "%d runs starting together, %d rounds each: no live "
+	    "run's directory swept (%d runs lost one)", PROCS, ROUNDS, lost);
+}
+
 static void
 test_rmtree(void)
 {
@@ -137,6 +187,7 @@ main(void)
 		return 2;
 	setenv("TMPDIR", dir, 1);
 	test_sweep();
+	test_race();
 	test_rmtree();
 	tl_rmtree(dir);
 	return tap_done();

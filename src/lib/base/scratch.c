@@ -36,26 +36,51 @@ scratch_sweep(const char *prefix)
 	    O_CLOEXEC), "lock", scratch_rule, (void *)prefix);
 }
 
+/* The lock file in the new directory s->path, locked: 0, 1 when a
+ * sweeper took its lock first and removed the directory (the lock file
+ * exists unlocked between open and flock: a concurrent run's sweep may
+ * take it, and we wait for our lock until it has), -1 with errno. */
+static int
+lock_new(scratch *s)
+{
+	char lock[4200];
+	struct stat st;
+
+	snprintf(lock, sizeof lock, "%s/lock", s->path);
+	if ((s->lock = open(lock, O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC,
+	    0600)) < 0)
+		return -1;
+	while (flock(s->lock, LOCK_EX) != 0)
+		if (errno != EINTR)
+			return -1;
+	if (fstat(s->lock, &st) != 0)
+		return -1;
+	return st.st_nlink == 0;
+}
+
 int
 scratch_begin(scratch *s, const char *prefix, tl_err *e)
 {
-	char lock[4200];
+	int r;
 
 	s->lock = -1;
 	scratch_sweep(prefix);
-	if (snprintf(s->path, sizeof s->path, "%s/%s.XXXXXX", tl_tmpdir(),
-	    prefix) >= (int)sizeof s->path)
-		return tl_fail(e, "TMPDIR: path too long");
-	if (mkdtemp(s->path) == NULL)
-		return tl_failsys(e, "%s", s->path);
-	snprintf(lock, sizeof lock, "%s/lock", s->path);
-	if ((s->lock = open(lock, O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC,
-	    0600)) < 0 || flock(s->lock, LOCK_EX) < 0) {
-		tl_failsys(e, "%s", lock);
-		scratch_end(s);
-		return -1;
+	for (int tries = 0;; tries++) {
+		if (snprintf(s->path, sizeof s->path, "%s/%s.XXXXXX",
+		    tl_tmpdir(), prefix) >= (int)sizeof s->path - 8)
+			return tl_fail(e, "TMPDIR: path too long");
+		if (mkdtemp(s->path) == NULL)
+			return tl_failsys(e, "%s", s->path);
+		if ((r = lock_new(s)) == 0)
+			return 0;
+		if (r < 0 || tries == 8) {
+			tl_failsys(e, "%s/lock", s->path);
+			scratch_end(s);
+			return -1;
+		}
+		close(s->lock); /* swept before we held it: a new one */
+		s->lock = -1;
 	}
-	return 0;
 }
 
 void
