@@ -266,6 +266,29 @@ keep_grid(tr_work *w, int z, const gp *o, const double *x, const double *y,
 	return tr_gsel_add(w, gx, gy, gh);
 }
 
+/* Whether triangle o (its vertices at lon, lat [idx]) adds nothing:
+ * inside the DEM's grid (no cut, no band, so the cut polygon is o) and
+ * its box beyond keep_grid's margin of r, so that neither keep_grid nor
+ * fan (whose triangle has that box, and r lies within the margin) adds
+ * it. Most of a block's triangles lie far from a deep level's tile. */
+static int
+far(const tr_grid *g, int z, const gp *o, const double *lon,
+    const double *lat, const int idx[3], const double r[4])
+{
+	double W = g->w0 - 1, H = g->h0 - 1, m = ldexp(180, -z) / 20;
+	double lo[2] = { lon[idx[0]], lat[idx[0]] }, hi[2] = { lo[0], lo[1] };
+
+	for (int i = 0; i < 3; i++)
+		if (!(o[i].x > 0 && o[i].x < W && o[i].y > 0 && o[i].y < H))
+			return 0;
+	for (int i = 1; i < 3; i++) {
+		lo[0] = fmin(lo[0], lon[idx[i]]), hi[0] = fmax(hi[0], lon[idx[i]]);
+		lo[1] = fmin(lo[1], lat[idx[i]]), hi[1] = fmax(hi[1], lat[idx[i]]);
+	}
+	return hi[0] < r[0] - m || lo[0] > r[2] + m || hi[1] < r[1] - m ||
+	    lo[1] > r[3] + m;
+}
+
 int
 tr_rim_sel(tr_work *w, const tr_choice *ch, const pyramid_block *b,
     const double *lon, const double *lat, const int t[3][2],
@@ -286,6 +309,8 @@ tr_rim_sel(tr_work *w, const tr_choice *ch, const pyramid_block *b,
 		o[i].m = 1 << i | 1 << ((i + 2) % 3);
 		a[i] = o[i];
 	}
+	if (far(g, ch->z, o, lon, lat, idx, r))
+		return 0;
 	n = gclip(o, a, n, c, 0, W, XW);
 	n = gclip(o, c, n, a, 1, H, YH);
 	for (int i = 0; i < n; i++) {

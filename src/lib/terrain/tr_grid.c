@@ -423,7 +423,7 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 		w->clat[s] = w->clon[s] + nv;
 	}
 	*lon = w->clon[s], *lat = w->clat[s];
-	w->cused[s] = 2;
+	w->cused[s] = 2, w->cboxok[s] = 0;
 	if (w->ix->lev[l].displaced)
 		return tl_fail(e, "%s: level %d is displaced (QEM-3D): not "
 		    "exported", w->dir, l), NULL;

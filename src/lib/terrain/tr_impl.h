@@ -94,6 +94,9 @@ typedef struct {
 	int ckey[TR_CACHE][3], cused[TR_CACHE];
 	unsigned long cstamp[TR_CACHE], clock; /* least recently used goes */
 	int ncache;             /* slots in use: TR_CACHE or TR_CACHE_PROJ */
+	double *cbox[TR_CACHE]; /* projected: a slot's squares' boxes
+	                         * (tr_far_boxes), or NULL */
+	unsigned char cboxok[TR_CACHE]; /* cbox holds the slot's block */
 	tr_tri *sel;            /* the selection over the tile */
 	int nsel, csel;
 	int *row;               /* those meeting a row of cells (csel) */
@@ -204,6 +207,16 @@ double tr_rim_band(const tr_grid *g, int z);
 int tr_rim_tile(tr_work *w, const tr_choice *c, int x, int y, tl_err *e);
 /* The triangle just appended takes triangle from's m->rim mark. */
 int tr_rim_inherit(tr_mesh *m, int from, tl_err *e);
+
+/* A projected DEM's selection spared what adds nothing (tr_far.c):
+ * block b's (its vertices at lon, lat, through the thread's cache) boxes
+ * of its squares, kept with it (NULL: no memory); whether split vertex
+ * (c, r) of block (bi, bj) of level p, its boxes bx, holds only
+ * triangles that add nothing to tile part t of level z. */
+const double *tr_far_boxes(tr_work *w, const pyramid_block *b,
+    const double *lon, const double *lat);
+int tr_far(const tr_grid *g, const double *bx, int p, int bi, int bj,
+    int c, int r, int z, const double t[4]);
 
 /* A projected DEM's selection in its grid (tr_gsel.c): selected
  * triangle x, y (level-0 places), h appended to w's tile (-1: out of

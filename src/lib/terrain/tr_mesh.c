@@ -66,6 +66,7 @@ typedef struct {
 	double lmax2;      /* 2 lmax^2, level-p cells */
 	double r[4];       /* the tile over the DEM, lon/lat */
 	double dx, dy;     /* geographic: a level-p cell, degrees; else 0 */
+	const double *bx;  /* projected: the block's boxes (tr_far), or NULL */
 	int failed;
 } sel;
 
@@ -103,7 +104,11 @@ split(void *ctx, int gi, int gj)
 		    y - ey > s->r[3])
 			return 0;
 	}
-	return s->b->e[r * BT_SIZE + c] > s->c->tau || hyp2(c, r) > s->lmax2;
+	if (!(s->b->e[r * BT_SIZE + c] > s->c->tau || hyp2(c, r) > s->lmax2))
+		return 0;
+	/* a projected grid: the same, by squares (tr_far.c) */
+	return s->bx == NULL || !tr_far(s->w->g, s->bx, s->c->p, s->b->bi,
+	    s->b->bj, c, r, s->c->z, s->r);
 }
 
 static void
@@ -175,6 +180,8 @@ select_tile(tr_work *w, const tr_choice *c, const double t[4], tl_err *e)
 			continue;
 		if ((s.b = tr_block(w, c->p, bi, bj, &s.lon, &s.lat, e)) == NULL)
 			return -1;
+		if (w->g->projected)
+			s.bx = tr_far_boxes(w, s.b, s.lon, s.lat);
 		bt_select(bi * BT_CELLS, bj * BT_CELLS, split, &s, emit, &s);
 		if (s.failed)
 			return tl_fail(e, "mesh: out of memory");

@@ -162,6 +162,8 @@ work_free(tr_work *w)
 			pyramid_block_free(&w->cache[s]);
 			free(w->clon[s]); /* clat within it */
 		}
+	for (int s = 0; s < TR_CACHE; s++)
+		free(w->cbox[s]);
 	if (w->g->projected)
 		geo_proj_close(&w->proj);
 	tr_mesh_free(&w->m);
