@@ -16,7 +16,6 @@
 #include "terrain/tr_export.h"
 
 #define TR_BATCH 64               /* tiles a level, at most */
-#define TR_KEEP (32 << 20)        /* bytes of kept tiles, all threads */
 
 int
 tr_batch_depth(const tr_export *x)
@@ -55,7 +54,8 @@ pass_block(tr_export *x, int k, int b, double *dd)
 	const pyramid_level *L0 = &x->ix.lev[0];
 	const struct tr_keptz *l = x->kl;
 	int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
-	const double *lon, *lat, *fu = NULL;
+	const double *lon, *lat, *bx = NULL;
+	double *fu = NULL;
 	const pyramid_block *pb;
 
 	for (int i = 0; i < x->nkeep && any < 2; i++)
@@ -74,9 +74,11 @@ pass_block(tr_export *x, int k, int b, double *dd)
 		tr_block_feet(&x->g, lon, lat, bi, bj, w->fu);
 		fu = w->fu;
 	}
+	if (x->g.projected)
+		bx = tr_far_boxes(w, pb, lon, lat);
 	for (int i = 0; i < x->nkeep; i++)
 		if (tr_kept_block(&x->g, l[i].k, b, bi, bj, pb, lon, lat,
-		    fu, dd + 2 * i, &x->err[k]) < 0) {
+		    fu, NULL, bx, dd + 2 * i, &x->err[k]) < 0) {
 			x->failed[k] = 1;
 			break;
 		}
@@ -171,5 +173,61 @@ tr_batch(tr_export *x, const char *tmp, int z1, tr_part *p, tl_err *e)
 	r = 0;
 done:
 	unkeep(x);
+	return r;
+}
+
+/* Thread k's kept tiles (a sweep's ancestor's: tr_level.c) measured in
+ * one pass over the level-0 blocks they meet, each block read once for
+ * all and a projected one's feet computed once a vertex, when a tile
+ * first needs it (as tr_block_feet would: the same doubles); their
+ * distances into their levels' parts p; the tiles freed. */
+int
+tr_batch_own(tr_export *x, int k, tr_part *p, tl_err *e)
+{
+	tr_work *w = &x->w[k];
+	const pyramid_level *L0 = &x->ix.lev[0];
+	double *dd = NULL;
+	int r = -1;
+
+	if (w->nkept == 0)
+		return 0;
+	if ((dd = calloc(2 * (size_t)w->nkept, sizeof *dd)) == NULL) {
+		tl_fail(e, "tile: out of memory");
+		goto done;
+	}
+	if (x->g.projected && w->fok == NULL && (w->fu != NULL || (w->fu =
+	    malloc(6 * (size_t)PYRAMID_N * sizeof *w->fu)) != NULL))
+		w->fok = malloc(PYRAMID_N); /* NULL: each tile its own */
+	for (int b = L0->blocks[0] * L0->blocks[1] - 1; b >= 0; b--) {
+		int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
+		const double *lon, *lat, *bx = NULL;
+		const pyramid_block *pb;
+		for (int i = 0; i < w->nkept && !any; i++)
+			any = tr_kept_meets(&x->g, w->kept[i].k, b);
+		if (!any)
+			continue;
+		if ((pb = tr_block(w, 0, bi, bj, &lon, &lat, e)) == NULL)
+			goto done;
+		if (x->g.projected)
+			bx = tr_far_boxes(w, pb, lon, lat);
+		if (w->fok != NULL)
+			memset(w->fok, 0, PYRAMID_N);
+		for (int i = 0; i < w->nkept; i++)
+			if (tr_kept_block(&x->g, w->kept[i].k, b, bi, bj, pb, lon,
+			    lat, w->fok ? w->fu : NULL, w->fok, bx, dd + 2 * i,
+			    e) < 0)
+				goto done;
+	}
+	for (int i = 0; i < w->nkept; i++) {
+		tr_part *q = &p[w->kept[i].z];
+		q->err = fmax(q->err, dd[2 * i]);
+		q->direct = fmax(q->direct, dd[2 * i + 1]);
+	}
+	r = 0;
+done:
+	free(dd);
+	for (int i = 0; i < w->nkept; i++)
+		tr_kept_free(w->kept[i].k);
+	w->nkept = 0, w->kbytes = 0;
 	return r;
 }

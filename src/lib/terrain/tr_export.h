@@ -87,6 +87,11 @@ int tr_settle(tr_export *x, const char *tmp, int z, int i0, int i1,
  * at a time, the levels that did not hold; p[z] as tr_settle. The same
  * files and parts as tr_settle level by level. */
 int tr_batch(tr_export *x, const char *tmp, int z1, tr_part *p, tl_err *e);
+#define TR_KEEP (32 << 20) /* bytes of kept tiles, all threads */
+
+/* Thread k's kept tiles measured in one pass over the level-0 blocks
+ * they meet, their distances into p (per level), the tiles freed. */
+int tr_batch_own(tr_export *x, int k, tr_part *p, tl_err *e);
 /* The deepest level that tr_batch takes: of TR_BATCH tiles or fewer,
  * as are all those above it. */
 int tr_batch_depth(const tr_export *x);

@@ -15,7 +15,7 @@
 
 #include "terrain/tr_impl.h"
 
-#define K0 4                      /* the least square's side, cells */
+#define K0 TR_FAR_K0
 #define NL 6                      /* sides 4 .. 128 */
 #define NBOX (32 * 32 + 16 * 16 + 8 * 8 + 4 * 4 + 2 * 2 + 1)
 

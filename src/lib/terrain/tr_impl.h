@@ -13,7 +13,7 @@
 
 #define QM_MAX 32767 /* u, v, height quantised to 0 .. QM_MAX */
 #define TR_CACHE 64  /* blocks a thread holds: geographic DEMs */
-#define TR_CACHE_PROJ 16 /* projected DEMs (a longitude, latitude each
+#define TR_CACHE_PROJ 32 /* projected DEMs (a longitude, latitude each
                           * vertex: 3 times the bytes a block) */
 #define TR_RMIN 6335439.0 /* m: WGS 84's least radius of curvature */
 
@@ -116,7 +116,8 @@ typedef struct {
 	size_t kbytes;
 	long long tiles, tris, bytes;
 	double *fu;             /* projected: a block's feet (tr_block_feet)
-	                         * for the first levels' pass, or NULL */
+	                         * for the passes over level 0, or NULL */
+	unsigned char *fok;     /* per vertex, its feet in fu (tr_batch_own) */
 	double *gsel;           /* projected: the tile's selected triangles
 	                         * in the grid (tr_gsel.c), 11 each */
 	int ngsel, cgsel;
@@ -213,6 +214,9 @@ int tr_rim_inherit(tr_mesh *m, int from, tl_err *e);
  * of its squares, kept with it (NULL: no memory); whether split vertex
  * (c, r) of block (bi, bj) of level p, its boxes bx, holds only
  * triangles that add nothing to tile part t of level z. */
+#define TR_FAR_K0 4 /* the boxes' least squares, cells a side: the first
+                     * (BT_CELLS / TR_FAR_K0)^2, 4 doubles each (least
+                     * lon, lat, greatest lon, lat), rows from the south */
 const double *tr_far_boxes(tr_work *w, const pyramid_block *b,
     const double *lon, const double *lat);
 int tr_far(const tr_grid *g, const double *bx, int p, int bi, int bj,
@@ -254,7 +258,8 @@ typedef struct tr_kept tr_kept;
 int tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e);
 int tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi,
     int bj, const pyramid_block *b, const double *lon, const double *lat,
-    const double *fu, double d[2], tl_err *e);
+    double *fu, unsigned char *fok, const double *bx, double d[2],
+    tl_err *e);
 /* A projected level-0 block's vertices' feet and normals (the
  * ellipsoid's points under them and its unit normals there, 6 doubles
  * each, geo_ellipsoid) into fu, 6 x 129 x 129: once for all the kept

@@ -361,7 +361,7 @@ sweep_range(void *arg, int k, int r0, int r1)
 	int i0, i1;
 
 	(void)r0, (void)r1;
-	while (!j->failed[k] && tr_take(j, j->count, s->d, &i0, &i1))
+	while (!j->failed[k] && tr_take(j, j->count, s->d, &i0, &i1)) {
 		for (int i = i0; i < i1 && !j->failed[k]; i++) {
 			int z, x, y;
 			if (!sweep_tile(s, i, &z, &x, &y))
@@ -379,6 +379,11 @@ sweep_range(void *arg, int k, int r0, int r1)
 			p->bytes += w->bytes;
 			p->nsamp += w->nsamp, p->nmeas += w->nmeas;
 		}
+		/* its kept tiles (a projected DEM's) measured together */
+		if (!j->failed[k] && tr_batch_own(j, k, s->p + (size_t)k *
+		    (TR_MAXZ + 1), &j->err[k]) < 0)
+			j->failed[k] = 1;
+	}
 }
 
 /* Sweep places of levels g .. maxz, or -1 when the levels' rectangles
@@ -437,7 +442,17 @@ tr_sweep(tr_export *x, const char *tmp, int g, tr_part *p, tl_err *e)
 			goto done;
 	}
 	x->tmp = tmp, x->count = n, x->next = 0;
+	/* a projected DEM's tiles kept, an ancestor's at a time, for one
+	 * pass over the blocks under it (tr_batch_own) */
+	x->keep = x->g.projected ? TR_KEEP / (size_t)x->nt : 0;
 	tl_pool_for(x->pool, n, sweep_range, &s);
+	x->keep = 0;
+	for (int k = 0; k < x->nt; k++) {
+		tr_work *w = &x->w[k];
+		for (int i = 0; i < w->nkept; i++) /* left by a failure */
+			tr_kept_free(w->kept[i].k);
+		w->nkept = 0, w->kbytes = 0;
+	}
 	for (int k = 0; k < x->nt; k++)
 		if (x->failed[k]) {
 			*e = x->err[k];

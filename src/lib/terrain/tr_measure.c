@@ -254,21 +254,104 @@ tr_block_feet(const tr_grid *g, const double *lon, const double *lat,
 		}
 }
 
+/* A projected DEM's sample k = (I, J) of level-0 block (bi, bj) b (its
+ * vertices at lon, lat; fu its feet or NULL, those not yet computed
+ * where fok is 0, fok NULL: all) in tile part t of rectangle
+ * r under locator l into dd, the hints of the last found; -1 when no
+ * triangle holds it. */
+static inline int
+measure_proj(const pyramid_block *b, const double *lon, const double *lat,
+    double *fu, unsigned char *fok, const locator *l, const unsigned char *rim, int bi,
+    int bj, int I, int J, const double t[4], const double r[4], int *hint,
+    int *ghint, double dd[2], tl_err *e)
+{
+	double wd = r[2] - r[0], f[3], up[3];
+	int k = J * BT_SIZE + I, q;
+	double x = lon[k], y = lat[k];
+
+	if (x < t[0] || x > t[2] || y < t[1] || y > t[3])
+		return 0;
+	q = locate(l, (x - r[0]) / wd * QM_MAX, (y - r[1]) / wd * QM_MAX,
+	    *hint);
+	if (fu != NULL) {
+		if (fok != NULL && !fok[k]) /* as tr_block_feet's */
+			geo_ellipsoid(x, y, fu + 6 * k, fu + 6 * k + 3), fok[k] = 1;
+		memcpy(f, fu + 6 * k, sizeof f),
+		memcpy(up, fu + 6 * k + 3, sizeof up);
+	} else
+		geo_ellipsoid(x, y, f, up);
+	if ((*hint = q) < 0)
+		return tl_fail(e, "tile: sample (%d, %d) under no triangle",
+		    bi * BT_CELLS + I, bj * BT_CELLS + J);
+	int out = rim && rim[q];
+	double fg = out ? 0 : tr_gsel_height(l->gs, bi * BT_CELLS + I,
+	    bj * BT_CELLS + J, ghint);
+	if (isnan(fg))
+		return tl_fail(e, "tile: sample (%d, %d) in no selected "
+		    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
+	sample_grid(l, q, out, f, up, fg, b->z[k], dd);
+	if (l->bound && !out && check(l, q, f, up, x, y, e) < 0)
+		return -1;
+	return 0;
+}
+
+/* A projected block's samples in tile part t, square by square of
+ * bx (tr_far.c: the boxes of its 4-cell squares), those whose box
+ * misses t skipped whole: their samples all fail measure_proj's test.
+ * Each sample in one square (its rows and columns from the square's
+ * first to before the next's, the block's last in the last); a tile's
+ * distances are maxima, the same in any order. */
+static int
+measure_squares(const tr_grid *g, const pyramid_block *b,
+    const double *lon, const double *lat, double *fu, unsigned char *fok,
+    const double *bx, const locator *l, const unsigned char *rim, int bi,
+    int bj, const double t[4], const double r[4], double dd[2], tl_err *e)
+{
+	int n = BT_CELLS / TR_FAR_K0, hint = -1, ghint = -1;
+	int nI = g->w0 - bi * BT_CELLS, nJ = g->h0 - bj * BT_CELLS;
+
+	nI = nI < BT_SIZE ? nI : BT_SIZE, nJ = nJ < BT_SIZE ? nJ : BT_SIZE;
+	for (int sj = 0; sj < n && sj * TR_FAR_K0 < nJ; sj++)
+		for (int si = 0; si < n && si * TR_FAR_K0 < nI; si++) {
+			const double *o = bx + 4 * (sj * n + si);
+			if (o[2] < t[0] || o[0] > t[2] || o[3] < t[1] ||
+			    o[1] > t[3])
+				continue;
+			int J1 = sj == n - 1 ? BT_SIZE : (sj + 1) * TR_FAR_K0;
+			int I1 = si == n - 1 ? BT_SIZE : (si + 1) * TR_FAR_K0;
+			J1 = J1 < nJ ? J1 : nJ, I1 = I1 < nI ? I1 : nI;
+			for (int J = sj * TR_FAR_K0; J < J1; J++)
+				for (int I = si * TR_FAR_K0; I < I1; I++)
+					if (measure_proj(b, lon, lat, fu, fok, l, rim, bi,
+					    bj, I, J, t, r, &hint, &ghint, dd, e) < 0)
+						return -1;
+		}
+	return 0;
+}
+
 /* The samples of level-0 block (bi, bj) b, its vertices at lon, lat,
  * in tile t (of rectangle r) under locator l; rim: per triangle, 1 past
  * a projected DEM's footprint (or NULL); fu, a projected block's feet
- * and normals (tr_block_feet) or NULL. */
+ * and normals (tr_block_feet) or NULL, fok as measure_proj's; bx, a projected block's boxes
+ * (tr_far_boxes) or NULL. */
 static int
 measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
-    const double *lat, const double *fu, const locator *l,
-    const unsigned char *rim, int bi, int bj, const double t[4],
-    const double r[4], double d[2], tl_err *e)
+    const double *lat, double *fu, unsigned char *fok, const double *bx,
+    const locator *l, const unsigned char *rim, int bi, int bj,
+    const double t[4], const double r[4], double d[2], tl_err *e)
 {
 	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	int hint = -1, ghint = -1, col[BT_SIZE], ncol = 0, nI = BT_SIZE;
 	double dd[2] = { d[0], d[1] };
 	trig c;
 
+	if (g->projected && bx != NULL) {
+		if (measure_squares(g, b, lon, lat, fu, fok, bx, l, rim, bi, bj,
+		    t, r, dd, e) < 0)
+			return -1;
+		d[0] = dd[0], d[1] = dd[1];
+		return 0;
+	}
 	if (g->w0 - bi * BT_CELLS < nI)
 		nI = g->w0 - bi * BT_CELLS;
 	/* a geographic grid: latitude per row, longitude per column, so
@@ -288,44 +371,27 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
 			int I = col[ci], k = J * BT_SIZE + I, q;
 			double f[3], up[3], x = tr_vlon(g, lon, J, I);
 			double y = tr_vlat(g, lat, J, I);
-			if (!g->projected) {
-				q = locate(l, c.su[I], c.sv[J], hint);
-				f[0] = c.nn[J] * c.cl[J] * c.co[I];
-				f[1] = c.nn[J] * c.cl[J] * c.so[I];
-				f[2] = c.nn[J] * (1 - e2) * c.sl[J];
-				up[0] = c.cl[J] * c.co[I], up[1] = c.cl[J] * c.so[I];
-				up[2] = c.sl[J];
-			} else if (x < t[0] || x > t[2] || y < t[1] || y > t[3])
+			if (g->projected) {
+				if (measure_proj(b, lon, lat, fu, fok, l, rim, bi, bj,
+				    I, J, t, r, &hint, &ghint, dd, e) < 0)
+					return -1;
 				continue;
-			else {
-				q = locate(l, (x - r[0]) / wd * QM_MAX,
-				    (y - r[1]) / wd * QM_MAX, hint);
-				if (fu != NULL)
-					memcpy(f, fu + 6 * k, sizeof f),
-					memcpy(up, fu + 6 * k + 3, sizeof up);
-				else
-					geo_ellipsoid(x, y, f, up);
 			}
+			q = locate(l, c.su[I], c.sv[J], hint);
+			f[0] = c.nn[J] * c.cl[J] * c.co[I];
+			f[1] = c.nn[J] * c.cl[J] * c.so[I];
+			f[2] = c.nn[J] * (1 - e2) * c.sl[J];
+			up[0] = c.cl[J] * c.co[I], up[1] = c.cl[J] * c.so[I];
+			up[2] = c.sl[J];
 			if ((hint = q) < 0)
 				return tl_fail(e, "tile: sample (%d, %d) under no "
 				    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
-			if (!g->projected)
-				sample(l, q, f, up, x, y, b->z[k], dd);
-			else {
-				int out = rim && rim[q];
-				double fg = out ? 0 : tr_gsel_height(l->gs,
-				    bi * BT_CELLS + I, bj * BT_CELLS + J, &ghint);
-				if (isnan(fg))
-					return tl_fail(e, "tile: sample (%d, %d) in no "
-					    "selected triangle", bi * BT_CELLS + I,
-					    bj * BT_CELLS + J);
-				sample_grid(l, q, out, f, up, fg, b->z[k], dd);
-			}
-			if (l->bound && !(rim && rim[q]) && check(l, q, f, up,
-			    x, y, e) < 0)
+			sample(l, q, f, up, x, y, b->z[k], dd);
+			if (l->bound && check(l, q, f, up, x, y, e) < 0)
 				return -1;
 		}
 	}
+	(void)wd;
 	d[0] = dd[0], d[1] = dd[1];
 	return 0;
 }
@@ -421,12 +487,13 @@ tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb)
 int
 tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi, int bj,
     const pyramid_block *b, const double *lon, const double *lat,
-    const double *fu, double d[2], tl_err *e)
+    double *fu, unsigned char *fok, const double *bx, double d[2],
+    tl_err *e)
 {
 	if (!tr_kept_meets(g, k, kb))
 		return 0;
-	return measure_block(g, b, lon, lat, fu, &k->l, k->rim, bi, bj, k->t,
-	    k->r, d, e);
+	return measure_block(g, b, lon, lat, fu, fok, bx, &k->l, k->rim, bi,
+	    bj, k->t, k->r, d, e);
 }
 
 /* Every level-0 sample in kept tile kp, through the thread's cache. */
@@ -441,9 +508,12 @@ tr_kept_walk(tr_work *w, const tr_kept *kp, double d[2], tl_err *e)
 		int bi = k % L0->blocks[0], bj = k / L0->blocks[0];
 		const double *lon, *lat;
 		const pyramid_block *b;
-		if (tr_kept_meets(w->g, kp, k) && ((b = tr_block(w, 0, bi, bj,
-		    &lon, &lat, e)) == NULL || tr_kept_block(w->g, kp, k, bi, bj,
-		    b, lon, lat, NULL, d, e) < 0))
+		if (!tr_kept_meets(w->g, kp, k))
+			continue;
+		if ((b = tr_block(w, 0, bi, bj, &lon, &lat, e)) == NULL ||
+		    tr_kept_block(w->g, kp, k, bi, bj, b, lon, lat, NULL, NULL,
+		    w->g->projected ? tr_far_boxes(w, b, lon, lat) : NULL, d,
+		    e) < 0)
 			return -1;
 	}
 	return 0;
