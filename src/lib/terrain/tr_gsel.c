@@ -125,14 +125,14 @@ tr_gsel_free(tr_gsel *g)
 	memset(g, 0, sizeof *g);
 }
 
-double
-tr_gsel_height(const tr_gsel *g, double x, double y, int *hint)
+const double *
+tr_gsel_find(const tr_gsel *g, double x, double y, int *hint)
 {
 	int k, best = -1;
 	double lb = -INFINITY;
 
 	if (g->nt == 0)
-		return NAN;
+		return NULL;
 	/* the previous sample's triangle when the place is inside it: no
 	 * other then holds it (they do not overlap) but on its edges */
 	if (*hint >= 0 && tr_bary_above(g->t + GT * (size_t)*hint, x, y,
@@ -149,8 +149,8 @@ tr_gsel_height(const tr_gsel *g, double x, double y, int *hint)
 				lb = v, best = g->list[i];
 		}
 		if (best < 0 || !(lb >= -1e-9))
-			return NAN;
+			return NULL;
 		*hint = best;
 	}
-	return tr_bary_flat(g->t + GT * (size_t)best, x, y);
+	return g->t + GT * (size_t)best;
 }

@@ -224,9 +224,10 @@ int tr_far(const tr_grid *g, const double *bx, int p, int bi, int bj,
 
 /* A projected DEM's selection in its grid (tr_gsel.c): selected
  * triangle x, y (level-0 places), h appended to w's tile (-1: out of
- * memory); the tile's triangles copied and bucketed; the height of the
- * selection at level-0 place (x, y), NaN where no triangle holds it
- * (*hint: the triangle found last, or -1). */
+ * memory); the tile's triangles copied and bucketed; the terms
+ * (tr_bary_flat's: the selection's height there) of the triangle holding
+ * level-0 place (x, y), NULL where none does (*hint: the triangle found
+ * last, or -1). */
 typedef struct {
 	double *t;              /* tr_bary.h's terms and heights */
 	int nt, nb, *start, *list;
@@ -237,7 +238,8 @@ int tr_gsel_add(tr_work *w, const double x[3], const double y[3],
     const double h[3]);
 int tr_gsel_init(tr_gsel *g, const tr_work *w);
 void tr_gsel_free(tr_gsel *g);
-double tr_gsel_height(const tr_gsel *g, double x, double y, int *hint);
+const double *tr_gsel_find(const tr_gsel *g, double x, double y,
+    int *hint);
 
 /* Quantise, order, decode w->m for tile (z, x, y): fills u, v, q, pos,
  * the triangles counter-clockwise in u, v; *minh, *maxh the header's

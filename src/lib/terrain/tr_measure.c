@@ -189,17 +189,28 @@ sample(const locator *l, int q, const double f[3], const double up[3],
 }
 
 /* A projected DEM's sample: the drawn surface against the selection
- * at the sample's grid place, fg (tr_gsel.c), or, out (past the
- * footprint), against the sample's height z itself. */
-static inline void
-sample_grid(const locator *l, int q, int out, const double f[3],
-    const double up[3], double fg, double z, double d[2])
+ * at the sample's grid place (gx, gy), the plane of the selected
+ * triangle gt holding it (tr_gsel.c), or, gt NULL (past the footprint),
+ * against the sample's height z itself. The selection's height exactly
+ * only where the near one (tr_bary.h) leaves it able to raise d[0]:
+ * d[0] is the same. */
+static inline int
+sample_grid(const locator *l, int q, const double *gt, const double f[3],
+    const double up[3], double gx, double gy, double z, double d[2])
 {
 	double hs = drawn(l, q, f, up);
-	double v = fabs(hs - z);
+	double v = fabs(hs - z), s, fg;
 
 	d[1] = dmax(d[1], v);
-	d[0] = dmax(d[0], out ? v : fabs(hs - fg));
+	if (gt == NULL)
+		d[0] = dmax(d[0], v);
+	else if (!(fabs(hs - tr_bary_near_flat(gt, gx, gy, hs, &s)) + s <
+	    d[0])) {
+		if (isnan(fg = tr_bary_flat(gt, gx, gy)))
+			return -1; /* (the near one NaN too) */
+		d[0] = dmax(d[0], fabs(hs - fg));
+	}
+	return 0;
 }
 
 /* The check of tr_bound (tr_kept_check): sample (f, up) under
@@ -284,12 +295,12 @@ measure_proj(const pyramid_block *b, const double *lon, const double *lat,
 		return tl_fail(e, "tile: sample (%d, %d) under no triangle",
 		    bi * BT_CELLS + I, bj * BT_CELLS + J);
 	int out = rim && rim[q];
-	double fg = out ? 0 : tr_gsel_height(l->gs, bi * BT_CELLS + I,
-	    bj * BT_CELLS + J, ghint);
-	if (isnan(fg))
+	double gx = bi * BT_CELLS + I, gy = bj * BT_CELLS + J;
+	const double *gt = out ? NULL : tr_gsel_find(l->gs, gx, gy, ghint);
+	if ((!out && gt == NULL) || sample_grid(l, q, gt, f, up, gx, gy,
+	    b->z[k], dd) < 0)
 		return tl_fail(e, "tile: sample (%d, %d) in no selected "
 		    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
-	sample_grid(l, q, out, f, up, fg, b->z[k], dd);
 	if (l->bound && !out && check(l, q, f, up, x, y, e) < 0)
 		return -1;
 	return 0;
