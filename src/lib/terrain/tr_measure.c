@@ -272,9 +272,10 @@ tr_block_feet(const tr_grid *g, const double *lon, const double *lat,
  * triangle holds it. */
 static inline int
 measure_proj(const pyramid_block *b, const double *lon, const double *lat,
-    double *fu, unsigned char *fok, const locator *l, const unsigned char *rim, int bi,
-    int bj, int I, int J, const double t[4], const double r[4], int *hint,
-    int *ghint, double dd[2], tl_err *e)
+    double *fu, unsigned char *fok, const locator *l,
+    const unsigned char *rim, int bi, int bj, int I, int J,
+    const double t[4], const double r[4], int *hint, int *ghint,
+    double dd[2], tl_err *e)
 {
 	double wd = r[2] - r[0], f[3], up[3];
 	int k = J * BT_SIZE + I, q;
@@ -343,15 +344,15 @@ measure_squares(const tr_grid *g, const pyramid_block *b,
 /* The samples of level-0 block (bi, bj) b, its vertices at lon, lat,
  * in tile t (of rectangle r) under locator l; rim: per triangle, 1 past
  * a projected DEM's footprint (or NULL); fu, a projected block's feet
- * and normals (tr_block_feet) or NULL, fok as measure_proj's; bx, a projected block's boxes
- * (tr_far_boxes) or NULL. */
+ * and normals (tr_block_feet) or NULL, fok as measure_proj's; bx, a
+ * projected block's boxes (tr_far_boxes) or NULL. */
 static int
 measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
     const double *lat, double *fu, unsigned char *fok, const double *bx,
     const locator *l, const unsigned char *rim, int bi, int bj,
     const double t[4], const double r[4], double d[2], tl_err *e)
 {
-	double wd = r[2] - r[0], fl = 1 / 298.257223563, e2 = fl * (2 - fl);
+	double fl = 1 / 298.257223563, e2 = fl * (2 - fl);
 	int hint = -1, ghint = -1, col[BT_SIZE], ncol = 0, nI = BT_SIZE;
 	double dd[2] = { d[0], d[1] };
 	trig c;
@@ -402,7 +403,6 @@ measure_block(const tr_grid *g, const pyramid_block *b, const double *lon,
 				return -1;
 		}
 	}
-	(void)wd;
 	d[0] = dd[0], d[1] = dd[1];
 	return 0;
 }

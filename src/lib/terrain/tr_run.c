@@ -170,7 +170,8 @@ work_free(tr_work *w)
 	for (int i = 0; i < w->nkept; i++)
 		tr_kept_free(w->kept[i].k);
 	free(w->kept);
-	free(w->sel), free(w->gsel), free(w->fu), free(w->fok), free(w->row), free(w->u);
+	free(w->sel), free(w->gsel), free(w->fu), free(w->fok), free(w->row);
+	free(w->u);
 	free(w->v);
 	free(w->q), free(w->pos), free(w->order), free(w->tmp), free(w->buf);
 }
