@@ -8,7 +8,8 @@
  * dem_filled.c the filled DEM file (filled(5)), dem_filled_jobs.c that
  * file made in row jobs (filled(5), PARTS). Each calls only those
  * before it and the reader (dem.c, dem_load.c); the reader calls only
- * dem_fill of the first: no loop runs between them (t_loops.sh).
+ * dem_fill_up, dem_fill_down and dem_fill_free of the first: no loop
+ * runs between them (t_loops.sh).
  * Here: the algorithm. */
 #include <math.h>
 #include <stdint.h>
@@ -304,7 +305,8 @@ put_chunk(fillbuf *F, int lo, int hi, long long k, tl_err *e)
  * mask; rows without voids are copied unless filled in place. F->bl,
  * pass_up's done, holds per column the record of the void run at hand. */
 static int
-pass_down(fillbuf *F, int bfd, long long end, tl_err *e)
+pass_down(fillbuf *F, int bfd, long long end, int (*done)(void *, int),
+    void *ctx, tl_err *e)
 {
 	for (long long q = 0; q < chunks(F); q++) {
 		long long k = F->k;
@@ -339,6 +341,8 @@ pass_down(fillbuf *F, int bfd, long long end, tl_err *e)
 		}
 		if (put_chunk(F, lo, hi, k, e) < 0)
 			return -1;
+		if (done != NULL && done(ctx, hi) < 0)
+			return tl_fail(e, "void fill: stopped");
 	}
 	return 0;
 }
@@ -354,46 +358,85 @@ pass_down(fillbuf *F, int bfd, long long end, tl_err *e)
  * Every result is a convex combination of valid heights. Two streaming
  * passes: bottom-up records the nearest valid sample below in a scratch
  * file, once a vertical run of voids, top-down carries the nearest above
- * in memory. Memory O(width),
- * disk O(width * height); deterministic. */
+ * in memory. Memory O(width), disk O(width * height); deterministic. */
+struct dem_filling {
+	fillbuf F;
+	int bfd;
+	long long end;   /* pass_up's records: their bytes */
+};
+
+/* The fill's first pass: its buffers, its scratch file, pass_up. */
+static dem_filling *
+fill_up(const dem_fill_band *b, int whole, const unsigned char *rowvoid,
+    int w, int h, tl_err *e)
+{
+	dem_filling *f = tl_alloc(1, sizeof *f, e);
+
+	if (f == NULL)
+		return NULL;
+	f->bfd = -1;
+	if (fillbuf_alloc(&f->F, w, h, b->y1 - b->y0, e) < 0) {
+		free(f);
+		return NULL;
+	}
+	f->F.io = *b, f->F.whole = whole, f->F.k = b->rank;
+	f->F.rowvoid = rowvoid;
+	/* the nearest valid samples beyond the rows, for a band */
+	for (int i = 0; i < w; i++) {
+		if (b->above != NULL && b->above[i].row >= 0)
+			f->F.av[i] = b->above[i].v, f->F.arow[i] =
+			    b->above[i].row;
+		if (b->below != NULL)
+			f->F.bl[i] = b->below[i];
+	}
+	if ((f->bfd = tl_scratch(e)) < 0 ||
+	    pass_up(&f->F, f->bfd, &f->end, e) < 0) {
+		dem_fill_free(f);
+		return NULL;
+	}
+	return f;
+}
+
+int
+dem_fill_down(dem_filling *f, int (*done)(void *, int), void *ctx,
+    tl_err *e)
+{
+	return pass_down(&f->F, f->bfd, f->end, done, ctx, e);
+}
+
+void
+dem_fill_free(dem_filling *f)
+{
+	if (f == NULL)
+		return;
+	if (f->bfd >= 0)
+		close(f->bfd);
+	fillbuf_free(&f->F);
+	free(f);
+}
+
 static int
 fill(const dem_fill_band *b, int whole, const unsigned char *rowvoid,
     int w, int h, tl_err *e)
 {
-	fillbuf F;
-	long long end;
-	int bfd, r;
+	dem_filling *f = fill_up(b, whole, rowvoid, w, h, e);
+	int r;
 
-	if (fillbuf_alloc(&F, w, h, b->y1 - b->y0, e) < 0)
+	if (f == NULL)
 		return -1;
-	F.io = *b, F.whole = whole, F.k = b->rank, F.rowvoid = rowvoid;
-	/* the nearest valid samples beyond the rows, for a band */
-	for (int i = 0; i < w; i++) {
-		if (b->above != NULL && b->above[i].row >= 0)
-			F.av[i] = b->above[i].v, F.arow[i] = b->above[i].row;
-		if (b->below != NULL)
-			F.bl[i] = b->below[i];
-	}
-	if ((bfd = tl_scratch(e)) < 0) {
-		fillbuf_free(&F);
-		return -1;
-	}
-	r = pass_up(&F, bfd, &end, e);
-	if (r == 0)
-		r = pass_down(&F, bfd, end, e);
-	close(bfd);
-	fillbuf_free(&F);
+	r = dem_fill_down(f, NULL, NULL, e);
+	dem_fill_free(f);
 	return r;
 }
 
-int
-dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
+dem_filling *
+dem_fill_up(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
 {
 	dem_fill_band b = { fd, fd, 0, 0,
 	    (long long)h * w * (long long)sizeof(float), 0, 0, h, NULL, NULL,
 	    "scratch file", "scratch file" };
 
-	return fill(&b, 1, rowvoid, w, h, e);
+	return fill_up(&b, 1, rowvoid, w, h, e);
 }
 
 /* A band of rows, filled as dem_fill fills them in the whole DEM: the
