@@ -49,7 +49,7 @@ dem_get(void *ctx, tl_err *e)
 	stage_dem *sd = &p->dem;
 
 	if (!sd->done)
-		sd->d = dem_open(sd->path, &p->c[0].dem, &sd->err);
+		sd->d = dem_open_streamed(sd->path, &p->c[0].dem, &sd->err);
 	sd->done = 1;
 	if (sd->d == NULL)
 		*e = sd->err;

@@ -83,8 +83,10 @@ stage_dem2fqm(const cli *c, const stage_level0 *o, tl_err *e)
 		d = dem_open_info(o->in, &c->dem, e);
 	else if (o->filled != NULL)
 		d = dem_open_filled(o->in, &c->dem, o->filled, e);
-	else
+	else if (o->info)
 		d = dem_open(o->in, &c->dem, e);
+	else /* rows in order: they flow while the fill goes on */
+		d = dem_open_streamed(o->in, &c->dem, e);
 	if (d == NULL)
 		return -1;
 	r = o->info ? dem_info_print(d, stdout, e) : convert(c, o, d, e);

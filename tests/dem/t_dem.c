@@ -998,6 +998,47 @@ find_top(void)
 	setenv("TL_OIIO_PLUGIN", so, 0);
 }
 
+/* dem_open_streamed: the rows dem_open gives, bit for bit, read in order
+ * while the fill goes on, or last row first (which waits for the whole
+ * fill); closed at once, it stops the fill. */
+static void
+check_streamed(void)
+{
+	const char *path = dpath("N48W125.hgt");
+	tl_err e = { "" };
+	dem *a = dem_open(path, NULL, &e), *b;
+	int w, h, same = 1;
+	float *za, *zb;
+	unsigned char *va, *vb;
+
+	if (!ok(a != NULL, "streamed: N48W125 opens (%s)", e.msg))
+		return;
+	w = dem_georef(a)->width, h = dem_georef(a)->height;
+	za = malloc((size_t)w * 4), zb = malloc((size_t)w * 4);
+	va = malloc((size_t)w), vb = malloc((size_t)w);
+	for (int pass = 0; pass < 2; pass++) {
+		if ((b = dem_open_streamed(path, NULL, &e)) == NULL) {
+			same = 0;
+			break;
+		}
+		for (int k = 0; k < h && same; k++) {
+			int j = pass == 0 ? k : h - 1 - k;
+			same = dem_read_row(a, j, za, va, &e) == 0 &&
+			    dem_read_row(b, j, zb, vb, &e) == 0 &&
+			    memcmp(za, zb, (size_t)w * 4) == 0 &&
+			    memcmp(va, vb, (size_t)w) == 0;
+		}
+		dem_close(b);
+	}
+	ok(same, "streamed: every row and mask as dem_open's, in order and "
+	    "last first");
+	b = dem_open_streamed(path, NULL, &e);
+	dem_close(b);
+	ok(b != NULL, "streamed: closed at once, the fill stopped");
+	free(za), free(zb), free(va), free(vb);
+	dem_close(a);
+}
+
 int
 main(void)
 {
@@ -1008,6 +1049,7 @@ main(void)
 	check_header_roundtrip();
 	check_fuji();
 	check_stdin();
+	check_streamed();
 	if (make_fixtures() == 0) {
 		check_formats();
 		check_fill();

@@ -1,5 +1,12 @@
 /* ring.c - the bounded ring of slots between threads (ring.h): one lock
- * and one condition; counters of slots put and got, never wrapped. */
+ * and one condition; counters of slots put and got, never wrapped.
+ *
+ * A waiter is woken a batch at a time, not at every slot: a reader once
+ * the writer is a batch ahead of it, the writer once a batch of slots is
+ * free; and whoever goes to
+ * sleep first wakes the other side's waiters, so that no one sleeps on
+ * a batch that cannot come. A row's wake-up and context switch cost
+ * about as much as a cheap stage's work on it. */
 #include "base/ring.h"
 
 #include <assert.h>
@@ -14,6 +21,9 @@ struct tl_ring {
 	unsigned char *buf;       /* nslots x slotbytes, at the start */
 	const void *meta;
 	int started, closed, cancelled;
+	int batch;                /* slots a waiter is woken for */
+	int wwait, rwait;         /* the writer waits; readers that wait */
+	unsigned char waits[TL_RING_MAXREADERS]; /* reader k waits */
 	long long put;            /* slots written */
 	long long got[TL_RING_MAXREADERS]; /* slots released by each reader;
 	                           * LLONG_MAX once it has left */
@@ -32,6 +42,7 @@ tl_ring_new(int readers, int slots, tl_err *e)
 	pthread_mutex_init(&q->mu, NULL);
 	pthread_cond_init(&q->cv, NULL);
 	q->nslots = slots, q->nreaders = readers;
+	q->batch = slots / 4 > 1 ? slots / 4 : 1;
 	return q;
 }
 
@@ -73,6 +84,28 @@ slowest(const tl_ring *q)
 	return m;
 }
 
+/* Whether a waiting reader has a batch to read. */
+static int
+readers_due(const tl_ring *q)
+{
+	for (int k = 0; k < q->nreaders; k++)
+		if (q->waits[k] && q->put - q->got[k] >= q->batch)
+			return 1;
+	return 0;
+}
+
+/* Sleeps on the condition, *count counting the sleepers, the other
+ * side's (n of them) woken first. */
+static void
+sleep_on(tl_ring *q, int *count, int n)
+{
+	if (n > 0)
+		pthread_cond_broadcast(&q->cv);
+	(*count)++;
+	pthread_cond_wait(&q->cv, &q->mu);
+	(*count)--;
+}
+
 void *
 tl_ring_put_begin(tl_ring *q)
 {
@@ -80,7 +113,7 @@ tl_ring_put_begin(tl_ring *q)
 
 	pthread_mutex_lock(&q->mu);
 	while (!q->cancelled && q->put - slowest(q) >= q->nslots)
-		pthread_cond_wait(&q->cv, &q->mu);
+		sleep_on(q, &q->wwait, q->rwait);
 	if (!q->cancelled)
 		p = q->buf + (size_t)(q->put % q->nslots) * q->slotbytes;
 	pthread_mutex_unlock(&q->mu);
@@ -92,7 +125,8 @@ tl_ring_put_end(tl_ring *q)
 {
 	pthread_mutex_lock(&q->mu);
 	q->put++;
-	pthread_cond_broadcast(&q->cv);
+	if (q->rwait > 0 && readers_due(q))
+		pthread_cond_broadcast(&q->cv);
 	pthread_mutex_unlock(&q->mu);
 }
 
@@ -126,8 +160,11 @@ tl_ring_get_begin(tl_ring *q, int k)
 
 	assert(k >= 0 && k < q->nreaders);
 	pthread_mutex_lock(&q->mu);
-	while (!q->cancelled && q->got[k] >= q->put && !q->closed)
-		pthread_cond_wait(&q->cv, &q->mu);
+	while (!q->cancelled && q->got[k] >= q->put && !q->closed) {
+		q->waits[k] = 1;
+		sleep_on(q, &q->rwait, q->wwait);
+		q->waits[k] = 0;
+	}
 	if (!q->cancelled && q->got[k] < q->put)
 		p = q->buf + (size_t)(q->got[k] % q->nslots) * q->slotbytes;
 	pthread_mutex_unlock(&q->mu);
@@ -139,7 +176,8 @@ tl_ring_get_end(tl_ring *q, int k)
 {
 	pthread_mutex_lock(&q->mu);
 	q->got[k]++;
-	pthread_cond_broadcast(&q->cv);
+	if (q->wwait > 0 && q->nslots - (q->put - slowest(q)) >= q->batch)
+		pthread_cond_broadcast(&q->cv);
 	pthread_mutex_unlock(&q->mu);
 }
 

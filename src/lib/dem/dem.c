@@ -11,13 +11,18 @@
  * file, voids as NaN. Voids are then filled for geometry (dem_voidfill.c) and
  * the scratch file holds the filled rows followed by a validity mask for
  * each row that has voids, so any row can be read back in any order with
- * O(width) memory. A dem may instead read them from a filled DEM file
+ * O(width) memory. Opened streamed, the fill's second pass, top-down,
+ * runs in a thread of its own once the open has returned: a read of a
+ * row it has not yet filled waits for it, so that the rows flow to the
+ * reader (dem2fqm's level 0, tilepack's) while the rest is filled. A dem may instead read them from a filled DEM file
  * (dem_filled.c sets its span method), which this file does not know. */
 #include "dem/dem_impl.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -173,11 +178,132 @@ scratch_note(long long w, long long h, int voids, tl_err *e)
 	    "or raise ulimit -f)" : "");
 }
 
+/* --- the fill's second pass, beside the readers -------------------------- */
+
+struct dem_async {
+	pthread_mutex_t mu;
+	pthread_cond_t cv;
+	pthread_t th;
+	dem_filling *f;
+	long long w, h;
+	int rows;        /* rows 0 .. rows-1 filled and in place */
+	int failed, stop;
+	tl_err err;      /* the failure, told to every read after it */
+};
+
+static void scratch_note(long long w, long long h, int voids, tl_err *e);
+
+/* dem_fill_down's done: rows 0 .. n-1 may be read; -1 once dem_close
+ * wants it stopped. */
+static int
+filled(void *ctx, int n)
+{
+	struct dem_async *a = ctx;
+	int stop;
+
+	pthread_mutex_lock(&a->mu);
+	a->rows = n;
+	stop = a->stop;
+	pthread_cond_broadcast(&a->cv);
+	pthread_mutex_unlock(&a->mu);
+	return stop ? -1 : 0;
+}
+
+static void *
+fill_thread(void *arg)
+{
+	struct dem_async *a = arg;
+	tl_err e = { 0 };
+	int r = dem_fill_down(a->f, filled, a, &e);
+
+	if (r < 0)
+		scratch_note(a->w, a->h, 1, &e);
+	pthread_mutex_lock(&a->mu);
+	if (r < 0)
+		a->failed = 1, a->err = e;
+	else
+		a->rows = (int)a->h;
+	pthread_cond_broadcast(&a->cv);
+	pthread_mutex_unlock(&a->mu);
+	return NULL;
+}
+
+/* The first pass, then the second in a thread (no signal taken there:
+ * they stay the caller's) when behind, or here (also when no thread can
+ * be started). */
+static int
+fill(dem *d, long long w, long long h, int behind, tl_err *e)
+{
+	struct dem_async *a;
+	sigset_t all, old;
+	dem_filling *f;
+	int r;
+
+	if ((f = dem_fill_up(d->fd, d->rowvoid, (int)w, (int)h, e)) == NULL)
+		return -1;
+	if (behind && (a = calloc(1, sizeof *a)) != NULL) {
+		pthread_mutex_init(&a->mu, NULL);
+		pthread_cond_init(&a->cv, NULL);
+		a->f = f, a->w = w, a->h = h;
+		sigfillset(&all);
+		pthread_sigmask(SIG_BLOCK, &all, &old);
+		r = pthread_create(&a->th, NULL, fill_thread, a);
+		pthread_sigmask(SIG_SETMASK, &old, NULL);
+		if (r == 0) {
+			d->fill = a;
+			return 0;
+		}
+		pthread_cond_destroy(&a->cv);
+		pthread_mutex_destroy(&a->mu);
+		free(a);
+	}
+	r = dem_fill_down(f, NULL, NULL, e);
+	dem_fill_free(f);
+	return r;
+}
+
+/* Waits until rows 0 .. n-1 are filled: 0, or -1 with the fill's
+ * failure. */
+static int
+fill_wait(dem *d, int n, tl_err *e)
+{
+	struct dem_async *a = d->fill;
+	int r = 0;
+
+	pthread_mutex_lock(&a->mu);
+	while (!a->failed && a->rows < n)
+		pthread_cond_wait(&a->cv, &a->mu);
+	if (a->failed)
+		*e = a->err, r = -1;
+	pthread_mutex_unlock(&a->mu);
+	return r;
+}
+
+/* Stops the fill where it is and waits for its thread. */
+static void
+fill_end(dem *d)
+{
+	struct dem_async *a = d->fill;
+
+	if (a == NULL)
+		return;
+	pthread_mutex_lock(&a->mu);
+	a->stop = 1;
+	pthread_mutex_unlock(&a->mu);
+	pthread_join(a->th, NULL);
+	dem_fill_free(a->f);
+	pthread_cond_destroy(&a->cv);
+	pthread_mutex_destroy(&a->mu);
+	free(a);
+	d->fill = NULL;
+}
+
 /* info: the header only; cols (2 ints, or NULL): only those columns;
- * rows (2 ints and an fd, or NULL): only those rows, into that file */
+ * rows (2 ints and an fd, or NULL): only those rows, into that file;
+ * behind: the fill's second pass in a thread (dem_open_streamed) */
 static dem *
 open_dem(const char *path, const dem_opts *o, int info, const int *cols,
-    const int *rows, tl_err *e)
+    const int *rows, int behind, tl_err *e)
 {
 	static const dem_opts none;
 	spool sp = { { NULL, NULL, -1 }, "" };
@@ -231,7 +357,7 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 		r = tl_fail(e, "%s: no valid samples (every sample is a void)",
 		    d->what);
 	if (r == 0 && !info && cols == NULL && rows == NULL && L.voids > 0)
-		r = dem_fill(d->fd, d->rowvoid, L.w, L.h, e);
+		r = fill(d, L.w, L.h, behind, e);
 	if (r < 0)
 		scratch_note(L.w, L.h, L.voids > 0, e);
 	if (r < 0) {
@@ -244,14 +370,20 @@ open_dem(const char *path, const dem_opts *o, int info, const int *cols,
 dem *
 dem_open(const char *path, const dem_opts *o, tl_err *e)
 {
-	return open_dem(path, o, 0, NULL, NULL, e);
+	return open_dem(path, o, 0, NULL, NULL, 0, e);
+}
+
+dem *
+dem_open_streamed(const char *path, const dem_opts *o, tl_err *e)
+{
+	return open_dem(path, o, 0, NULL, NULL, 1, e);
 }
 
 dem *
 dem_open_cols(const char *path, const dem_opts *o, int x0, int x1,
     tl_err *e)
 {
-	return open_dem(path, o, 0, (const int[]){ x0, x1 }, NULL, e);
+	return open_dem(path, o, 0, (const int[]){ x0, x1 }, NULL, 0, e);
 }
 
 dem *
@@ -259,20 +391,20 @@ dem_open_window(const char *path, const dem_opts *o, int x0, int x1, int y0,
     int y1, tl_err *e)
 {
 	return open_dem(path, o, 0, (const int[]){ x0, x1 },
-	    (const int[]){ y0, y1, -1 }, e);
+	    (const int[]){ y0, y1, -1 }, 0, e);
 }
 
 dem *
 dem_open_info(const char *path, const dem_opts *o, tl_err *e)
 {
-	return open_dem(path, o, 1, NULL, NULL, e);
+	return open_dem(path, o, 1, NULL, NULL, 0, e);
 }
 
 dem *
 dem_open_rows(const char *path, const dem_opts *o, int y0, int y1, int fd,
     tl_err *e)
 {
-	return open_dem(path, o, 0, NULL, (const int[]){ y0, y1, fd }, e);
+	return open_dem(path, o, 0, NULL, (const int[]){ y0, y1, fd }, 0, e);
 }
 
 const georef *
@@ -312,6 +444,8 @@ dem_read_span(dem *d, int j, int x0, int n, float *z, unsigned char *valid,
 		    d->what, x0, x0 + (long long)n - 1, d->cx0,
 		    d->cx0 + w - 1);
 	x0 -= d->cx0;
+	if (d->fill != NULL && fill_wait(d, j + 1, e) < 0)
+		return -1;
 	if (d->span != NULL)
 		return d->span(d, j, x0, n, z, valid, e);
 	if (tl_pread(d->fd, z, (size_t)n * sizeof(float),
@@ -345,6 +479,7 @@ dem_close(dem *d)
 {
 	if (d == NULL)
 		return;
+	fill_end(d);
 	if (d->fd >= 0)
 		close(d->fd);
 	free(d->rowvoid);

@@ -61,6 +61,12 @@ typedef struct dem dem;
 int dem_option(dem_opts *o, int c, const char *arg, tl_err *e);
 
 dem *dem_open(const char *path, const dem_opts *o, tl_err *e);
+/* dem_open, returning once its rows can begin to be read: the void
+ * fill's second pass (top-down) goes on in a thread beside the reader,
+ * a read of a row it has not yet filled waits for it, and a failure of
+ * the fill is told by the reads after it. For readers of rows mostly in
+ * order (dem2fqm's level 0), so that they start sooner. */
+dem *dem_open_streamed(const char *path, const dem_opts *o, tl_err *e);
 /* Only columns x0 .. x1-1 of every row (north-up), for a job that needs a
  * window of a DEM larger than it should read (a tilepack piece): the
  * scratch file holds the window, the source is read only where its

@@ -21,7 +21,8 @@
  * dem_filled.c the filled DEM file (filled(5)), dem_filled_jobs.c that
  * file made in row jobs (filled(5), PARTS). Each calls only those
  * before it and the reader (dem.c, dem_load.c); the reader calls only
- * dem_fill of the first: no loop runs between them (t_loops.sh).
+ * dem_fill_up, dem_fill_down and dem_fill_free of the first: no loop
+ * runs between them (t_loops.sh).
  * Here: the file. */
 #include <fcntl.h>
 #include <math.h>

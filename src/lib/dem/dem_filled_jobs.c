@@ -22,7 +22,8 @@
  * dem_filled.c the filled DEM file (filled(5)), dem_filled_jobs.c that
  * file made in row jobs (filled(5), PARTS). Each calls only those
  * before it and the reader (dem.c, dem_load.c); the reader calls only
- * dem_fill of the first: no loop runs between them (t_loops.sh).
+ * dem_fill_up, dem_fill_down and dem_fill_free of the first: no loop
+ * runs between them (t_loops.sh).
  * Here: the jobs. One concern in one file, over 600 lines: the parts'
  * protocol (their names, formats and the four steps that write and read
  * them), which no step can change without the others. */

@@ -94,6 +94,8 @@ struct dem {
 	uint64_t print;          /* dem_fingerprint of how it was read */
 	struct dem_file *file;   /* where fd's rows and masks are, when fd
 	                          * is a filled DEM file; else NULL */
+	struct dem_async *fill;  /* the fill's second pass, running beside
+	                          * the readers (dem.c); NULL: none */
 	char what[DEM_NAME];     /* the file, for messages (dem_name) */
 };
 
@@ -221,8 +223,17 @@ int dem_fill_rows(const dem_fill_band *b, const unsigned char *rowvoid,
 
 /* Fills the voids of the scratch file fd (w x h float32 rows, NaN for a
  * void; rowvoid marks the rows that have some) and appends a validity
- * mask per such row (dem_voidfill.c documents the method). */
-int dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e);
+ * mask per such row (dem_voidfill.c documents the method), in two
+ * passes: dem_fill_up reads every row (NULL on failure), dem_fill_down
+ * then fills and writes them top-down, telling done(ctx, n) (may be
+ * NULL) each time rows 0 .. n-1 are in place, filled, their masks too;
+ * done returns -1 to stop it (which fails). dem_fill_free ends either. */
+typedef struct dem_filling dem_filling;
+dem_filling *dem_fill_up(int fd, const unsigned char *rowvoid, int w,
+    int h, tl_err *e);
+int dem_fill_down(dem_filling *f, int (*done)(void *, int), void *ctx,
+    tl_err *e);
+void dem_fill_free(dem_filling *f);
 
 /* --- filled DEM files (dem_filled.c) ---------------------------------- */
 

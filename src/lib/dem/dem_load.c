@@ -76,6 +76,57 @@ metres(const dem_load *L, double v)
 	return v * L->zunit;
 }
 
+/* Samples i0 .. i1-1 of the n at p (dem_load_put's) into o: the voids
+ * among them. */
+static int
+put_any(const dem_load *L, const void *p, int t, int stride, int n, int i0,
+    int i1, const unsigned char *mask, float *o)
+{
+	int nv = 0;
+
+	for (int i = i0; i < i1; i++) {
+		int k = L->flip_x ? n - 1 - i : i;
+		double v = decode(L, p, t, (size_t)k, stride), z;
+		z = is_void(L, v) || (mask != NULL && mask[k] == 0) ? NAN :
+		    metres(L, v);
+		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
+			o[i - i0] = NAN;
+			nv++;
+		} else {
+			o[i - i0] = (float)z;
+		}
+	}
+	return nv;
+}
+
+/* The common case, float64 grey samples side by side (GDAL's buffers),
+ * no flip, no mask: is_void's and metres' expressions, the same bits,
+ * without a dispatch a sample. Returns the voids among the n. */
+static int
+put_f64(const dem_load *L, const double *v, float *o, int n)
+{
+	const int nodata = L->has_nodata, f32 = L->f32;
+	const int lin = L->scale != 1 || L->offset != 0;
+	const double nd = L->nodata, scale = L->scale, offset = L->offset;
+	const double zunit = L->zunit;
+	const float ndf = (float)nd;
+	int nv = 0;
+
+	for (int i = 0; i < n; i++) {
+		double x = v[i], z;
+		int vd = isnan(x) || (nodata && (f32 ? (float)x == ndf :
+		    x == nd));
+		z = vd ? NAN : (lin ? x * scale + offset : x) * zunit;
+		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
+			o[i] = NAN;
+			nv++;
+		} else {
+			o[i] = (float)z;
+		}
+	}
+	return nv;
+}
+
 int
 dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
     int n, const unsigned char *mask, tl_err *e)
@@ -101,19 +152,11 @@ dem_load_put(dem_load *L, const void *p, int t, int stride, int x0, int y,
 	kw = L->cx1 - L->cx0;
 	staged = y >= L->by0 && y < L->by1;
 	seg = staged ? L->band + (y - L->by0) * kw + (a - L->cx0) : L->seg;
-	for (int i = a - x0; i < b - x0; i++) {
-		int k = L->flip_x ? n - 1 - i : i;
-		double v = decode(L, p, t, (size_t)k, stride), z;
-		float *o = &seg[i - (a - x0)];
-		z = is_void(L, v) || (mask != NULL && mask[k] == 0) ? NAN :
-		    metres(L, v);
-		if (!isfinite(z) || fabs(z) > DEM_MAXABS) {
-			*o = NAN;
-			nv++;
-		} else {
-			*o = (float)z;
-		}
-	}
+	if (L->enc == DEM_ENC_GREY && t == TL_PX_F64 && stride == 1 &&
+	    !L->flip_x && mask == NULL)
+		nv = put_f64(L, (const double *)p + (a - x0), seg, b - a);
+	else
+		nv = put_any(L, p, t, stride, n, a - x0, b - x0, mask, seg);
 	if (L->vd != NULL && vdatum_apply(L->vd, y, a, b - a, seg, e) < 0)
 		return -1;
 	if (nv > 0) {

@@ -8,7 +8,8 @@
  * dem_filled.c the filled DEM file (filled(5)), dem_filled_jobs.c that
  * file made in row jobs (filled(5), PARTS). Each calls only those
  * before it and the reader (dem.c, dem_load.c); the reader calls only
- * dem_fill of the first: no loop runs between them (t_loops.sh).
+ * dem_fill_up, dem_fill_down and dem_fill_free of the first: no loop
+ * runs between them (t_loops.sh).
  * Here: the algorithm. */
 #include <math.h>
 #include <stdint.h>
@@ -24,7 +25,11 @@ typedef dem_near below;
 
 /* The rows are read and written a chunk of up to R adjacent rows per
  * pread or pwrite, R = DEM_FILLBYTES / (17 w), at least 1: per row of a
- * chunk 4 w bytes raw, 4 w filled, 8 w of "below" records, w of mask. */
+ * chunk 4 w bytes raw, 4 w filled, up to 8 w of "below" records, w of
+ * mask. The records are those of the void runs down the columns, one a
+ * run (and one a chunk), not one a void sample: for a DEM of sea or
+ * large voids a few MiB, where a record per sample of each row with
+ * voids wrote and read back twice the DEM's size. */
 #define DEM_FILLBYTES (4LL << 20)
 
 typedef struct {
@@ -35,10 +40,12 @@ typedef struct {
 	const unsigned char *rowvoid; /* one bit per row: it has voids */
 	float *r, *f, *av;      /* raw row, filled row, nearest valid above */
 	int32_t *arow, *left;   /* its row (-1 none); nearest valid to the left */
-	below *b, *bl;          /* this row's "below" records; running state */
+	below *b, *bl;          /* this row's "below" records; running state
+	                         * (pass_up), the runs' records (pass_down) */
 	unsigned char *mask;
-	/* a chunk's rows: raw and filled by row, below records and masks
-	 * of its rows with voids one after another; r, f, b, mask point in */
+	/* a chunk's rows: raw and filled by row, its below records (and
+	 * their count after them) and the masks of its rows with voids one
+	 * after another; r, f, mask point in */
 	float *rr, *ff;
 	below *bb;
 	unsigned char *mm;
@@ -52,7 +59,7 @@ fillbuf_free(fillbuf *F)
 
 	dem_unmap(F->rr, n * sizeof(float));
 	dem_unmap(F->ff, n * sizeof(float));
-	dem_unmap(F->bb, n * sizeof(below));
+	dem_unmap(F->bb, (n + 1) * sizeof(below));
 	dem_unmap(F->mm, n);
 	free(F->av), free(F->arow), free(F->left), free(F->bl);
 }
@@ -71,7 +78,7 @@ fillbuf_alloc(fillbuf *F, int w, int h, int rows, tl_err *e)
 	F->av = tl_alloc(n, sizeof(float), e);
 	F->arow = tl_alloc(n, sizeof(int32_t), e);
 	F->left = tl_alloc(n, sizeof(int32_t), e);
-	F->bb = F->ff ? dem_map(n * F->R * sizeof(below), e) : NULL;
+	F->bb = F->ff ? dem_map((n * F->R + 1) * sizeof(below), e) : NULL;
 	F->bl = tl_alloc(n, sizeof(below), e);
 	F->mm = F->bb ? dem_map(n * F->R, e) : NULL;
 	if (!F->rr || !F->ff || !F->av || !F->arow || !F->left || !F->bb ||
@@ -129,42 +136,80 @@ read_chunk(fillbuf *F, int lo, int hi, tl_err *e)
 	    sizeof(float), F->io.zin + zoff(F, lo), F->io.win, e);
 }
 
-/* The rows with voids among lo .. hi-1. */
+/* The chunks both passes take: R rows each from y0, the last shorter;
+ * chunk k's first row. */
 static int
-void_rows(const fillbuf *F, int lo, int hi)
+chunk_lo(const fillbuf *F, long long k)
 {
-	int n = 0;
-
-	for (int j = lo; j < hi; j++)
-		n += dem_bit(F->rowvoid, j);
-	return n;
+	return (int)(F->io.y0 + k * F->R);
 }
 
-/* Pass 1, bottom-up: for every row with voids, store per column the
- * nearest valid sample below it (sparse: rows without voids stay holes). */
-static int
-pass_up(fillbuf *F, int bfd, tl_err *e)
+static long long
+chunks(const fillbuf *F)
 {
-	for (int hi = F->io.y1, lo; hi > F->io.y0; hi = lo) {
-		int c;
-		lo = hi - F->R > F->io.y0 ? hi - F->R : F->io.y0;
+	return (F->io.y1 - F->io.y0 + (long long)F->R - 1) / F->R;
+}
+
+/* Whether void sample i of row j starts a "below" record: row j is the
+ * first of its chunk, or the sample above it is valid. Down a column,
+ * the voids from one record's sample to the next valid sample all have
+ * the same nearest valid sample below, so it is stored once. prev: row
+ * j - 1 (unused when j is the chunk's first). */
+static int
+starts(const float *prev, int j, int lo, int i)
+{
+	return j == lo || !isnan(prev[i]);
+}
+
+/* Pass 1, bottom-up: per chunk, the records of its rows with voids, in
+ * row order, column order within a row, then their count (a record
+ * whose row is it), appended to bfd; *end: the bytes written. */
+static int
+pass_up(fillbuf *F, int bfd, long long *end, tl_err *e)
+{
+	size_t cap = (size_t)F->w * F->R;
+
+	*end = 0;
+	for (long long k = chunks(F) - 1; k >= 0; k--) {
+		int lo = chunk_lo(F, k), hi = chunk_lo(F, k + 1);
+		size_t top = cap;
+		hi = hi < F->io.y1 ? hi : F->io.y1;
 		if (read_chunk(F, lo, hi, e) < 0)
 			return -1;
-		c = void_rows(F, lo, hi);
+		/* rows and columns backwards, the records from the end */
 		for (int j = hi - 1; j >= lo; j--) {
+			const float *prev = j > lo ? F->rr +
+			    (size_t)(j - 1 - lo) * F->w : NULL;
+			int v = dem_bit(F->rowvoid, j);
 			F->r = F->rr + (size_t)(j - lo) * F->w;
-			if (dem_bit(F->rowvoid, j))
-				memcpy(F->bb + (size_t)--c * F->w, F->bl,
-				    F->w * sizeof(below));
-			for (int i = 0; i < F->w; i++)
+			for (int i = F->w - 1; i >= 0; i--)
 				if (!isnan(F->r[i]))
 					F->bl[i].v = F->r[i], F->bl[i].row = j;
+				else if (v && starts(prev, j, lo, i))
+					F->bb[--top] = F->bl[i];
 		}
-		if (void_runs(F, 1, bfd, F->bb, F->w * sizeof(below), 1, lo,
-		    hi, 0, F->io.y0, "scratch file", e) < 0)
+		F->bb[cap] = (below){ 0, (int32_t)(cap - top) };
+		if (tl_pwrite(bfd, F->bb + top, (cap - top + 1) * sizeof(below),
+		    *end, "scratch file", e) < 0)
 			return -1;
+		*end += (long long)(cap - top + 1) * sizeof(below);
 	}
 	return 0;
+}
+
+/* The records of the next chunk top-down, the last pass_up wrote before
+ * *end, into F->bb. */
+static int
+records(fillbuf *F, int bfd, long long *end, tl_err *e)
+{
+	below n;
+
+	if (tl_pread(bfd, &n, sizeof n, *end - (long long)sizeof n,
+	    "scratch file", e) < 0)
+		return -1;
+	*end -= (long long)(n.row + 1) * sizeof(below);
+	return tl_pread(bfd, F->bb, (size_t)n.row * sizeof(below), *end,
+	    "scratch file", e);
 }
 
 /* Adds v at distance dist to an inverse-distance weighted sum. */
@@ -257,23 +302,31 @@ put_chunk(fillbuf *F, int lo, int hi, long long k, tl_err *e)
 }
 
 /* Pass 2, top-down: fill each row with voids, write it and its validity
- * mask; rows without voids are copied unless filled in place. */
+ * mask; rows without voids are copied unless filled in place. F->bl,
+ * pass_up's done, holds per column the record of the void run at hand. */
 static int
-pass_down(fillbuf *F, int bfd, tl_err *e)
+pass_down(fillbuf *F, int bfd, long long end, int (*done)(void *, int),
+    void *ctx, tl_err *e)
 {
-	for (int lo = F->io.y0, hi; lo < F->io.y1; lo = hi) {
+	for (long long q = 0; q < chunks(F); q++) {
 		long long k = F->k;
-		int c = 0;
-		hi = lo + F->R < F->io.y1 ? lo + F->R : F->io.y1;
-		if (read_chunk(F, lo, hi, e) < 0 || void_runs(F, 0, bfd, F->bb,
-		    F->w * sizeof(below), 1, lo, hi, 0, F->io.y0,
-		    "scratch file", e) < 0)
+		int lo = chunk_lo(F, q), hi = chunk_lo(F, q + 1), c = 0;
+		size_t t = 0;
+		hi = hi < F->io.y1 ? hi : F->io.y1;
+		if (read_chunk(F, lo, hi, e) < 0 ||
+		    records(F, bfd, &end, e) < 0)
 			return -1;
 		for (int j = lo; j < hi; j++) {
+			const float *prev = j > lo ? F->rr +
+			    (size_t)(j - 1 - lo) * F->w : NULL;
 			F->r = F->rr + (size_t)(j - lo) * F->w;
 			F->f = F->ff + (size_t)(j - lo) * F->w;
 			if (dem_bit(F->rowvoid, j)) {
-				F->b = F->bb + (size_t)c * F->w;
+				for (int i = 0; i < F->w; i++)
+					if (isnan(F->r[i]) &&
+					    starts(prev, j, lo, i))
+						F->bl[i] = F->bb[t++];
+				F->b = F->bl;
 				F->mask = F->mm + (size_t)c++ * F->w;
 				fill_row(F, j);
 				F->k++;
@@ -288,6 +341,8 @@ pass_down(fillbuf *F, int bfd, tl_err *e)
 		}
 		if (put_chunk(F, lo, hi, k, e) < 0)
 			return -1;
+		if (done != NULL && done(ctx, hi) < 0)
+			return tl_fail(e, "void fill: stopped");
 	}
 	return 0;
 }
@@ -302,45 +357,86 @@ pass_down(fillbuf *F, int bfd, tl_err *e)
  * right in its row; one exists, since some column has a valid sample.
  * Every result is a convex combination of valid heights. Two streaming
  * passes: bottom-up records the nearest valid sample below in a scratch
- * file, top-down carries the nearest above in memory. Memory O(width),
- * disk O(width * height); deterministic. */
+ * file, once a vertical run of voids, top-down carries the nearest above
+ * in memory. Memory O(width), disk O(width * height); deterministic. */
+struct dem_filling {
+	fillbuf F;
+	int bfd;
+	long long end;   /* pass_up's records: their bytes */
+};
+
+/* The fill's first pass: its buffers, its scratch file, pass_up. */
+static dem_filling *
+fill_up(const dem_fill_band *b, int whole, const unsigned char *rowvoid,
+    int w, int h, tl_err *e)
+{
+	dem_filling *f = tl_alloc(1, sizeof *f, e);
+
+	if (f == NULL)
+		return NULL;
+	f->bfd = -1;
+	if (fillbuf_alloc(&f->F, w, h, b->y1 - b->y0, e) < 0) {
+		free(f);
+		return NULL;
+	}
+	f->F.io = *b, f->F.whole = whole, f->F.k = b->rank;
+	f->F.rowvoid = rowvoid;
+	/* the nearest valid samples beyond the rows, for a band */
+	for (int i = 0; i < w; i++) {
+		if (b->above != NULL && b->above[i].row >= 0)
+			f->F.av[i] = b->above[i].v, f->F.arow[i] =
+			    b->above[i].row;
+		if (b->below != NULL)
+			f->F.bl[i] = b->below[i];
+	}
+	if ((f->bfd = tl_scratch(e)) < 0 ||
+	    pass_up(&f->F, f->bfd, &f->end, e) < 0) {
+		dem_fill_free(f);
+		return NULL;
+	}
+	return f;
+}
+
+int
+dem_fill_down(dem_filling *f, int (*done)(void *, int), void *ctx,
+    tl_err *e)
+{
+	return pass_down(&f->F, f->bfd, f->end, done, ctx, e);
+}
+
+void
+dem_fill_free(dem_filling *f)
+{
+	if (f == NULL)
+		return;
+	if (f->bfd >= 0)
+		close(f->bfd);
+	fillbuf_free(&f->F);
+	free(f);
+}
+
 static int
 fill(const dem_fill_band *b, int whole, const unsigned char *rowvoid,
     int w, int h, tl_err *e)
 {
-	fillbuf F;
-	int bfd, r;
+	dem_filling *f = fill_up(b, whole, rowvoid, w, h, e);
+	int r;
 
-	if (fillbuf_alloc(&F, w, h, b->y1 - b->y0, e) < 0)
+	if (f == NULL)
 		return -1;
-	F.io = *b, F.whole = whole, F.k = b->rank, F.rowvoid = rowvoid;
-	/* the nearest valid samples beyond the rows, for a band */
-	for (int i = 0; i < w; i++) {
-		if (b->above != NULL && b->above[i].row >= 0)
-			F.av[i] = b->above[i].v, F.arow[i] = b->above[i].row;
-		if (b->below != NULL)
-			F.bl[i] = b->below[i];
-	}
-	if ((bfd = tl_scratch(e)) < 0) {
-		fillbuf_free(&F);
-		return -1;
-	}
-	r = pass_up(&F, bfd, e);
-	if (r == 0)
-		r = pass_down(&F, bfd, e);
-	close(bfd);
-	fillbuf_free(&F);
+	r = dem_fill_down(f, NULL, NULL, e);
+	dem_fill_free(f);
 	return r;
 }
 
-int
-dem_fill(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
+dem_filling *
+dem_fill_up(int fd, const unsigned char *rowvoid, int w, int h, tl_err *e)
 {
 	dem_fill_band b = { fd, fd, 0, 0,
 	    (long long)h * w * (long long)sizeof(float), 0, 0, h, NULL, NULL,
 	    "scratch file", "scratch file" };
 
-	return fill(&b, 1, rowvoid, w, h, e);
+	return fill_up(&b, 1, rowvoid, w, h, e);
 }
 
 /* A band of rows, filled as dem_fill fills them in the whole DEM: the

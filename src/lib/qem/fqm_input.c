@@ -18,10 +18,10 @@ fqm_input_open(fqm_input *in, const char *path, tl_err *e)
 		return -1;
 	/* a window's metric answers in its own columns */
 	in->m.x0 = (double)in->fi.x0 * (double)(1L << in->fi.level);
-	in->row = tl_alloc((size_t)in->h->width * in->h->nch, sizeof *in->row,
+	in->buf = tl_alloc((size_t)in->h->width * in->h->nch, sizeof *in->buf,
 	    e);
 	in->v = tl_alloc(in->h->width, sizeof *in->v, e);
-	return in->row != NULL && in->v != NULL ? 0 : -1;
+	return in->buf != NULL && in->v != NULL ? 0 : -1;
 }
 
 int
@@ -30,7 +30,7 @@ fqm_input_read(fqm_input *in, tl_err *e)
 	size_t n = (size_t)in->h->width * (size_t)in->h->nch;
 
 	assert(in->y < in->h->height);
-	if (rs_read_row(in->r, in->row, e) < 0)
+	if ((in->row = rs_read_row_view(in->r, in->buf, e)) == NULL)
 		return -1;
 	/* the vector test first; fqm_check_row names the first bad value */
 	if (!vec_all_finite(in->row, n) && fqm_check_row(in->row, 0,
@@ -54,6 +54,6 @@ fqm_input_close(fqm_input *in)
 {
 	rs_close(in->r);
 	geo_ground_free(&in->m);
-	free(in->row), free(in->v);
+	free(in->buf), free(in->v);
 	memset(in, 0, sizeof *in);
 }

@@ -13,7 +13,9 @@ typedef struct {
 	fqm_info fi;
 	fqm_layout L;
 	geo_ground m;
-	float *row;
+	float *buf;       /* a row, for a reader that copies */
+	const float *row; /* the row read last: buf, or where the reader
+	                   * holds it until the next read (rs_read_row_view) */
 	fqm_vertex *v;    /* the row read last, decoded (h->width) */
 	int y;            /* rows read */
 } fqm_input;

@@ -196,6 +196,26 @@ rs_read_row(rs_reader *r, float *row, tl_err *e)
 	return 0;
 }
 
+const float *
+rs_read_row_view(rs_reader *r, float *buf, tl_err *e)
+{
+	const float *p;
+
+	if (r->view == NULL)
+		return rs_read_row(r, buf, e) < 0 ? NULL : buf;
+	if (r->failed)
+		return tl_fail(e, "%s: read after an error", r->name), NULL;
+	if (r->y >= r->h.height)
+		return tl_fail(e, "%s: read past the last row (%d)", r->name,
+		    r->h.height), NULL;
+	if ((p = r->view(r, e)) == NULL) {
+		r->failed = 1;
+		return NULL;
+	}
+	r->y++;
+	return p;
+}
+
 int
 rs_read_span(rs_reader *r, int x0, int n, float *dst, tl_err *e)
 {
@@ -349,6 +369,18 @@ rs_write_row(rs_writer *w, const float *row, tl_err *e)
 	}
 	w->y++;
 	return 0;
+}
+
+float *
+rs_write_row_buffer(rs_writer *w, float *own, tl_err *e)
+{
+	float *p;
+
+	if (w->slot == NULL || w->failed || w->y >= w->h.height)
+		return own; /* rs_write_row tells what is wrong */
+	if ((p = w->slot(w, e)) == NULL)
+		w->failed = 1;
+	return p;
 }
 
 static void

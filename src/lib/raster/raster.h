@@ -101,6 +101,11 @@ const rs_header *rs_header_of(const rs_reader *r);
 /* Reads the next row; after the last row of a stream it also checks the
  * trailer, so truncation is reported before the caller commits output. */
 int rs_read_row(rs_reader *r, float *row, tl_err *e);
+/* The same row without a copy where the reader has it in memory (a ring
+ * of rows between threads, rs_ring.h): a pointer to it, valid until the
+ * next read or rs_close; else read into buf (a row's floats) and buf.
+ * NULL on failure. */
+const float *rs_read_row_view(rs_reader *r, float *buf, tl_err *e);
 /* Reads columns x0 .. x0+n-1 of the next row of every channel, channel c
  * at dst + c n. From a complete stream file (its size and trailer checked
  * once) each row is read by position, whole, for its checksum covers
@@ -135,6 +140,10 @@ rs_writer *rs_create_fresh(const char *path, const rs_header *h,
 rs_writer *rs_create_tree(const char *path, const rs_header *h,
     enum rs_compression c, tl_err *e);
 int rs_write_row(rs_writer *w, const float *row, tl_err *e);
+/* Where to make the next row so that rs_write_row need not copy it: the
+ * ring's slot itself (rs_ring.h), or own (a row's floats). NULL on
+ * failure. */
+float *rs_write_row_buffer(rs_writer *w, float *own, tl_err *e);
 /* All rows written: stream trailer, or EXR offsets + rename (in a tree,
  * rs_create_tree, + close). Always frees w; on failure the output is
  * discarded as by rs_abort. */

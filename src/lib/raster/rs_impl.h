@@ -20,6 +20,9 @@ struct rs_reader {
 	int y;       /* next row */
 	int failed;  /* an error was reported: every later read fails */
 	int (*row)(rs_reader *, float *, tl_err *);
+	/* the next row where it lies (a ring's slot), held until the next
+	 * read or the close; NULL: none, rows are copied (rs_read_row) */
+	const float *(*view)(rs_reader *, tl_err *);
 	/* columns x0 .. x0+n-1 of the next row, straight from the file;
 	 * returns 1 when it cannot (not a complete stream file): the caller
 	 * then reads whole rows. NULL: never. */
@@ -41,6 +44,9 @@ struct rs_writer {
 	int y;       /* next row */
 	int failed;
 	int (*row)(rs_writer *, const float *, tl_err *);
+	/* where the next row may be made in place (a ring's slot, taken
+	 * until that row is written); NULL: none, rows are copied */
+	float *(*slot)(rs_writer *, tl_err *);
 	int (*finish)(rs_writer *, tl_err *);
 	void (*abort)(rs_writer *);
 	void *impl;

@@ -10,6 +10,7 @@
 struct rs_ring {
 	tl_ring *q;
 	rs_header h; /* the writer's, copied: the ring outlives it */
+	void *taken; /* the writer's slot from ring_slot, not yet put */
 };
 
 /* this thread's "-" */
@@ -78,6 +79,7 @@ rowbytes(const rs_header *h)
 typedef struct {
 	rs_ring *ring;
 	int k;
+	int held;   /* a slot given by ring_view, not yet released */
 } rd;
 
 static int
@@ -86,19 +88,46 @@ stopped(const char *name, tl_err *e)
 	return tl_fail(e, "%s: stopped", name);
 }
 
+/* The next slot, the one ring_view gave released first. */
+static const void *
+next_slot(rs_reader *r, tl_err *e)
+{
+	rd *d = r->impl;
+	const void *p;
+
+	if (d->held)
+		tl_ring_get_end(d->ring->q, d->k);
+	d->held = 0;
+	if ((p = tl_ring_get_begin(d->ring->q, d->k)) == NULL)
+		return tl_ring_cancelled(d->ring->q) ? stopped(r->name, e),
+		    NULL : (tl_fail(e, "%s: truncated at row %d of %d",
+		    r->name, r->y, r->h.height), NULL);
+	return p;
+}
+
 static int
 ring_read_row(rs_reader *r, float *row, tl_err *e)
 {
 	rd *d = r->impl;
-	const void *p = tl_ring_get_begin(d->ring->q, d->k);
+	const void *p = next_slot(r, e);
 
 	if (p == NULL)
-		return tl_ring_cancelled(d->ring->q) ? stopped(r->name, e) :
-		    tl_fail(e, "%s: truncated at row %d of %d", r->name, r->y,
-		    r->h.height);
+		return -1;
 	memcpy(row, p, rowbytes(&r->h));
 	tl_ring_get_end(d->ring->q, d->k);
 	return 0;
+}
+
+/* The slot itself, held until the next read or the close (its leave):
+ * a reader that decodes the row as it goes copies nothing. */
+static const float *
+ring_view(rs_reader *r, tl_err *e)
+{
+	rd *d = r->impl;
+	const void *p = next_slot(r, e);
+
+	d->held = p != NULL;
+	return p;
 }
 
 static void
@@ -122,6 +151,7 @@ rs_ring_open_read(rs_reader *r, tl_err *e)
 	d->ring = bound.in, d->k = bound.k;
 	r->impl = d;
 	r->row = ring_read_row;
+	r->view = ring_view;
 	r->close = ring_close_read;
 	if (tl_ring_wait_start(d->ring->q) == NULL)
 		return stopped(r->name, e);
@@ -134,13 +164,26 @@ static int
 ring_write_row(rs_writer *w, const float *row, tl_err *e)
 {
 	rs_ring *q = w->impl;
-	void *p = tl_ring_put_begin(q->q);
+	void *p = q->taken != NULL ? q->taken : tl_ring_put_begin(q->q);
 
 	if (p == NULL)
 		return stopped(w->name, e);
-	memcpy(p, row, rowbytes(&w->h));
+	if (p != row)
+		memcpy(p, row, rowbytes(&w->h));
+	q->taken = NULL;
 	tl_ring_put_end(q->q);
 	return 0;
+}
+
+/* The next slot, taken: the row made in it is not copied. */
+static float *
+ring_slot(rs_writer *w, tl_err *e)
+{
+	rs_ring *q = w->impl;
+
+	if (q->taken == NULL && (q->taken = tl_ring_put_begin(q->q)) == NULL)
+		return stopped(w->name, e), NULL;
+	return q->taken;
 }
 
 static int
@@ -159,6 +202,7 @@ rs_ring_create(rs_writer *w, tl_err *e)
 
 	w->impl = q;
 	w->row = ring_write_row;
+	w->slot = ring_slot;
 	w->finish = ring_finish;
 	w->abort = NULL; /* the readers wait for the cancel */
 	if (rs_header_copy(&q->h, &w->h, e) < 0)
