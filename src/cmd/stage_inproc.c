@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "base/pool.h"
+#include "qem/fqm.h"
 #include "stage_inproc.h"
 
 /* A failure in its program's words, as cli_exit prints them. */
@@ -28,18 +29,6 @@ said(const cli *c, int r, tl_err *e)
 	return tl_fail(e, "%s: %s%s", c->prog, m, hint);
 }
 
-/* pipeline_work's open: the DEM the chain and tilepack's work share. */
-static void
-dem_begin(void *ctx, const char *path)
-{
-	stage_dem *sd = &((stage_inproc *)ctx)->dem;
-
-	assert(!sd->named && !sd->done);
-	/* too long a name: each stage converts it, as before */
-	sd->named = (size_t)snprintf(sd->path, sizeof sd->path, "%s", path) <
-	    sizeof sd->path;
-}
-
 /* stage_level0's open: the DEM converted, once (a second call, after a
  * failure: its answer again). */
 static dem *
@@ -54,6 +43,22 @@ dem_get(void *ctx, tl_err *e)
 	if (sd->d == NULL)
 		*e = sd->err;
 	return sd->d;
+}
+
+/* pipeline_work's open: the DEM the chain and tilepack's work share,
+ * converted now, so that tilepack's work can start with the chain (a
+ * failure is dem2fqm's, said when its work asks for the DEM). */
+static int
+dem_begin(void *ctx, const char *path)
+{
+	stage_dem *sd = &((stage_inproc *)ctx)->dem;
+	tl_err e;
+
+	assert(!sd->named && !sd->done);
+	/* too long a name: each stage converts it, as before */
+	sd->named = (size_t)snprintf(sd->path, sizeof sd->path, "%s", path) <
+	    sizeof sd->path;
+	return sd->named && dem_get(ctx, &e) != NULL;
 }
 
 static void
@@ -95,28 +100,61 @@ solve(void *ctx, const char *out, tl_err *e)
 	return said(&p->c[2], stage_fqmsolve(&p->c[2], &o, e), e);
 }
 
-/* tilepack's pack (tilepack.c): the guard, the run, its report. */
+/* Level 0's vertex map's header, as dem2fqm's and fqmsolve's work
+ * make it for the DEM d (stage_level0.c, stage_solve.c): the pack's
+ * known level 0 (pack.h, known0). */
+static int
+level0_header(rs_header *oh, dem *d, enum solve_mode mode, tl_err *e)
+{
+	fqm_info fi = { .geo = *dem_georef(d) };
+	rs_header h;
+	int r;
+
+	fi.size0[0] = fi.geo.width, fi.size0[1] = fi.geo.height;
+	rs_header_init(&h, 0, 0);
+	r = fqm_header(&h, &fi, "none", e) == 0 &&
+	    solve_header(oh, &h, mode, e) == 0 ? 0 : -1;
+	rs_header_free(&h);
+	return r;
+}
+
+/* tilepack's pack (tilepack.c): the guard, the run, its report. Beside
+ * the chain (g), level 0 from the DEM (its known vertex map), and the
+ * chain's failure the run's: this one's then unsaid. */
 static int
 pack(void *ctx, const char *path, const char *out, char *const *vmaps, int n,
-    tl_err *e)
+    const pipeline_gate *g, tl_err *e)
 {
 	stage_inproc *p = ctx;
 	pack_args a = p->pk;
+	pack_gate pg;
 	pack_level *lev;
+	rs_header h0;
 	int r = -1;
 
+	rs_header_init(&h0, 0, 0);
 	a.dem_path = path, a.dir = out, a.levels = vmaps, a.nlevels = n;
 	/* the chain's DEM, converted once (its options: the same cli) */
 	if (p->dem.done && p->dem.d != NULL && strcmp(path, p->dem.path) == 0)
 		a.opened = p->dem.d;
+	if (g != NULL) {
+		pg = (pack_gate){ g->ctx, g->ended, g->stopped };
+		a.gate = &pg;
+		if (a.opened != NULL &&
+		    level0_header(&h0, a.opened, p->s.mode, e) < 0)
+			goto done;
+		a.known0 = a.opened != NULL ? &h0 : NULL;
+	}
 	if (stage_pack_guard(&a, NULL, e) < 0)
-		return said(&p->c[3], -1, e);
+		goto done;
 	if ((lev = tl_alloc((size_t)n, sizeof *lev, e)) == NULL)
-		return said(&p->c[3], -1, e);
+		goto done;
 	r = pack_run(&a, lev, e);
 	if (r == 0 && !p->quiet)
 		pack_report(stderr, p->c[3].prog, lev, n);
 	free(lev);
+done:
+	rs_header_free(&h0);
 	return said(&p->c[3], r, e);
 }
 

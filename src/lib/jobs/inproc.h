@@ -42,6 +42,14 @@ int inproc_task(inproc *p, inproc_fn fn, void *arg, rs_ring *in, int k,
 int inproc_run(inproc *p, int stoppable, scratch *s, int *status,
     tl_err *e);
 
+/* From a task: whether tasks 0 .. n-1 have ended, waiting up to ms
+ * milliseconds for them: 0 all ended and none failed (their outfds
+ * closed), 1 not yet, -1 never (a task failed, or the rings were
+ * cancelled). inproc_stopped: 1 once a task has failed or the rings were
+ * cancelled, read without waiting (a row loop's poll). */
+int inproc_ended(inproc *p, int n, int ms);
+int inproc_stopped(inproc *p);
+
 /* The stop signals (INT, TERM, HUP) blocked in the calling thread and the
  * threads it starts (old: the mask to restore); a stop signal that came
  * meanwhile, taken (0: none). */
