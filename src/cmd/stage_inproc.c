@@ -188,6 +188,11 @@ stage_inproc_init(stage_inproc *p, const cli *c, const pipeline_opts *o,
 	p->pk.dem = p->c[3].dem;
 	p->pk.jobs = o->jobs != NULL ? atoi(o->jobs) : jobs;
 	p->pk.jobs = p->pk.jobs > PACK_MAXJOBS ? PACK_MAXJOBS : p->pk.jobs;
+	/* beside the chain, which keeps a core busy (QEM-3D's solvers
+	 * more), one job less takes level 0's pieces: the cores busy, and a
+	 * piece less in memory while the chain's rings are (dem2vgis(1),
+	 * MEMORY) */
+	p->pk.gate_jobs = p->pk.jobs > 1 ? p->pk.jobs - 1 : 1;
 	p->pk.force = o->force;
 	p->pk.part_samples = 1LL << 30;
 	p->pk.prog = p->c[3].prog;

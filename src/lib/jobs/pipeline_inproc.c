@@ -75,14 +75,21 @@ pack(void *arg, tl_err *e)
 typedef struct {
 	inproc *p;
 	int n;
+	int trimmed;
 } gate;
 
 static int
 gate_ended(void *ctx, int ms)
 {
 	gate *g = ctx;
+	int r = inproc_ended(g->p, g->n, ms);
 
-	return inproc_ended(g->p, g->n, ms);
+	/* the chain's heaps back to the system before the levels it made
+	 * are packed (glibc keeps an arena a thread: tens of MiB otherwise
+	 * held) */
+	if (r == 0 && !g->trimmed)
+		malloc_trim(0), g->trimmed = 1;
+	return r;
 }
 
 static int

@@ -341,6 +341,7 @@ typedef struct {
 	 * vertex maps complete), by the worker that finds no job left
 	 * (opening); nlevels: none */
 	int rest, opening;
+	int early;         /* workers 0 .. early-1 take jobs before that */
 	long long guess;   /* their DEM samples, guessed for the progress */
 	pthread_cond_t cv; /* the rest queued, or a failure */
 } queue;
@@ -447,24 +448,31 @@ open_rest(queue *q, tl_err *e)
  * failure reported, the lowest job's, is the same whatever the threads'
  * timing. */
 static int
-take(queue *q, job *j)
+take(queue *q, int id, job *j)
 {
 	int lim = q->failed < q->n ? q->failed : q->n;
+	int shut = q->rest < q->w->a->nlevels;
 
-	if (q->next < lim) {
+	if (q->next < lim && (id < q->early || !shut)) {
 		*j = q->job[q->next];
 		return q->next++;
 	}
-	if (q->failed != INT_MAX || q->rest == q->w->a->nlevels)
+	if (q->failed != INT_MAX || !shut)
 		return -1;
 	return q->opening ? -2 : -3;
 }
+
+typedef struct {
+	queue *q;
+	int id;
+} crew;
 
 /* Takes jobs in order until none is left or one has failed. */
 static void *
 worker(void *arg)
 {
-	queue *q = arg;
+	queue *q = ((crew *)arg)->q;
+	int id = ((crew *)arg)->id;
 	work *w = q->w;
 
 	for (;;) {
@@ -472,7 +480,7 @@ worker(void *arg)
 		job j;
 		int k;
 		pthread_mutex_lock(&w->mu);
-		while ((k = take(q, &j)) == -2)
+		while ((k = take(q, id, &j)) == -2)
 			pthread_cond_wait(&q->cv, &w->mu);
 		if (k == -3) {
 			int n = q->n, r;
@@ -505,13 +513,17 @@ static int
 run_queue(queue *q, int workers, tl_err *e)
 {
 	pthread_t t[PACK_MAXJOBS];
+	crew c[PACK_MAXJOBS];
 	int started = 0;
 
 	q->failed = INT_MAX;
-	for (; started < workers - 1 && started < PACK_MAXJOBS; started++)
-		if (pthread_create(&t[started], NULL, worker, q) != 0)
+	c[0] = (crew){ q, 0 };
+	for (; started < workers - 1 && started < PACK_MAXJOBS - 1; started++) {
+		c[started + 1] = (crew){ q, started + 1 };
+		if (pthread_create(&t[started], NULL, worker, &c[started + 1]))
 			break; /* fewer threads: the same blocks */
-	worker(q);
+	}
+	worker(&c[0]);
 	for (int k = 0; k < started; k++)
 		pthread_join(t[k], NULL);
 	if (q->failed != INT_MAX) {
@@ -603,6 +615,7 @@ run_levels(work *w, int ready, tl_err *e)
 		if (w->a->prog == NULL)
 			w->pr.on = 0;
 		q.threads = 1;
+		q.early = w->a->gate_jobs > 0 ? w->a->gate_jobs : w->a->jobs;
 		r = run_queue(&q, w->fifo ? nl : w->a->jobs, e);
 	}
 	if (r == 0)

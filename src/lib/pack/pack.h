@@ -49,6 +49,10 @@ typedef struct {
 	/* pack_run: the vertex maps not yet complete (their gate), or NULL:
 	 * they are */
 	const pack_gate *gate;
+	int gate_jobs;        /* of the jobs threads, those that take pieces
+	                       * while the gate is shut (the others wait at
+	                       * it: the chain has the cores meanwhile);
+	                       * 0: all */
 	/* pack_run: level 0's vertex map is known, the header given: the
 	 * DEM's heights (its channel Z, as fqmsolve makes it in every mode),
 	 * and zero offsets where it has X and Y (QEM-3D), so that level 0 is
