@@ -118,6 +118,21 @@ level0_header(rs_header *oh, dem *d, enum solve_mode mode, tl_err *e)
 	return r;
 }
 
+/* Level 0's pieces at once beside the chain: at most want, as many as
+ * keep the whole run under 128 MiB by dem2vgis(1)'s MEMORY formula
+ * (the chain's rings grow with the DEM's width w; a piece is 14 MiB, 18
+ * in QEM-3D); 0: level 0 waits for the chain, as the other levels do. */
+static int
+beside_jobs(int want, int w, int mode3d)
+{
+	long long mib = 1 << 20, budget = 128 * mib;
+	long long chain = mode3d ? 57 * mib + 2900LL * w : 56 * mib + 2400LL * w;
+	long long piece = (mode3d ? 18 : 14) * mib;
+	long long fit = chain < budget ? (budget - chain) / piece : 0;
+
+	return fit < want ? (int)fit : want;
+}
+
 /* tilepack's pack (tilepack.c): the guard, the run, its report. Beside
  * the chain (g), level 0 from the DEM (its known vertex map), and the
  * chain's failure the run's: this one's then unsaid. */
@@ -140,6 +155,9 @@ pack(void *ctx, const char *path, const char *out, char *const *vmaps, int n,
 	if (g != NULL) {
 		pg = (pack_gate){ g->ctx, g->ended, g->stopped };
 		a.gate = &pg;
+		if (a.opened != NULL)
+			a.gate_jobs = beside_jobs(a.gate_jobs,
+			    dem_georef(a.opened)->width, p->mode3d);
 		if (a.opened != NULL &&
 		    level0_header(&h0, a.opened, p->s.mode, e) < 0)
 			goto done;
@@ -193,6 +211,7 @@ stage_inproc_init(stage_inproc *p, const cli *c, const pipeline_opts *o,
 	 * piece less in memory while the chain's rings are (dem2vgis(1),
 	 * MEMORY) */
 	p->pk.gate_jobs = p->pk.jobs > 1 ? p->pk.jobs - 1 : 1;
+	p->mode3d = p->s.mode == SOLVE_QEM3D;
 	p->pk.force = o->force;
 	p->pk.part_samples = 1LL << 30;
 	p->pk.prog = p->c[3].prog;

@@ -615,7 +615,7 @@ run_levels(work *w, int ready, tl_err *e)
 		if (w->a->prog == NULL)
 			w->pr.on = 0;
 		q.threads = 1;
-		q.early = w->a->gate_jobs > 0 ? w->a->gate_jobs : w->a->jobs;
+		q.early = w->a->gate_jobs;
 		r = run_queue(&q, w->fifo ? nl : w->a->jobs, e);
 	}
 	if (r == 0)

@@ -51,8 +51,8 @@ typedef struct {
 	const pack_gate *gate;
 	int gate_jobs;        /* of the jobs threads, those that take pieces
 	                       * while the gate is shut (the others wait at
-	                       * it: the chain has the cores meanwhile);
-	                       * 0: all */
+	                       * it: the chain has the cores and the memory
+	                       * meanwhile); 0: none */
 	/* pack_run: level 0's vertex map is known, the header given: the
 	 * DEM's heights (its channel Z, as fqmsolve makes it in every mode),
 	 * and zero offsets where it has X and Y (QEM-3D), so that level 0 is
