@@ -15,6 +15,7 @@ GDAL_PAM_ENABLED=NO; export GDAL_PAM_ENABLED
 TMPDIR=$T/tmp; export TMPDIR; mkdir "$TMPDIR"
 c=$T/crop.tif
 gdal_translate -q -srcwin 1500 1500 900 700 "$DATA/N48W125.hgt" "$c" &&
+    gdal_translate -q -srcwin 2500 2000 100 80 "$DATA/N48W125.hgt" "$T/one.tif" &&
     /usr/bin/python3 -c 'import sys; from osgeo import gdal
 s = gdal.Open(sys.argv[1]); z = s.GetRasterBand(1).ReadAsArray()
 d = gdal.GetDriverByName("GTiff").Create(sys.argv[2], 300, 200, 1,
@@ -44,6 +45,9 @@ print(int((np.signbit(z) & (z == 0)).sum()))' "$T/negz.tif" >"$T/nz"
 [ "$(cat "$T/nz")" -gt 1000 ]; ok $? "the float DEM has samples -0 ($(cat "$T/nz"))"
 both negz "$T/negz.tif"
 both negz-3d -3 "$T/negz.tif"
+# one level: level 0 alone, nothing to wait for but the chain's end
+both one "$T/one.tif"
+both one-3d -3 "$T/one.tif"
 [ -z "$(ls -A "$TMPDIR")" ]; ok $? "no scratch left ($(ls -A "$TMPDIR"))"
 
 # stages P: the chain's threads (named after their programs) alive in P
@@ -97,4 +101,12 @@ done
     grep -q '^fqmsolve: .*File too large' "$T/e" && cmp -s "$T/e" "$T/e--processes" &&
     [ -z "$(ls -A "$T/D" "$TMPDIR" | grep -v '^/\|^$')" ]
 ok $? "the chain's failure beside level 0: exit $(cat "$T/s"), its one message, nothing left ($(head -c 120 "$T/e"))"
+# one level: level 0 (its one block) done long before the chain fails
+# (its vertex map, 64 KB, over 100 blocks): no pyramid is made
+rm -rf "$T/D"; mkdir "$T/D"
+sh -c 'ulimit -f 100; exec "$@"' sh dem2vgis -q "$T/one.tif" "$T/D/p" 2>"$T/e"
+s=$?
+[ $s -eq 1 ] && grep -q '^fqmsolve: .*File too large' "$T/e" &&
+    [ -z "$(ls -A "$T/D" "$TMPDIR" | grep -v '^/\|^$')" ]
+ok $? "one level, the chain's failure after level 0's block: exit $s, nothing left ($(ls -A "$T/D" | tr '\n' ' '))"
 done_testing

@@ -338,9 +338,10 @@ typedef struct {
 	int failed;        /* the lowest job that failed, or INT_MAX */
 	tl_err err;        /* its error */
 	/* levels rest .. nlevels-1 are queued once the gate opens (their
-	 * vertex maps complete), by the worker that finds no job left
-	 * (opening); nlevels: none */
-	int rest, opening;
+	 * vertex maps complete: the chain has ended, even with none left,
+	 * so that no pyramid is made before it), by the worker that finds
+	 * no job left (opening); shut until then */
+	int rest, shut, opening;
 	int early;         /* workers 0 .. early-1 take jobs before that */
 	long long guess;   /* their DEM samples, guessed for the progress */
 	pthread_cond_t cv; /* the rest queued, or a failure */
@@ -451,7 +452,7 @@ static int
 take(queue *q, int id, job *j)
 {
 	int lim = q->failed < q->n ? q->failed : q->n;
-	int shut = q->rest < q->w->a->nlevels;
+	int shut = q->shut;
 
 	if (q->next < lim && (id < q->early || !shut)) {
 		*j = q->job[q->next];
@@ -489,7 +490,7 @@ worker(void *arg)
 			r = open_rest(q, &e);
 			pthread_mutex_lock(&w->mu);
 			q->opening = 0;
-			q->rest = w->a->nlevels;
+			q->rest = w->a->nlevels, q->shut = 0;
 			if (r < 0)
 				job_failed(q, n, &e); /* after the jobs then */
 			pthread_cond_broadcast(&q->cv);
@@ -595,7 +596,7 @@ run_levels(work *w, int ready, tl_err *e)
 {
 	int nl = w->a->nlevels, r;
 	long long total = 0;
-	queue q = { .w = w, .rest = ready };
+	queue q = { .w = w, .rest = ready, .shut = w->a->gate != NULL };
 
 	pthread_cond_init(&q.cv, NULL);
 	/* the levels to come, guessed from the DEM's size and level 0's
