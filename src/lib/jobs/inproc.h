@@ -12,7 +12,9 @@
  * does and returns status 128+n; a run of others (tilepack's, which no
  * ring holds) cannot be stopped: the scratch directory is removed and the
  * process dies of the signal at once, the outputs' handler (outfile.h)
- * removing what the tasks had begun. */
+ * removing what the tasks had begun. A task that no ring holds learns
+ * of the others' failure by polling (inproc_stopped), and waits for
+ * those whose outputs it reads (inproc_ended). */
 #ifndef TL_INPROC_H
 #define TL_INPROC_H
 

@@ -11,8 +11,10 @@
  * "dem2fqm -I" reports. With o->work, a run's stages are threads of
  * this process instead (inproc.h): the pipes and tees are rings of
  * rows, and the same vertex maps, in the same scratch files, go to
- * tilepack's work, byte for byte the same pyramid. Several DEMs are one mosaic: the stages get a
- * list of them (dem2fqm(1)) written in the scratch directory. The steps
+ * tilepack's work, which runs beside the chain (level 0's vertex map,
+ * known, taken from the DEM at once), byte for byte the same pyramid.
+ * Several DEMs are one mosaic: the stages get a list of them
+ * (dem2fqm(1)) written in the scratch directory. The steps
  * of a plan that are no filter of a person's (the guard of the outputs,
  * the DEM's stamp, a band's window and columns) are vgis-job's
  * (vgis-job(1)), installed beside them. */
