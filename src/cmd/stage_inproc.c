@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "base/pool.h"
+#include "qem/fqm.h"
 #include "stage_inproc.h"
 
 /* A failure in its program's words, as cli_exit prints them. */
@@ -28,18 +29,6 @@ said(const cli *c, int r, tl_err *e)
 	return tl_fail(e, "%s: %s%s", c->prog, m, hint);
 }
 
-/* pipeline_work's open: the DEM the chain and tilepack's work share. */
-static void
-dem_begin(void *ctx, const char *path)
-{
-	stage_dem *sd = &((stage_inproc *)ctx)->dem;
-
-	assert(!sd->named && !sd->done);
-	/* too long a name: each stage converts it, as before */
-	sd->named = (size_t)snprintf(sd->path, sizeof sd->path, "%s", path) <
-	    sizeof sd->path;
-}
-
 /* stage_level0's open: the DEM converted, once (a second call, after a
  * failure: its answer again). */
 static dem *
@@ -54,6 +43,22 @@ dem_get(void *ctx, tl_err *e)
 	if (sd->d == NULL)
 		*e = sd->err;
 	return sd->d;
+}
+
+/* pipeline_work's open: the DEM the chain and tilepack's work share,
+ * converted now, so that tilepack's work can start with the chain (a
+ * failure is dem2fqm's, said when its work asks for the DEM). */
+static int
+dem_begin(void *ctx, const char *path)
+{
+	stage_dem *sd = &((stage_inproc *)ctx)->dem;
+	tl_err e;
+
+	assert(!sd->named && !sd->done);
+	/* too long a name: each stage converts it, as before */
+	sd->named = (size_t)snprintf(sd->path, sizeof sd->path, "%s", path) <
+	    sizeof sd->path;
+	return sd->named && dem_get(ctx, &e) != NULL;
 }
 
 static void
@@ -95,28 +100,79 @@ solve(void *ctx, const char *out, tl_err *e)
 	return said(&p->c[2], stage_fqmsolve(&p->c[2], &o, e), e);
 }
 
-/* tilepack's pack (tilepack.c): the guard, the run, its report. */
+/* Level 0's vertex map's header, as dem2fqm's and fqmsolve's work
+ * make it for the DEM d (stage_level0.c, stage_solve.c): the pack's
+ * known level 0 (pack.h, known0). */
+static int
+level0_header(rs_header *oh, dem *d, enum solve_mode mode, tl_err *e)
+{
+	fqm_info fi = { .geo = *dem_georef(d) };
+	rs_header h;
+	int r;
+
+	fi.size0[0] = fi.geo.width, fi.size0[1] = fi.geo.height;
+	rs_header_init(&h, 0, 0);
+	r = fqm_header(&h, &fi, "none", e) == 0 &&
+	    solve_header(oh, &h, mode, e) == 0 ? 0 : -1;
+	rs_header_free(&h);
+	return r;
+}
+
+/* Level 0's pieces at once beside the chain: at most want, as many as
+ * keep the whole run under 128 MiB by dem2vgis(1)'s MEMORY formula
+ * (the chain's rings grow with the DEM's width w; a piece is 14 MiB, 18
+ * in QEM-3D); 0: level 0 waits for the chain, as the other levels do. */
+static int
+beside_jobs(int want, int w, int mode3d)
+{
+	long long mib = 1 << 20, budget = 128 * mib;
+	long long chain = mode3d ? 57 * mib + 2900LL * w : 56 * mib + 2400LL * w;
+	long long piece = (mode3d ? 18 : 14) * mib;
+	long long fit = chain < budget ? (budget - chain) / piece : 0;
+
+	return fit < want ? (int)fit : want;
+}
+
+/* tilepack's pack (tilepack.c): the guard, the run, its report. Beside
+ * the chain (g), level 0 from the DEM (its known vertex map), and the
+ * chain's failure the run's: this one's then unsaid. */
 static int
 pack(void *ctx, const char *path, const char *out, char *const *vmaps, int n,
-    tl_err *e)
+    const pipeline_gate *g, tl_err *e)
 {
 	stage_inproc *p = ctx;
 	pack_args a = p->pk;
+	pack_gate pg;
 	pack_level *lev;
+	rs_header h0;
 	int r = -1;
 
+	rs_header_init(&h0, 0, 0);
 	a.dem_path = path, a.dir = out, a.levels = vmaps, a.nlevels = n;
 	/* the chain's DEM, converted once (its options: the same cli) */
 	if (p->dem.done && p->dem.d != NULL && strcmp(path, p->dem.path) == 0)
 		a.opened = p->dem.d;
+	if (g != NULL) {
+		pg = (pack_gate){ g->ctx, g->ended, g->stopped };
+		a.gate = &pg;
+		if (a.opened != NULL)
+			a.gate_jobs = beside_jobs(a.gate_jobs,
+			    dem_georef(a.opened)->width, p->mode3d);
+		if (a.opened != NULL &&
+		    level0_header(&h0, a.opened, p->s.mode, e) < 0)
+			goto done;
+		a.known0 = a.opened != NULL ? &h0 : NULL;
+	}
 	if (stage_pack_guard(&a, NULL, e) < 0)
-		return said(&p->c[3], -1, e);
+		goto done;
 	if ((lev = tl_alloc((size_t)n, sizeof *lev, e)) == NULL)
-		return said(&p->c[3], -1, e);
+		goto done;
 	r = pack_run(&a, lev, e);
 	if (r == 0 && !p->quiet)
 		pack_report(stderr, p->c[3].prog, lev, n);
 	free(lev);
+done:
+	rs_header_free(&h0);
 	return said(&p->c[3], r, e);
 }
 
@@ -150,6 +206,12 @@ stage_inproc_init(stage_inproc *p, const cli *c, const pipeline_opts *o,
 	p->pk.dem = p->c[3].dem;
 	p->pk.jobs = o->jobs != NULL ? atoi(o->jobs) : jobs;
 	p->pk.jobs = p->pk.jobs > PACK_MAXJOBS ? PACK_MAXJOBS : p->pk.jobs;
+	/* beside the chain, which keeps a core busy (QEM-3D's solvers
+	 * more), one job less takes level 0's pieces: the cores busy, and a
+	 * piece less in memory while the chain's rings are (dem2vgis(1),
+	 * MEMORY) */
+	p->pk.gate_jobs = p->pk.jobs > 1 ? p->pk.jobs - 1 : 1;
+	p->mode3d = p->s.mode == SOLVE_QEM3D;
 	p->pk.force = o->force;
 	p->pk.part_samples = 1LL << 30;
 	p->pk.prog = p->c[3].prog;

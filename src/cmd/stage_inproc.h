@@ -25,6 +25,7 @@ typedef struct {
 	stage_solve s;
 	pack_args pk;
 	int quiet;
+	int mode3d;           /* QEM-3D: its chain and pieces are larger */
 	stage_dem dem;
 	pipeline_work w;
 } stage_inproc;

@@ -20,6 +20,7 @@ typedef struct {
 	int k, outfd;
 	pthread_t th;
 	int started;
+	int ended;            /* fn returned, outfd closed, failure noted */
 } task;
 
 struct inproc {
@@ -29,7 +30,9 @@ struct inproc {
 	rs_ring *ring[INPROC_MAXTASKS];
 	int nring;
 	pthread_mutex_t mu;
+	pthread_cond_t cv;    /* a task ended (inproc_ended) */
 	int running, failed;
+	int stop;             /* failed or cancelled (inproc_stopped) */
 	tl_err first;         /* the first failure's message */
 };
 
@@ -73,6 +76,7 @@ inproc_new(const char *prog, tl_err *e)
 		return NULL;
 	p->prog = prog;
 	pthread_mutex_init(&p->mu, NULL);
+	pthread_cond_init(&p->cv, NULL);
 	return p;
 }
 
@@ -87,6 +91,7 @@ inproc_free(inproc *p)
 	for (int i = 0; i < p->nring; i++)
 		rs_ring_free(p->ring[i]);
 	pthread_mutex_destroy(&p->mu);
+	pthread_cond_destroy(&p->cv);
 	free(p);
 }
 
@@ -122,6 +127,10 @@ inproc_task(inproc *p, inproc_fn fn, void *arg, rs_ring *in, int k,
 static void
 cancel_all(inproc *p)
 {
+	__atomic_store_n(&p->stop, 1, __ATOMIC_RELEASE);
+	pthread_mutex_lock(&p->mu);
+	pthread_cond_broadcast(&p->cv);
+	pthread_mutex_unlock(&p->mu);
 	for (int i = 0; i < p->nring; i++)
 		rs_ring_cancel(p->ring[i]);
 }
@@ -145,10 +154,45 @@ run_task(void *arg)
 		p->first = e;
 	}
 	p->running--;
+	t->ended = 1;
+	pthread_cond_broadcast(&p->cv);
 	pthread_mutex_unlock(&p->mu);
 	if (r < 0)
 		cancel_all(p);
 	return NULL;
+}
+
+int
+inproc_stopped(inproc *p)
+{
+	return __atomic_load_n(&p->stop, __ATOMIC_ACQUIRE);
+}
+
+int
+inproc_ended(inproc *p, int n, int ms)
+{
+	struct timespec until;
+	int r = 1, k;
+
+	clock_gettime(CLOCK_REALTIME, &until);
+	until.tv_sec += ms / 1000;
+	until.tv_nsec += (long)(ms % 1000) * 1000000;
+	if (until.tv_nsec >= 1000000000)
+		until.tv_sec++, until.tv_nsec -= 1000000000;
+	pthread_mutex_lock(&p->mu);
+	for (;;) {
+		for (k = 0; k < n && p->t[k].ended; k++)
+			;
+		if (p->failed || inproc_stopped(p))
+			r = -1;
+		else if (k == n)
+			r = 0;
+		if (r <= 0 ||
+		    pthread_cond_timedwait(&p->cv, &p->mu, &until) != 0)
+			break;
+	}
+	pthread_mutex_unlock(&p->mu);
+	return r;
 }
 
 /* Dies of sig now: the tasks cannot be stopped (inproc.h). */

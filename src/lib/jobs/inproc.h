@@ -12,7 +12,9 @@
  * does and returns status 128+n; a run of others (tilepack's, which no
  * ring holds) cannot be stopped: the scratch directory is removed and the
  * process dies of the signal at once, the outputs' handler (outfile.h)
- * removing what the tasks had begun. */
+ * removing what the tasks had begun. A task that no ring holds learns
+ * of the others' failure by polling (inproc_stopped), and waits for
+ * those whose outputs it reads (inproc_ended). */
 #ifndef TL_INPROC_H
 #define TL_INPROC_H
 
@@ -41,6 +43,14 @@ int inproc_task(inproc *p, inproc_fn fn, void *arg, rs_ring *in, int k,
  * when not stoppable. */
 int inproc_run(inproc *p, int stoppable, scratch *s, int *status,
     tl_err *e);
+
+/* From a task: whether tasks 0 .. n-1 have ended, waiting up to ms
+ * milliseconds for them: 0 all ended and none failed (their outfds
+ * closed), 1 not yet, -1 never (a task failed, or the rings were
+ * cancelled). inproc_stopped: 1 once a task has failed or the rings were
+ * cancelled, read without waiting (a row loop's poll). */
+int inproc_ended(inproc *p, int n, int ms);
+int inproc_stopped(inproc *p);
 
 /* The stop signals (INT, TERM, HUP) blocked in the calling thread and the
  * threads it starts (old: the mask to restore); a stop signal that came

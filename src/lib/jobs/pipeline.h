@@ -11,8 +11,10 @@
  * "dem2fqm -I" reports. With o->work, a run's stages are threads of
  * this process instead (inproc.h): the pipes and tees are rings of
  * rows, and the same vertex maps, in the same scratch files, go to
- * tilepack's work, byte for byte the same pyramid. Several DEMs are one mosaic: the stages get a
- * list of them (dem2fqm(1)) written in the scratch directory. The steps
+ * tilepack's work, which runs beside the chain (level 0's vertex map,
+ * known, taken from the DEM at once), byte for byte the same pyramid.
+ * Several DEMs are one mosaic: the stages get a list of them
+ * (dem2fqm(1)) written in the scratch directory. The steps
  * of a plan that are no filter of a person's (the guard of the outputs,
  * the DEM's stamp, a band's window and columns) are vgis-job's
  * (vgis-job(1)), installed beside them. */
@@ -24,23 +26,41 @@
 
 #define PIPELINE_MAXOPTS 32
 
+/* What tilepack's work is given when it runs beside the chain that
+ * makes its vertex maps (the one-process route): ended(ctx, ms) says
+ * whether the chain has ended, waiting up to ms milliseconds: 0 its
+ * vertex maps are complete, 1 not yet, -1 never (a stage failed, or the
+ * run was stopped); stopped(ctx): 1 once the run has failed or been
+ * stopped (a poll: its work is then in vain). */
+typedef struct {
+	void *ctx;
+	int (*ended)(void *ctx, int ms);
+	int (*stopped)(void *ctx);
+} pipeline_gate;
+
 /* The stages' work as functions, for the one-process route (inproc.h):
  * each runs in a thread of its own whose "-" is a ring of rows, and on
  * failure fills e with the message its program would print ("prog:
  * why"). level0: dem2fqm DEM -; filter: fqmfilter - -; solve: fqmsolve
- * - out; pack: tilepack DEM OUT vmaps. open (or NULL) names the DEM
- * before the chain: level0 converts it, and pack uses that conversion
- * instead of its own (the same DEM, the same options); close, after
- * pack or a failure, closes it. */
+ * - out; pack: tilepack DEM OUT vmaps, after the chain (g NULL) or
+ * beside it (g its gate: level 0, whose vertex map is known, from the
+ * DEM at once, the others once the chain has ended; a failure of the
+ * chain's is the run's, pack's then unheard). open (or NULL) names the
+ * DEM before the chain and converts it: level0 takes that conversion
+ * (or its failure) instead of making its own, and pack uses it too (the
+ * same DEM, the same options); it returns 1 when the DEM is converted
+ * (pack may run beside the chain), 0 when not (a failure, which level0
+ * reports; a name too long). close, after pack or a failure, closes
+ * it. */
 typedef struct {
 	void *ctx;
-	void (*open)(void *ctx, const char *dem);
+	int (*open)(void *ctx, const char *dem);
 	void (*close)(void *ctx);
 	int (*level0)(void *ctx, const char *dem, tl_err *e);
 	int (*filter)(void *ctx, tl_err *e);
 	int (*solve)(void *ctx, const char *out, tl_err *e);
 	int (*pack)(void *ctx, const char *dem, const char *out,
-	    char *const *vmaps, int n, tl_err *e);
+	    char *const *vmaps, int n, const pipeline_gate *g, tl_err *e);
 } pipeline_work;
 
 typedef struct {

@@ -1,8 +1,11 @@
 /* pipeline_inproc.c - a run's stages as threads of this process
  * (pipeline.h, o->work; inproc.h): the quadric chain with rings for its
  * pipes and tees, each level's vertex map the stream into the scratch
- * file the processes' route writes, then tilepack's work over them,
- * the DEM converted once for both (pipeline_work's open). */
+ * file the processes' route writes, and tilepack's work over them, the
+ * DEM converted once for both (pipeline_work's open). tilepack's work
+ * runs beside the chain: level 0, whose vertex map is known (the DEM's
+ * heights), from the start, the other levels once the chain has ended;
+ * after it only when the DEM was not converted beforehand. */
 #include <fcntl.h>
 #include <malloc.h>
 #include <pthread.h>
@@ -19,6 +22,7 @@ typedef struct {
 	const char *path, *out;
 	char *const *vmaps;
 	int n;
+	const pipeline_gate *g;
 } job;
 
 /* The thread named after the program whose work it does (the threads it
@@ -63,7 +67,35 @@ pack(void *arg, tl_err *e)
 	job *j = arg;
 
 	named("tilepack");
-	return j->w->pack(j->w->ctx, j->path, j->out, j->vmaps, j->n, e);
+	return j->w->pack(j->w->ctx, j->path, j->out, j->vmaps, j->n, j->g, e);
+}
+
+/* The gate tilepack's work waits at beside the chain: the chain's tasks
+ * are the first n of p. */
+typedef struct {
+	inproc *p;
+	int n;
+	int trimmed;
+} gate;
+
+static int
+gate_ended(void *ctx, int ms)
+{
+	gate *g = ctx;
+	int r = inproc_ended(g->p, g->n, ms);
+
+	/* the chain's heaps back to the system before the levels it made
+	 * are packed (glibc keeps an arena a thread: tens of MiB otherwise
+	 * held) */
+	if (r == 0 && !g->trimmed)
+		malloc_trim(0), g->trimmed = 1;
+	return r;
+}
+
+static int
+gate_stopped(void *ctx)
+{
+	return inproc_stopped(((gate *)ctx)->p);
 }
 
 /* dem2fqm into level 0's ring; level l's ring read by its solver
@@ -114,6 +146,18 @@ progress(void *m, const char *label, long long done, long long total)
 	pthread_mutex_unlock(&meter_lock);
 }
 
+/* tilepack's work as a task of p (g: beside the chain, or NULL). */
+static int
+pack_task(inproc *p, const pipeline_opts *o, const char *dem, int levels,
+    vpath_t *vpath, char **vm, const pipeline_gate *g, job *pj, tl_err *e)
+{
+	for (int l = 0; l < levels; l++)
+		vm[l] = vpath[l];
+	*pj = (job){ .w = o->work, .path = dem, .out = o->out, .vmaps = vm,
+	    .n = levels, .g = g };
+	return inproc_task(p, pack, pj, NULL, 0, NULL, -1, e);
+}
+
 int
 pipeline_inproc(const pipeline_opts *o, const char *dem, int levels,
     vpath_t *vpath, scratch *s, meter *m, int *status, tl_err *e)
@@ -121,29 +165,34 @@ pipeline_inproc(const pipeline_opts *o, const char *dem, int levels,
 	char *vm[MAXLEVELS];
 	job jobs[1 + 2 * MAXLEVELS], pj;
 	inproc *p;
-	int r = -1;
+	gate gt;
+	pipeline_gate pg = { &gt, gate_ended, gate_stopped };
+	int r = -1, beside = 0;
 
 	*status = 1;
 	tl_progress_sink(progress, m);
 	/* the DEM converted once, for the chain and tilepack's work */
 	if (o->work->open != NULL)
-		o->work->open(o->work->ctx, dem);
+		beside = o->work->open(o->work->ctx, dem);
+	/* beside the chain, tilepack's work is not held by a ring: the run
+	 * cannot be stopped by a cancel, a signal ends it at once (inproc.h),
+	 * and the work itself polls for the chain's failure */
 	if ((p = inproc_new(o->prog, e)) != NULL &&
-	    chain(p, o, dem, levels, vpath, jobs, e) == 0)
-		r = inproc_run(p, 1, s, status, e);
+	    chain(p, o, dem, levels, vpath, jobs, e) == 0) {
+		gt = (gate){ .p = p, .n = 2 * levels };
+		if (!beside || pack_task(p, o, dem, levels, vpath, vm, &pg, &pj,
+		    e) == 0)
+			r = inproc_run(p, !beside, s, status, e);
+	}
 	inproc_free(p);
-	/* the chain's threads' heaps back to the system before tilepack's
-	 * (glibc keeps an arena a thread: tens of MiB otherwise held) */
+	/* the threads' heaps back to the system (glibc keeps an arena a
+	 * thread: tens of MiB otherwise held) */
 	malloc_trim(0);
-	if (r == 0 && (p = inproc_new(o->prog, e)) != NULL) {
-		for (int l = 0; l < levels; l++)
-			vm[l] = vpath[l];
-		pj = (job){ .w = o->work, .path = dem, .out = o->out,
-		    .vmaps = vm, .n = levels };
-		r = inproc_task(p, pack, &pj, NULL, 0, NULL, -1, e) < 0 ? -1 :
-		    inproc_run(p, 0, s, status, e);
+	if (r == 0 && !beside && (p = inproc_new(o->prog, e)) != NULL) {
+		r = pack_task(p, o, dem, levels, vpath, vm, NULL, &pj, e) < 0 ?
+		    -1 : inproc_run(p, 0, s, status, e);
 		inproc_free(p);
-	} else if (r == 0)
+	} else if (r == 0 && !beside)
 		r = -1;
 	if (o->work->close != NULL)
 		o->work->close(o->work->ctx);

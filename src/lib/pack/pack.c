@@ -3,7 +3,9 @@
 
 #include <assert.h>
 #include <errno.h>
+#include <limits.h>
 #include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,6 +75,15 @@ read_row(void *ctx, int r, int c0, int n, float *z, float *x, float *y,
 {
 	vmap *v = ctx;
 
+	if (v->gate != NULL && v->gate->stopped(v->gate->ctx))
+		return tl_fail(e, "%s: stopped", v->name);
+	if (v->d != NULL) { /* known: the DEM's heights, zero offsets */
+		if (x != NULL) {
+			memset(x, 0, (size_t)n * sizeof *x);
+			memset(y, 0, (size_t)n * sizeof *y);
+		}
+		return dem_read_span(v->d, r, c0, n, z, NULL, e);
+	}
 	if (v->row == NULL &&
 	    (v->row = tl_alloc((size_t)n * v->h->nch, sizeof *v->row, e)) == NULL)
 		return -1;
@@ -114,6 +125,52 @@ pk_vmap_open(vmap *v, const char *path, int l, const georef *g, tl_err *e)
 	if ((v->cx < 0) != (v->cy < 0))
 		return tl_fail(e, "%s: has only one of channels X and Y", name);
 	return 0;
+}
+
+/* Level 0's known vertex map (pack_args known0): its header, the DEM's
+ * rows. */
+static void
+known_vmap(vmap *v, const work *w)
+{
+	memset(v, 0, sizeof *v);
+	v->name = "level 0";
+	v->h = w->a->known0;
+	v->d = w->d;
+	v->cz = rs_channel(v->h, "Z");
+	v->cx = rs_channel(v->h, "X"), v->cy = rs_channel(v->h, "Y");
+}
+
+/* Level l's vertex map: open and checked, or level 0's known one. */
+static int
+vmap_open(vmap *v, const work *w, int l, tl_err *e)
+{
+	if (l == 0 && w->known0) {
+		known_vmap(v, w);
+		return 0;
+	}
+	return pk_vmap_open(v, w->a->levels[l], l, dem_georef(w->d), e);
+}
+
+/* Whether some sample of d is -0, where the solver's Z + 0 may give +0:
+ * level 0 then is not known (pack_args known0). */
+static int
+negative_zero(dem *d, tl_err *e)
+{
+	int w = dem_georef(d)->width, h = dem_georef(d)->height, r = 0;
+	float *z = tl_alloc((size_t)w, sizeof *z, e);
+	uint32_t u;
+
+	if (z == NULL)
+		return -1;
+	for (int j = 0; r == 0 && j < h; j++) {
+		if (dem_read_row(d, j, z, NULL, e) < 0)
+			r = -1;
+		for (int i = 0; r == 0 && i < w; i++)
+			if (memcpy(&u, &z[i], sizeof u), u == 0x80000000u)
+				r = 1;
+	}
+	free(z);
+	return r;
 }
 
 void
@@ -168,14 +225,14 @@ level_begin(work *w, int l, const vmap *v, tl_err *e)
 	return 0;
 }
 
-/* Every level begun before any work, a bad vertex map failing at once
- * (files only: a FIFO is read once, by its level's one piece). */
+/* Levels l0 .. l1-1 begun before their work, a bad vertex map failing
+ * at once (files only: a FIFO is read once, by its level's one piece). */
 static int
-levels_begin(work *w, tl_err *e)
+levels_begin(work *w, int l0, int l1, tl_err *e)
 {
-	for (int l = 0; !w->fifo && l < w->a->nlevels; l++) {
+	for (int l = l0; !w->fifo && l < l1; l++) {
 		vmap v;
-		int r = pk_vmap_open(&v, w->a->levels[l], l, dem_georef(w->d), e);
+		int r = vmap_open(&v, w, l, e);
 		if (r == 0)
 			r = level_begin(w, l, &v, e);
 		pk_vmap_close(&v);
@@ -222,6 +279,7 @@ pk_merge_stats(work *w, int l, const level_stats *st)
 void
 pk_level_setup(work *w, int l, vmap *v, sink *k, int threads, level_args *L)
 {
+	v->gate = w->a->gate;
 	k->dir = w->tmp, k->attrs = v->h, k->L = &w->ix->lev[l];
 	k->comp = w->a->comp, k->tree = w->tree;
 	memset(L, 0, sizeof *L);
@@ -245,7 +303,7 @@ pk_run_piece(work *w, int l, const level_piece *p, int threads, tl_err *e)
 	sink k;
 	int r = -1;
 
-	if (pk_vmap_open(&v, w->a->levels[l], l, g, e) < 0 ||
+	if (vmap_open(&v, w, l, e) < 0 ||
 	    (p == NULL && level_begin(w, l, &v, e) < 0))
 		goto done;
 	pk_level_setup(w, l, &v, &k, threads, &L);
@@ -275,34 +333,177 @@ typedef struct {
 typedef struct {
 	work *w;
 	job *job;
-	int n, threads;    /* jobs; threads per job */
+	int n, cap, threads; /* jobs, room for them; threads per job */
 	int next;          /* the next job to hand out */
-	int failed;        /* the lowest job that failed, or n */
+	int failed;        /* the lowest job that failed, or INT_MAX */
 	tl_err err;        /* its error */
+	/* levels rest .. nlevels-1 are queued once the gate opens (their
+	 * vertex maps complete: the chain has ended, even with none left,
+	 * so that no pyramid is made before it), by the worker that finds
+	 * no job left (opening); shut until then */
+	int rest, shut, opening;
+	int early;         /* workers 0 .. early-1 take jobs before that */
+	long long guess;   /* their DEM samples, guessed for the progress */
+	pthread_cond_t cv; /* the rest queued, or a failure */
 } queue;
 
-/* Takes jobs in order until none is left or one has failed. Jobs are
- * handed out in order and none is abandoned, so the failure reported,
- * the lowest job's, is the same whatever the threads' timing. */
+/* Job k failed with e (w->mu held): the lowest failure is kept. */
+static void
+job_failed(queue *q, int k, const tl_err *e)
+{
+	if (k < q->failed)
+		q->failed = k, q->err = *e;
+	pthread_cond_broadcast(&q->cv);
+}
+
+/* The DEM samples level pl's pieces scan, and (jobs not NULL) its
+ * pieces appended to jobs: their count, or -1. */
+static int
+level_jobs(const work *w, int l, const pyramid_level *pl, job *jobs,
+    long long *samples, tl_err *e)
+{
+	const georef *g = dem_georef(w->d);
+	level_piece *p;
+	int m;
+
+	*samples = 0;
+	if (w->fifo) {
+		if (jobs != NULL)
+			jobs[0] = (job){ .l = l, .whole = 1 };
+		*samples = (long long)g->height * g->width;
+		return 1;
+	}
+	if ((p = pk_level_cut(pl, &m, e)) == NULL)
+		return -1;
+	for (int k = 0; k < m; k++) {
+		level_args L = { .level = pl->level };
+		level_window win;
+		L.size[0] = pl->size[0];
+		level_piece_window(&L, g->width, &p[k], &win);
+		if (jobs != NULL)
+			jobs[k] = (job){ .l = l, .p = p[k] };
+		*samples += (long long)g->height * (win.d1 - win.d0);
+	}
+	free(p);
+	return m;
+}
+
+/* Levels l0 .. l1-1, begun, queued (w->mu held when the workers run):
+ * their samples added to *samples. */
+static int
+queue_levels(queue *q, int l0, int l1, long long *samples, tl_err *e)
+{
+	work *w = q->w;
+
+	for (int l = l0; l < l1; l++) {
+		long long s;
+		int m = level_jobs(w, l, &w->ix->lev[l], NULL, &s, e);
+		if (m < 0)
+			return -1;
+		if (q->n + m > q->cap) {
+			int cap = 2 * (q->n + m);
+			job *j = realloc(q->job, (size_t)cap * sizeof *j);
+			if (j == NULL)
+				return tl_failsys(e, "malloc");
+			q->job = j, q->cap = cap;
+		}
+		level_jobs(w, l, &w->ix->lev[l], q->job + q->n, &s, e);
+		q->n += m;
+		*samples += s;
+	}
+	return 0;
+}
+
+/* The levels after the gate: waits for their vertex maps (or a failure,
+ * the run's or a job's), begins and queues them. */
+static int
+open_rest(queue *q, tl_err *e)
+{
+	work *w = q->w;
+	const pack_gate *g = w->a->gate;
+	long long s = 0;
+	int r, failed;
+
+	do {
+		r = g != NULL ? g->ended(g->ctx, 50) : 0;
+		pthread_mutex_lock(&w->mu);
+		failed = q->failed != INT_MAX;
+		pthread_mutex_unlock(&w->mu);
+	} while (r == 1 && !failed);
+	if (r != 0 || failed)
+		return tl_fail(e, "%s: stopped", w->a->prog ? w->a->prog :
+		    "tilepack");
+	if (levels_begin(w, q->rest, w->a->nlevels, e) < 0)
+		return -1;
+	pthread_mutex_lock(&w->mu);
+	r = queue_levels(q, q->rest, w->a->nlevels, &s, e);
+	if (r == 0)
+		w->pr.total += s - q->guess; /* the guess made good */
+	pthread_mutex_unlock(&w->mu);
+	return r;
+}
+
+/* The next job (w->mu held): its number and *j; -1 none left, -2 wait
+ * (another worker is opening the rest), -3 open the rest. Jobs are
+ * handed out in order and none below a failed one is abandoned, so the
+ * failure reported, the lowest job's, is the same whatever the threads'
+ * timing. */
+static int
+take(queue *q, int id, job *j)
+{
+	int lim = q->failed < q->n ? q->failed : q->n;
+	int shut = q->shut;
+
+	if (q->next < lim && (id < q->early || !shut)) {
+		*j = q->job[q->next];
+		return q->next++;
+	}
+	if (q->failed != INT_MAX || !shut)
+		return -1;
+	return q->opening ? -2 : -3;
+}
+
+typedef struct {
+	queue *q;
+	int id;
+} crew;
+
+/* Takes jobs in order until none is left or one has failed. */
 static void *
 worker(void *arg)
 {
-	queue *q = arg;
+	queue *q = ((crew *)arg)->q;
+	int id = ((crew *)arg)->id;
 	work *w = q->w;
 
 	for (;;) {
 		tl_err e;
+		job j;
 		int k;
 		pthread_mutex_lock(&w->mu);
-		k = q->failed == q->n && q->next < q->n ? q->next++ : -1;
+		while ((k = take(q, id, &j)) == -2)
+			pthread_cond_wait(&q->cv, &w->mu);
+		if (k == -3) {
+			int n = q->n, r;
+			q->opening = 1;
+			pthread_mutex_unlock(&w->mu);
+			r = open_rest(q, &e);
+			pthread_mutex_lock(&w->mu);
+			q->opening = 0;
+			q->rest = w->a->nlevels, q->shut = 0;
+			if (r < 0)
+				job_failed(q, n, &e); /* after the jobs then */
+			pthread_cond_broadcast(&q->cv);
+			pthread_mutex_unlock(&w->mu);
+			continue;
+		}
 		pthread_mutex_unlock(&w->mu);
 		if (k < 0)
 			return NULL;
-		if (pk_run_piece(w, q->job[k].l, q->job[k].whole ? NULL :
-		    &q->job[k].p, q->threads, &e) < 0) {
+		if (pk_run_piece(w, j.l, j.whole ? NULL : &j.p, q->threads,
+		    &e) < 0) {
 			pthread_mutex_lock(&w->mu);
-			if (k < q->failed)
-				q->failed = k, q->err = e;
+			job_failed(q, k, &e);
 			pthread_mutex_unlock(&w->mu);
 		}
 	}
@@ -313,16 +514,20 @@ static int
 run_queue(queue *q, int workers, tl_err *e)
 {
 	pthread_t t[PACK_MAXJOBS];
+	crew c[PACK_MAXJOBS];
 	int started = 0;
 
-	q->failed = q->n;
-	for (; started < workers - 1 && started < PACK_MAXJOBS; started++)
-		if (pthread_create(&t[started], NULL, worker, q) != 0)
+	q->failed = INT_MAX;
+	c[0] = (crew){ q, 0 };
+	for (; started < workers - 1 && started < PACK_MAXJOBS - 1; started++) {
+		c[started + 1] = (crew){ q, started + 1 };
+		if (pthread_create(&t[started], NULL, worker, &c[started + 1]))
 			break; /* fewer threads: the same blocks */
-	worker(q);
+	}
+	worker(&c[0]);
 	for (int k = 0; k < started; k++)
 		pthread_join(t[k], NULL);
-	if (q->failed < q->n) {
+	if (q->failed != INT_MAX) {
 		*e = q->err;
 		return -1;
 	}
@@ -384,48 +589,40 @@ fifo_inputs(const pack_args *a)
  * pieces, all in one queue, jobs threads taking them (one piece in memory
  * per thread); a level coming through a FIFO can be read only once, so
  * then each level is one piece and all levels run at once, one thread
- * each. */
+ * each. Levels 0 .. ready-1 are begun; the others are begun and queued
+ * once the gate opens, after level 0's pieces (pack_args gate). */
 static int
-run_levels(work *w, tl_err *e)
+run_levels(work *w, int ready, tl_err *e)
 {
-	const georef *g = dem_georef(w->d);
-	int nl = w->a->nlevels, n = 0, r;
+	int nl = w->a->nlevels, r;
 	long long total = 0;
-	queue q = { .w = w };
+	queue q = { .w = w, .rest = ready, .shut = w->a->gate != NULL };
 
-	for (int l = 0; l < nl; l++)
-		n += w->fifo ? 1 : level_npieces(&w->ix->lev[l], NULL, 0);
-	if ((q.job = tl_alloc(n, sizeof *q.job, e)) == NULL)
-		return -1;
-	for (int l = 0; l < nl; l++) {
-		level_piece *p;
-		int m;
-		if (w->fifo) {
-			q.job[q.n++] = (job){ .l = l, .whole = 1 };
-			total += (long long)g->height * g->width;
-			continue;
-		}
-		if ((p = pk_level_cut(&w->ix->lev[l], &m, e)) == NULL) {
-			free(q.job);
+	pthread_cond_init(&q.cv, NULL);
+	/* the levels to come, guessed from the DEM's size and level 0's
+	 * displacement, for the progress (their headers say later) */
+	for (int l = ready; l < nl; l++) {
+		pyramid_level pl = { .level = l };
+		long long s = 0;
+		pl.size[0] = geo_level_size(w->ix->geo.width, l);
+		pl.displaced = w->known0 && w->ix->lev[0].displaced;
+		if (level_jobs(w, l, &pl, NULL, &s, e) < 0)
 			return -1;
-		}
-		for (int k = 0; k < m; k++) {
-			level_window win;
-			q.job[q.n++] = (job){ .l = l, .p = p[k] };
-			pk_window(w, l, &p[k], &win);
-			total += (long long)g->height * (win.d1 - win.d0);
-		}
-		free(p);
+		q.guess += s;
 	}
-	assert(q.n == n);
-	tl_progress_start(&w->pr, w->a->prog ? w->a->prog : "", total);
-	if (w->a->prog == NULL)
-		w->pr.on = 0;
-	q.threads = 1;
-	r = run_queue(&q, w->fifo ? n : w->a->jobs, e);
+	if ((r = queue_levels(&q, 0, ready, &total, e)) == 0) {
+		tl_progress_start(&w->pr, w->a->prog ? w->a->prog : "",
+		    total + q.guess);
+		if (w->a->prog == NULL)
+			w->pr.on = 0;
+		q.threads = 1;
+		q.early = w->a->gate_jobs;
+		r = run_queue(&q, w->fifo ? nl : w->a->jobs, e);
+	}
 	if (r == 0)
 		tl_progress_end(&w->pr);
 	free(q.job);
+	pthread_cond_destroy(&q.cv);
 	return r;
 }
 
@@ -449,7 +646,7 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 	tl_outfile dir = { 0 };
 	work w = { 0 };
 	dem *d;
-	int r = -1;
+	int r = -1, ready, z;
 
 	assert(a->nlevels >= 1 && a->jobs >= 1);
 	if (pack_check_dir(a->dir, a->force, e) < 0 || (d = a->opened ?
@@ -468,8 +665,16 @@ pack_run(const pack_args *a, pack_level *out, tl_err *e)
 		goto done;
 	w.tmp = dir.tmp, w.tree = 1;
 	w.fifo = fifo_inputs(a);
+	if (a->known0 != NULL && !w.fifo) {
+		if ((z = negative_zero(d, e)) < 0)
+			goto done;
+		w.known0 = z == 0;
+	}
+	/* with a gate, the levels whose vertex maps are still being made
+	 * are begun once they are complete */
+	ready = a->gate == NULL ? a->nlevels : w.known0;
 	/* the count after the levels, whose own faults say more */
-	if (levels_begin(&w, e) < 0 || run_levels(&w, e) < 0 ||
+	if (levels_begin(&w, 0, ready, e) < 0 || run_levels(&w, ready, e) < 0 ||
 	    pack_check_count(ix.nlevels, ix.size0[0], ix.size0[1], e) < 0 ||
 	    pyramid_index_write(dir.tmp, &ix, e) < 0)
 		goto done;

@@ -16,6 +16,17 @@
 
 #define PACK_MAXJOBS LEVEL_MAXTHREADS
 
+/* Vertex maps still being made while pack_run runs (dem2vgis's one
+ * process, its chain beside it): ended(ctx, ms) waits up to ms
+ * milliseconds for them: 0 complete, 1 not yet, -1 never (the run failed
+ * or was stopped: pack_run fails, its message unheard); stopped(ctx),
+ * polled a row at a time, 1 once the run has failed or been stopped. */
+typedef struct {
+	void *ctx;
+	int (*ended)(void *ctx, int ms);
+	int (*stopped)(void *ctx);
+} pack_gate;
+
 typedef struct {
 	const char *dem_path; /* the DEM the levels were made from */
 	dem_opts dem;         /* how to read it */
@@ -35,6 +46,20 @@ typedef struct {
 	                       * (dem2vgis converts it once for its chain and
 	                       * tilepack's work), used and not closed; or
 	                       * NULL: opened here */
+	/* pack_run: the vertex maps not yet complete (their gate), or NULL:
+	 * they are */
+	const pack_gate *gate;
+	int gate_jobs;        /* of the jobs threads, those that take pieces
+	                       * while the gate is shut (the others wait at
+	                       * it: the chain has the cores and the memory
+	                       * meanwhile); 0: none */
+	/* pack_run: level 0's vertex map is known, the header given: the
+	 * DEM's heights (its channel Z, as fqmsolve makes it in every mode),
+	 * and zero offsets where it has X and Y (QEM-3D), so that level 0 is
+	 * made from the DEM at once, without levels[0] (t_level0_known);
+	 * but from levels[0] on a DEM with a sample -0 (the solver's Z + 0
+	 * may make it +0). NULL: read levels[0] */
+	const rs_header *known0;
 } pack_args;
 
 /* What a level came to. */

@@ -21,6 +21,9 @@ typedef struct {
 	int cz, cx, cy; /* channels Z, X, Y (X, Y -1 on 1D levels) */
 	float *row;     /* the span asked for, every channel */
 	int next;       /* the next row to read */
+	dem *d;         /* a known level 0 (pack_args known0): rows the
+	                 * DEM's, r NULL; or NULL */
+	const pack_gate *gate; /* polled a row at a time, or NULL */
 } vmap;
 
 /* Where finished blocks go, and what the index learns from them. */
@@ -47,6 +50,7 @@ typedef struct {
 	const geo_ground *m;
 	pack_level *out;
 	int fifo;           /* a level comes through a FIFO: read once */
+	int known0;         /* level 0 from the DEM (pack_args known0) */
 	pthread_mutex_t mu; /* the stats in out, the progress */
 	tl_progress pr;
 	long long done;     /* DEM samples scanned (all pieces, all levels) */
