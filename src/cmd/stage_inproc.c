@@ -29,6 +29,32 @@ said(const cli *c, int r, tl_err *e)
 	return tl_fail(e, "%s: %s%s", c->prog, m, hint);
 }
 
+/* pipeline_work's count: vgis-job guard's check, then dem2fqm -I's
+ * header read (stage_dem2fqm with -I), in this process: two processes
+ * that each load GDAL were a tenth of N48W125's run on two cores, all
+ * of it before the work could start. */
+static int
+count(void *ctx, const char *path, const char *const *outs, int nout,
+    int *levels, int *w, int *h, tl_err *e)
+{
+	stage_inproc *p = ctx;
+	const georef *g;
+	char m[sizeof e->msg];
+	dem *d;
+
+	if (stage_guard(path, NULL, outs, nout, e) < 0) {
+		snprintf(m, sizeof m, "%s", e->msg);
+		return tl_fail(e, "vgis-job guard: %s", m);
+	}
+	if ((d = dem_open_info(path, &p->c[0].dem, e)) == NULL)
+		return said(&p->c[0], -1, e);
+	g = dem_georef(d);
+	*w = g->width, *h = g->height;
+	*levels = geo_levels(g->width, g->height);
+	dem_close(d);
+	return 0;
+}
+
 /* stage_level0's open: the DEM converted, once (a second call, after a
  * failure: its answer again). */
 static dem *
@@ -216,7 +242,8 @@ stage_inproc_init(stage_inproc *p, const cli *c, const pipeline_opts *o,
 	p->pk.part_samples = 1LL << 30;
 	p->pk.prog = p->c[3].prog;
 	p->quiet = o->quiet;
-	p->w = (pipeline_work){ .ctx = p, .open = dem_begin, .close = dem_end,
+	p->w = (pipeline_work){ .ctx = p, .count = count,
+	    .open = dem_begin, .close = dem_end,
 	    .level0 = level0, .filter = filter, .solve = solve, .pack = pack };
 	return 0;
 }

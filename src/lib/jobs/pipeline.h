@@ -51,9 +51,14 @@ typedef struct {
  * same DEM, the same options); it returns 1 when the DEM is converted
  * (pack may run beside the chain), 0 when not (a failure, which level0
  * reports; a name too long). close, after pack or a failure, closes
- * it. */
+ * it. count (or NULL) is vgis-job guard DEM OUTS then dem2fqm -I DEM for
+ * a DEM file (not stdin) without their processes, each failure in its
+ * program's words ("vgis-job guard: ...", "dem2fqm: ..."): the DEM's
+ * level count and size. */
 typedef struct {
 	void *ctx;
+	int (*count)(void *ctx, const char *dem, const char *const *outs,
+	    int nout, int *levels, int *w, int *h, tl_err *e);
 	int (*open)(void *ctx, const char *dem);
 	void (*close)(void *ctx);
 	int (*level0)(void *ctx, const char *dem, tl_err *e);

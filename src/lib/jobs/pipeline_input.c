@@ -98,6 +98,15 @@ pipeline_level_count(const pipeline_opts *o, const char *dem, int *levels,
 
 	/* the reader keeps the outputs off the DEM's files (a list's
 	 * entries, a VRT's sources), which it alone can tell */
+	if (o->work != NULL && o->work->count != NULL &&
+	    strcmp(o->dem, "-") != 0) {
+		const char *outs[2] = { o->out, o->plan };
+		if (o->work->count(o->work->ctx, dem, outs, o->plan ? 2 : 1,
+		    levels, width, height, e) == 0)
+			return 0;
+		*status = 1;
+		return -1;
+	}
 	say(&a, "vgis-job"), say(&a, "guard"), say(&a, "--"), say(&a, dem);
 	say(&a, o->out);
 	if (o->plan != NULL)
