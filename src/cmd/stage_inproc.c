@@ -63,9 +63,12 @@ dem_get(void *ctx, tl_err *e)
 	stage_inproc *p = ctx;
 	stage_dem *sd = &p->dem;
 
-	if (!sd->done)
+	/* written only here, before the threads (dem_begin): the chain's
+	 * call reads it while tilepack's work does */
+	if (!sd->done) {
 		sd->d = dem_open_streamed(sd->path, &p->c[0].dem, &sd->err);
-	sd->done = 1;
+		sd->done = 1;
+	}
 	if (sd->d == NULL)
 		*e = sd->err;
 	return sd->d;
