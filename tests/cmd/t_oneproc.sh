@@ -98,12 +98,14 @@ term() {
 term "in the chain" 'v1.fqm'
 term "in tilepack" '.p.*'
 # SIGKILL in tilepack: its temporary and the scratch stay, the next run
-# into the same directory removes both
+# into the same directory removes both. Killed once the temporary holds
+# its lock file: one killed between its mkdtemp and its lock is kept for
+# a minute (sweep.h), a moment a loaded machine can hit
 rm -rf "$T/D"; mkdir "$T/D"
 dem2vgis -q -3 "$DATA/N44W072.hgt" "$T/D/p" 2>/dev/null & pid=$!
 i=0
 while [ $i -lt 3000 ] && kill -0 $pid 2>/dev/null &&
-    ! find "$T/D" -name '.p.*' 2>/dev/null | grep -q .; do
+    ! find "$T/D" -path '*/.p.*/.lock' 2>/dev/null | grep -q .; do
 	sleep 0.01; i=$((i + 1)); done
 kill -KILL $pid; wait $pid 2>/dev/null
 n1=$(ls -A "$T/D" "$TMPDIR" | grep -c '^\.p\.\|^dem2vgis\.' || true)
