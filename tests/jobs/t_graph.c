@@ -129,6 +129,34 @@ test_first_failure(void)
 /* A writer that fails after its output has ended (a full disk under its
  * scratch file): the reader two pipes down (through a tee) fails first,
  * on short input, yet the cause told is the writer's. */
+/* A tee's reader that fails and closes its input, slow to exit (a
+ * scratch removed): the tee dies of the closed pipe, its other reader
+ * fails first on short input, yet the cause told is the reader that
+ * closed (dem2vgis's processes under load: fqmfilter's "truncated"
+ * told instead of fqmsolve's "File too large"). */
+static void
+test_sibling_cause(void)
+{
+	graph *g = graph_new("t_graph", NULL, NULL);
+	tl_err e;
+	int p[2], q1[2], q2[2], st;
+
+	graph_pipe(g, p, &e);
+	graph_pipe(g, q1, &e);
+	graph_pipe(g, q2, &e);
+	sh(g, "exec seq 1 10000000", -1, p[1], &e);
+	graph_tee(g, p[0], q1[1], q2[1], &e);
+	sh(g, "n=$(wc -l); echo \"c: truncated at $n\" >&2; exit 1", q1[0], -1,
+	    &e);
+	sh(g, "trap '' TERM; head -c 1000 >/dev/null; exec <&-; sleep 0.3; "
+	    "echo 'b: disk full' >&2; exit 4", q2[0], -1, &e);
+	int r = graph_run(g, &st, &e);
+	ok(r < 0 && strcmp(e.msg, "b: disk full") == 0 && st == 4, "a tee's "
+	    "reader failing on short input: the other reader, which closed "
+	    "first, is the cause (\"%s\", status %d)", e.msg, st);
+	graph_free(g);
+}
+
 static void
 test_upstream_cause(void)
 {
@@ -238,6 +266,7 @@ main(void)
 	test_capture();
 	test_first_failure();
 	test_upstream_cause();
+	test_sibling_cause();
 	test_signal_death();
 	test_missing_program();
 	test_bindir();

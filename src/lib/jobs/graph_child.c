@@ -29,6 +29,17 @@ write_all(int fd, const char *p, size_t n)
 	return 0;
 }
 
+/* The tee's first output closed: it dies of SIGPIPE, as a writer to a
+ * closed pipe does; its second: exit 141. SIGPIPE is ignored while it
+ * copies (tee_loop), so that the kernel's does not say which. */
+static void __attribute__((noreturn))
+first_closed(void)
+{
+	signal(SIGPIPE, SIG_DFL);
+	raise(SIGPIPE);
+	_exit(141);
+}
+
 /* The copying tee, for outputs that are not both pipes (/dev/null). */
 static void __attribute__((noreturn))
 tee_copy(void)
@@ -43,9 +54,10 @@ tee_copy(void)
 			dprintf(2, "tee: %s\n", strerror(errno));
 			_exit(1);
 		}
-		if (write_all(1, buf, (size_t)r) < 0 ||
-		    write_all(3, buf, (size_t)r) < 0)
-			raise(SIGPIPE), _exit(141);
+		if (write_all(1, buf, (size_t)r) < 0)
+			first_closed();
+		if (write_all(3, buf, (size_t)r) < 0)
+			_exit(141); /* the second output: see tee_loop */
 	}
 	_exit(0);
 }
@@ -60,6 +72,7 @@ tee_loop(void)
 {
 	struct stat a, b, c;
 
+	signal(SIGPIPE, SIG_IGN); /* EPIPE: which output, first_closed */
 	if (fstat(0, &a) < 0 || fstat(1, &b) < 0 || fstat(3, &c) < 0 ||
 	    !S_ISFIFO(a.st_mode) || !S_ISFIFO(b.st_mode) ||
 	    !S_ISFIFO(c.st_mode))
@@ -69,7 +82,7 @@ tee_loop(void)
 		if (n < 0 && errno == EINTR)
 			continue;
 		if (n < 0 && errno == EPIPE)
-			raise(SIGPIPE), _exit(141);
+			first_closed();
 		if (n < 0) {
 			dprintf(2, "tee: %s\n", strerror(errno));
 			_exit(1);
@@ -80,8 +93,11 @@ tee_loop(void)
 			m = splice(0, NULL, 3, NULL, (size_t)n, 0);
 			if (m < 0 && errno == EINTR)
 				continue;
-			if (m <= 0)
-				raise(SIGPIPE), _exit(141);
+			if (m <= 0) /* the second output closed: exit 141,
+			             * where the first's is SIGPIPE itself, so
+			             * the supervisor knows which reader left
+			             * first (graph_wait.c, sibling_cause) */
+				_exit(141);
 			n -= m;
 		}
 	}

@@ -230,8 +230,52 @@ upstream_ended(const graph *g, int k)
 	return 1;
 }
 
+/* 1 when s died of a closed pipe (its reader gone). */
+static int
+piped(const stage *s)
+{
+	return (WIFSIGNALED(s->status) && WTERMSIG(s->status) == SIGPIPE) ||
+	    (WIFEXITED(s->status) && WEXITSTATUS(s->status) == 128 + SIGPIPE);
+}
+
+/* The stage reading the pipe whose write end is fd, or -1. */
+static int
+reader_of(const graph *g, int fd)
+{
+	for (int p = 0; p < g->npipes; p++)
+		if (g->pipes[p][1] == fd)
+			for (int k = 0; k < g->n; k++)
+				if (g->st[k].in == g->pipes[p][0])
+					return k;
+	return -1;
+}
+
+/* c may have failed on short input because a tee upstream of it died of
+ * a closed pipe: its other reader ended first. The tee tells which
+ * (graph_child.c: killed by SIGPIPE for its first output, exit 141 for
+ * its second); that reader's own failure, where it has one, is the
+ * cause (reaped in the same look, or on a loaded machine, c can come
+ * first: dem2vgis's processes told fqmfilter's "truncated" for
+ * fqmsolve's "File too large"). */
+static int
+sibling_cause(const graph *g, const int *order, int nfail, int c)
+{
+	for (int j = g->st[c].up; j >= 0; j = g->st[j].up) {
+		const stage *t = &g->st[j];
+		if (t->kind != TEE || !t->done || !piped(t))
+			continue;
+		int x = reader_of(g, WIFSIGNALED(t->status) ? t->out : t->out2);
+		for (int i = 0; x >= 0 && x != c && i < nfail; i++)
+			if (order[i] == x && !g->st[x].weak)
+				return x;
+		return c;
+	}
+	return c;
+}
+
 /* The failure to report: the first that is not a follow-on (a stage
- * stopped by us, or by a closed pipe), else the first; and of that, the
+ * stopped by us, or by a closed pipe, or a tee's reader cut short by
+ * the other reader's failure), else the first; and of that, the
  * failure furthest upstream, whose end a reader saw as short input. */
 static const stage *
 root_cause(const graph *g, const int *order, int nfail)
@@ -240,7 +284,7 @@ root_cause(const graph *g, const int *order, int nfail)
 
 	for (int i = 0; i < nfail; i++)
 		if (!g->st[order[i]].weak) {
-			c = order[i];
+			c = sibling_cause(g, order, nfail, order[i]);
 			break;
 		}
 	if (c >= 0 && !g->st[c].weak)
