@@ -19,30 +19,27 @@ gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 1500 1500 700 700 \
 $PY "$TOP/tests/tools/ellipsoidal.py" "$T/srtm.tif" "$T/geo.tif"
 $PY "$TOP/tests/tools/spike.py" "$T/geo.tif" "$T/spike.tif" 500 400
 dem2vgis -q "$T/spike.tif" "$T/pyr"; ok $? "a pyramid of the crop with a spike"
-run "vgis2terrain -j 1" vgis2terrain -j 1 "$T/pyr" "$T/j1"
-cp "$T/err" "$T/err1"
-later=$(grep -c 'level 1[0-4]: .*try [2-9]' "$T/err1")
-[ "$(grep -c 'level 1[0-4]:' "$T/err1")" -eq 5 ] && [ "$later" -ge 1 ]
+# reads PYR OUT SAMPLES LABEL: -j 1 into OUT1 (its report in OUT.err),
+# then -j 2 and the plan's jobs the same
+reads() {
+	run "${4}vgis2terrain -j 1" vgis2terrain -j 1 "$1" "$2.1"
+	cp "$T/err" "$2.err"
+	run "${4}vgis2terrain -j 2" vgis2terrain -j 2 "$1" "$2.2"
+	cmp -s "$2.err" "$T/err" && diff -r "$2.1" "$2.2" >/dev/null
+	ok $? "${4}-j 1 and -j 2: the same tiles, layer.json and report"
+	vgis2terrain --plan "$2.plan" --part-samples "$3" "$1" "$2.jobs" \
+	    2>/dev/null && make -s -C "$2.plan" -j2 >/dev/null 2>&1 &&
+	    diff -r "$2.1" "$2.jobs" >/dev/null
+	ok $? "${4}the plan's jobs (levels one by one): the same tiles and layer.json"
+}
+reads "$T/pyr" "$T/j" 400000 ""
+later=$(grep -c 'level 1[0-4]: .*try [2-9]' "$T/j.err")
+[ "$(grep -c 'level 1[0-4]:' "$T/j.err")" -eq 5 ] && [ "$later" -ge 1 ]
 ok $? "levels 10 to 14 made, $later of them held only at a later try"
-run "vgis2terrain -j 2" vgis2terrain -j 2 "$T/pyr" "$T/j2"
-cmp -s "$T/err1" "$T/err" && diff -r "$T/j1" "$T/j2" >/dev/null
-ok $? "-j 1 and -j 2: the same tiles, layer.json and report"
-vgis2terrain --plan "$T/plan" --part-samples 400000 "$T/pyr" "$T/jobs" \
-    2>/dev/null && make -s -C "$T/plan" -j2 >/dev/null 2>&1 &&
-    diff -r "$T/j1" "$T/jobs" >/dev/null
-ok $? "the plan's jobs (levels one by one): the same tiles and layer.json"
 
 gdalwarp -q -t_srs EPSG:32610 -tr 30 30 -r near "$T/spike.tif" "$T/utm.tif"
 dem2vgis -q "$T/utm.tif" "$T/upyr"; ok $? "UTM: a pyramid of the warp"
-run "UTM: vgis2terrain -j 1" vgis2terrain -j 1 "$T/upyr" "$T/u1"
-cp "$T/err" "$T/uerr1"
-[ "$(grep -c 'level 1[0-4]: .*try [2-9]' "$T/uerr1")" -ge 1 ]
+reads "$T/upyr" "$T/u" 100000 "UTM: "
+[ "$(grep -c 'level 1[0-4]: .*try [2-9]' "$T/u.err")" -ge 1 ]
 ok $? "UTM: a deep level held only at a later try"
-run "UTM: vgis2terrain -j 2" vgis2terrain -j 2 "$T/upyr" "$T/u2"
-cmp -s "$T/uerr1" "$T/err" && diff -r "$T/u1" "$T/u2" >/dev/null
-ok $? "UTM: -j 1 and -j 2: the same tiles, layer.json and report"
-vgis2terrain --plan "$T/uplan" --part-samples 100000 "$T/upyr" "$T/ujobs" \
-    2>/dev/null && make -s -C "$T/uplan" -j2 >/dev/null 2>&1 &&
-    diff -r "$T/u1" "$T/ujobs" >/dev/null
-ok $? "UTM: the plan's jobs (levels one by one): the same tiles and layer.json"
 done_testing

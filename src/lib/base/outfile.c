@@ -282,21 +282,6 @@ sweep(const char *path, int dir)
 		tl_sweep(open(parent, DIRFLAGS), LOCKNAME, out_rule, &r);
 }
 
-/* Waits for the lock on fd, the temporary's (or its lock file's) just
- * created: 0 held, 1 when a sweeper removed it meanwhile (try again), -1
- * no locks here. */
-static int
-lock_new(int fd)
-{
-	struct stat st;
-
-	while (flock(fd, LOCK_EX) != 0)
-		if (errno != EINTR)
-			return -1; /* no locks here (some network file
-			            * systems): unguarded, as before */
-	return fstat(fd, &st) == 0 && st.st_nlink == 0;
-}
-
 static int
 out_begin(tl_outfile *o, const char *path, tl_err *e)
 {
@@ -321,7 +306,7 @@ out_begin(tl_outfile *o, const char *path, tl_err *e)
 			o->path = o->tmp = NULL;
 			return -1;
 		}
-		if ((held = lock_new(o->fd)) != 1 || tries == 8)
+		if ((held = tl_sweep_hold(o->fd)) != 1 || tries == 8)
 			break;
 		close(o->fd); /* swept before we held it */
 		free(o->path), free(o->tmp);
@@ -534,7 +519,7 @@ dir_lock(const char *t, int *again, tl_err *e)
 	    0600);
 	if (fd < 0)
 		return -1;
-	switch (lock_new(fd)) {
+	switch (tl_sweep_hold(fd)) {
 	case 1:
 		*again = 1;
 		close(fd);

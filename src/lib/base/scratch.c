@@ -36,26 +36,19 @@ scratch_sweep(const char *prefix)
 	    O_CLOEXEC), "lock", scratch_rule, (void *)prefix);
 }
 
-/* The lock file in the new directory s->path, locked: 0, 1 when a
- * sweeper took its lock first and removed the directory (the lock file
- * exists unlocked between open and flock: a concurrent run's sweep may
- * take it, and we wait for our lock until it has), -1 with errno. */
+/* The lock file in the new directory s->path, locked (tl_sweep_hold:
+ * a run starting beside us may sweep it between its creation and our
+ * lock): 0, 1 when swept meanwhile, -1 with errno. */
 static int
 lock_new(scratch *s)
 {
 	char lock[4200];
-	struct stat st;
 
 	snprintf(lock, sizeof lock, "%s/lock", s->path);
 	if ((s->lock = open(lock, O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC,
 	    0600)) < 0)
 		return -1;
-	while (flock(s->lock, LOCK_EX) != 0)
-		if (errno != EINTR)
-			return -1;
-	if (fstat(s->lock, &st) != 0)
-		return -1;
-	return st.st_nlink == 0;
+	return tl_sweep_hold(s->lock);
 }
 
 int

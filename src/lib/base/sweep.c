@@ -30,6 +30,17 @@ tl_sweep_tail(const char *x, size_t n)
 	return 1;
 }
 
+int
+tl_sweep_hold(int fd)
+{
+	struct stat st;
+
+	while (flock(fd, LOCK_EX) != 0)
+		if (errno != EINTR)
+			return -1;
+	return fstat(fd, &st) == 0 && st.st_nlink == 0;
+}
+
 /* 1 when fd carries the mark. */
 static int
 marked(int fd)

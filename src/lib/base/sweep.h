@@ -33,6 +33,11 @@ typedef int tl_sweep_rule(const char *name, void *arg);
  * Returns how many went; best effort: what cannot be read or removed
  * stays, silently. */
 int tl_sweep(int dfd, const char *lockname, tl_sweep_rule *rule, void *arg);
+/* The owner's side: waits for the lock on fd, a temporary (or its lock
+ * file) it has just created, which a sweeper may hold a moment: 0 held,
+ * 1 when the sweeper removed it meanwhile (no link left: make another),
+ * -1 no locks on this file system. */
+int tl_sweep_hold(int fd);
 /* 1 when x (n bytes) ends in ".XXXXXX", mkstemp's six letters and
  * digits. */
 int tl_sweep_tail(const char *x, size_t n);

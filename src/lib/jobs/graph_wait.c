@@ -154,6 +154,14 @@ failed(const stage *s)
 	return !WIFEXITED(s->status) || WEXITSTATUS(s->status) != 0;
 }
 
+/* 1 when s died of a closed pipe (its reader gone). */
+static int
+piped(const stage *s)
+{
+	return (WIFSIGNALED(s->status) && WTERMSIG(s->status) == SIGPIPE) ||
+	    (WIFEXITED(s->status) && WEXITSTATUS(s->status) == 128 + SIGPIPE);
+}
+
 /* Reaps what has ended; returns how many are still running. */
 static int
 reap(graph *g, int stopping)
@@ -173,10 +181,7 @@ reap(graph *g, int stopping)
 		/* follow-ons: a writer whose reader is gone (dead of SIGPIPE,
 		 * or a shell saying so, 128 + SIGPIPE), a stage dead of the
 		 * signals we sent */
-		s->weak = (stopping && WIFSIGNALED(s->status)) ||
-		    (WIFSIGNALED(s->status) && WTERMSIG(s->status) == SIGPIPE) ||
-		    (WIFEXITED(s->status) &&
-		    WEXITSTATUS(s->status) == 128 + SIGPIPE);
+		s->weak = (stopping && WIFSIGNALED(s->status)) || piped(s);
 		finish_output(s);
 	}
 	return running;
@@ -228,14 +233,6 @@ upstream_ended(const graph *g, int k)
 			return 0;
 	}
 	return 1;
-}
-
-/* 1 when s died of a closed pipe (its reader gone). */
-static int
-piped(const stage *s)
-{
-	return (WIFSIGNALED(s->status) && WTERMSIG(s->status) == SIGPIPE) ||
-	    (WIFEXITED(s->status) && WEXITSTATUS(s->status) == 128 + SIGPIPE);
 }
 
 /* The stage reading the pipe whose write end is fd, or -1. */
