@@ -258,6 +258,15 @@ vwarn(const cli *c, const char *fmt, va_list ap)
 }
 
 int
+cli_outdir(const cli *c, const char *dir)
+{
+	if (strcmp(dir, "-") != 0)
+		return 0;
+	return cli_bad(c, "-: the output is a directory, which standard "
+	    "output cannot hold (./- names a directory -)");
+}
+
+int
 cli_bad(const cli *c, const char *fmt, ...)
 {
 	va_list ap;

@@ -65,6 +65,10 @@ void cli_usage(const cli *c, FILE *f);
 /* A usage error: the usage on stderr; returns CLI_USAGE. */
 int cli_usage_error(const cli *c);
 
+/* An output directory operand: "-" refused (a usage error, its status
+ * returned), since standard output cannot hold a directory and a
+ * directory named "-" is seldom meant (./- names one); else 0. */
+int cli_outdir(const cli *c, const char *dir);
 /* A bad option value or operand: "prog: message"; returns CLI_USAGE. */
 int cli_bad(const cli *c, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));

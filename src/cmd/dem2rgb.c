@@ -155,6 +155,8 @@ main(int argc, char **argv)
 	if (plan != NULL && a.dump != NULL)
 		return cli_bad(&c, "--dump: not with --plan");
 	a.dem = argv[optind], a.prog = c.prog;
+	if (!a.pmtiles && cli_outdir(&c, argv[optind + 1]) != 0)
+		return CLI_USAGE;
 	if (!a.pmtiles)
 		a.out = argv[optind + 1];
 	if (plan != NULL)

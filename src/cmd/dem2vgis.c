@@ -124,6 +124,8 @@ main(int argc, char **argv)
 		return cli_usage_error(&c);
 	o.prog = c.prog, o.bindir = cli_bindir(self, sizeof self);
 	o.dem = argv[optind], o.out = argv[argc - 1];
+	if ((st = cli_outdir(&c, o.out)) != 0)
+		return st;
 	o.dems = argv + optind, o.ndem = argc - optind - 1;
 	for (int k = 0; o.ndem > 1 && k < o.ndem; k++)
 		if (strcmp(o.dems[k], "-") == 0)

@@ -98,6 +98,8 @@ main(int argc, char **argv)
 		return c.status;
 	if (argc - optind != 2 || (a.format && a.gzip))
 		return cli_usage_error(&c); /* glbs are not gzipped */
+	if (cli_outdir(&c, argv[optind + 1]) != 0)
+		return CLI_USAGE;
 	a.dir = argv[optind], a.out = argv[optind + 1], a.prog = c.prog;
 	if (plan != NULL)
 		return cli_exit(&c, write_plan(&c, &a, plan, samples, jobs, &e),

@@ -57,6 +57,8 @@ main(int argc, char **argv)
 	a.jobs = a.jobs > T3_MAXJOBS ? T3_MAXJOBS : a.jobs;
 	if (argc - optind != 2)
 		return cli_usage_error(&c);
+	if (cli_outdir(&c, argv[optind + 1]) != 0)
+		return CLI_USAGE;
 	a.dir = argv[optind], a.out = argv[optind + 1], a.prog = c.prog;
 	r = t3_run(&a, &rep, &e);
 	if (r == 0 && !a.quiet)

@@ -155,4 +155,14 @@ fails "fqmfilter L L" 1 "^fqmfilter: .*same.exr: is both the input and the outpu
 fails "fqmsolve - - <L >>L" 1 "^fqmsolve: stdout: is both the input and the output" \
     sh -c 'fqmsolve - - <"$1" >>"$1"' sh "$T/same.exr"
 cmp -s "$T/same.exr" "$T/h0.exr"; ok $? "fqmfilter, fqmsolve: the map untouched"
+# "-" where a directory is written: standard output cannot hold one, and
+# a directory named "-" made in the working directory is seldom meant
+for p in "dem2vgis $T/hills.tif" "dem2rgb $T/hills.tif" "vgis2tiles $T" \
+    "vgis2terrain $T"; do
+	# shellcheck disable=SC2086
+	fails "${p%% *} IN -: a usage error" 2 \
+	    "^${p%% *}: -: the output is a directory" \
+	    sh -c 'cd "$0" && exec "$@"' "$T" $p -
+	[ ! -e "$T/-" ]; ok $? "${p%% *} IN -: no directory - made"
+done
 done_testing
