@@ -114,7 +114,8 @@ fails "EGM96 heights: refused, saying how to rebuild" 1 \
 gdalwarp -q -t_srs EPSG:32610 -tr 30 30 -r bilinear -te 388000 5347000 \
     396000 5360000 "$T/geo.tif" "$T/utm.tif"
 dem2vgis "$T/utm.tif" "$T/utm.pyr" 2>/dev/null
-run "a UTM pyramid exported" vgis2terrain -j 2 "$T/utm.pyr" "$T/utm.qm"
+run "a UTM pyramid exported, every sample measured" env \
+    VGIS2TERRAIN_MEASURE=all vgis2terrain -j 2 "$T/utm.pyr" "$T/utm.qm"
 cp "$T/err" "$T/utmreport"
 bounds "$T/utmreport"
 ok $? "UTM: every level's bound within E_L; measured, at least 5 levels at 0.4 E_L or more"

@@ -38,6 +38,7 @@
  * is not finite, the bound is infinite: measure. */
 #include <math.h>
 
+#include "terrain/tr_bary.h"
 #include "terrain/tr_impl.h"
 
 #define RMAX 6399593.7    /* m: a / sqrt(1 - e^2), the largest N, M */
@@ -167,21 +168,37 @@ typedef struct {
 	double lo[3], hi[3];            /* the box of xd, yd, hd */
 } corners;
 
-/* Triangle k's corners into c; -1 where F has no gradient. */
+/* The plane through (x_i, y_i, h_i), i < 3: its gradient g; -1 where
+ * there is none. */
 static int
-corners_of(const tr_work *w, const int *k, const double r[4], double lo,
-    double hi, corners *c)
+grad(const double *x, const double *y, const double *h, double g[2])
+{
+	double x1 = x[1] - x[0], y1 = y[1] - y[0];
+	double x2 = x[2] - x[0], y2 = y[2] - y[0];
+	double h1 = h[1] - h[0], h2 = h[2] - h[0];
+	double f6 = x1 * y2 - x2 * y1;
+
+	g[0] = (y2 * h1 - y1 * h2) / f6, g[1] = (x1 * h2 - x2 * h1) / f6;
+	return isfinite(g[0]) && isfinite(g[1]) ? 0 : -1;
+}
+
+/* Triangle k's corners into c, val against F, the triangle's own plane
+ * in longitude, latitude (f NULL) or selection triangle f's (a projected
+ * DEM: the piece's S, tr_crs); -1 where that has no gradient. */
+static int
+corners_of(const tr_work *w, const int *k, const tr_tri *f,
+    const double r[4], double lo, double hi, corners *c)
 {
 	const tr_mesh *m = &w->m;
-	double x1 = m->x[k[1]] - m->x[k[0]], y1 = m->y[k[1]] - m->y[k[0]];
-	double x2 = m->x[k[2]] - m->x[k[0]], y2 = m->y[k[2]] - m->y[k[0]];
-	double h1 = m->h[k[1]] - m->h[k[0]], h2 = m->h[k[2]] - m->h[k[0]];
-	double f6 = x1 * y2 - x2 * y1;
-	/* F's gradient, per degree */
-	double gx = (y2 * h1 - y1 * h2) / f6, gy = (x1 * h2 - x2 * h1) / f6;
+	double X[3], Y[3], Z[3], g[2];
 
-	if (!isfinite(gx) || !isfinite(gy))
+	for (int j = 0; j < 3; j++)
+		X[j] = f ? f->x[j] : m->x[k[j]], Y[j] = f ? f->y[j] : m->y[k[j]],
+		Z[j] = f ? f->h[j] : m->h[k[j]];
+	/* F's gradient, per degree */
+	if (grad(X, Y, Z, g) < 0)
 		return -1;
+	double gx = g[0], gy = g[1];
 	for (int j = 0; j < 3; j++) {
 		double tu = w->u[k[j]] / (double)QM_MAX;
 		double tv = w->v[k[j]] / (double)QM_MAX;
@@ -189,7 +206,8 @@ corners_of(const tr_work *w, const int *k, const double r[4], double lo,
 		double p[3] = { (1 - tu) * r[0] + tu * r[2],
 			(1 - tv) * r[1] + tv * r[3], (1 - tq) * lo + tq * hi };
 		c->xd[j] = p[0], c->yd[j] = p[1], c->hd[j] = p[2];
-		c->val[j] = p[2] - m->h[k[j]] - gx * (p[0] - m->x[k[j]]) -
+		c->val[j] = f ? p[2] - Z[0] - gx * (p[0] - X[0]) - gy * (p[1] -
+		    Y[0]) : p[2] - m->h[k[j]] - gx * (p[0] - m->x[k[j]]) -
 		    gy * (p[1] - m->y[k[j]]);
 		for (int i = 0; i < 3; i++) {
 			c->lo[i] = j ? dmin(c->lo[i], p[i]) : p[i];
@@ -251,18 +269,23 @@ tan_tilt(const double *pos, const int *k, const double up0[3], double a)
 
 /* Triangle t's bound; r the tile's rectangle, lo, hi its header
  * heights; o, the rectangle that holds the samples: only the part of
- * the triangle in it counts (0 where none). */
+ * the triangle in it counts (0 where none); f, a projected DEM's
+ * selection triangle it is a piece of (its F), else NULL; *ep (f only)
+ * the CRS term's reach in cells (tr_crs). */
 static double
-tri_bound(const tr_work *w, int t, const double r[4], const double o[4],
-    double lo, double hi)
+tri_bound(const tr_work *w, int t, const tr_tri *f, double gmax,
+    const double r[4], const double o[4], double lo, double hi, double *ep)
 {
 	const int *k = w->m.tri + 3 * t;
 	double A = 0, cmax, smax, up0[3] = { 0, 0, 1 }, da, v[3][3], sn, st;
+	double C = 0;
 	corners c;
 	cpt p[2][8];
 	int n = 3, in;
 
-	if (corners_of(w, k, r, lo, hi, &c) < 0)
+	if (corners_of(w, k, f, r, lo, hi, &c) < 0)
+		return INFINITY;
+	if (f && (C = tr_crs(w->g, f, c.xd, c.yd, gmax, ep)) == INFINITY)
 		return INFINITY;
 	if (c.hi[0] < o[0] || c.lo[0] > o[2] || c.hi[1] < o[1] ||
 	    c.lo[1] > o[3])
@@ -299,22 +322,44 @@ tri_bound(const tr_work *w, int t, const double r[4], const double o[4],
 	st = in ? spread_all(v, 3, qt) : spread(v, 3, qt, p[0], n, o, c.xd,
 	    c.yd);
 	double d = A + 0.5 * sn + 0.5 * turn * st + tan_tilt(w->pos, k, up0,
-	    turn + da) * 0.5 * st;
+	    turn + da) * 0.5 * st + C;
 
 	return isfinite(d) ? d : INFINITY;
 }
 
+/* The largest gradient (metres a cell) of the tile's selected
+ * triangles in the grid (tr_gsel.c's terms), those the samples' places
+ * lie in. */
+static double
+gsel_steepest(const tr_work *w)
+{
+	double most = 0;
+
+	for (int i = 0; i < w->ngsel; i++) {
+		const double *t = w->gsel + (TR_BARY_TERMS + 3) * (size_t)i;
+		double gx = (t[5] * t[9] - t[3] * t[10]) / t[6];
+		double gy = (t[2] * t[10] - t[4] * t[9]) / t[6];
+		most = dmax(most, gx * gx + gy * gy);
+	}
+	return isfinite(most) ? sqrt(most) * (1 + 1e-15) : INFINITY;
+}
+
 double
 tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
-    double lim, double *b)
+    double lim, double *b, double *band)
 {
-	double r[4], o[4], most = 0, pad;
+	double r[4], o[4], most = 0, pad, gmax = 0, reach = -1;
+	const tr_grid *g = w->g;
 
-	if (w->g->projected || w->m.rim) {
+	*band = -1;
+	if ((g->projected && !(g->d2psi < INFINITY)) || (!g->projected &&
+	    w->m.rim)) {
 		for (int t = 0; b && t < w->m.nt; t++)
 			b[t] = INFINITY;
 		return INFINITY;
 	}
+	if (g->projected && !((gmax = gsel_steepest(w)) < INFINITY))
+		return INFINITY;
 	tr_tile_rect(z, x, y, r);
 	/* the samples' rectangle (tr_keep's), widened by 1e-9 of the tile
 	 * for the roundings of the samples' u, v (1e-15 of it) */
@@ -323,13 +368,38 @@ tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
 	o[1] = fmax(r[1], w->g->r[1]) - pad, o[3] = fmin(r[3], w->g->r[3]) + pad;
 	lim = (lim - 1e-6) / TR_BOUND_SAFETY;
 	for (int t = 0; t < w->m.nt; t++) {
-		double d = tri_bound(w, t, r, o, minh, maxh);
+		const tr_tri *f = NULL;
+		double d, ep = 0;
+		if (g->projected) {
+			int s = w->m.src[t];
+			if (s < 0 || w->sel[s].edge == 2) {
+				/* past the footprint, or the band: its
+				 * samples lie in the measured band */
+				reach = dmax(reach, 0);
+				if (s >= 0)
+					reach = dmax(reach, tr_crs_reach(g,
+					    &w->sel[s]));
+				if (b)
+					b[t] = INFINITY;
+				continue;
+			}
+			f = &w->sel[s];
+		}
+		d = tri_bound(w, t, f, gmax, r, o, minh, maxh, &ep);
+		if (f && f->edge)
+			reach = dmax(reach, ep);
 		if (b)
 			b[t] = d;
 		else if (!(d <= lim))
 			return INFINITY; /* measure it */
 		most = dmax(most, d);
 	}
+	/* the samples a rim or band triangle may draw: within the reach
+	 * of the outline's triangles, plus the quantisation's (a vertex
+	 * moves up to half a quantum in u and v, a merge a quantum) */
+	if (reach >= 0)
+		*band = 1 + reach + 2 * g->d1psi * 1.5 * ldexp(180, -z) /
+		    QM_MAX;
 	return TR_BOUND_SAFETY * most + 1e-6;
 }
 

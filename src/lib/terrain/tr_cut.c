@@ -120,18 +120,25 @@ push(tr_work *w, const tr_tri *q)
 	return 0;
 }
 
-/* Triangle (a, b, c) of the longitudes x, latitudes y, heights h into
- * the selection when its box meets r. */
+/* Triangle (a, b, c) of the longitudes x, latitudes y, heights h,
+ * level-0 places gx, gy, into the selection when its box meets r; edge
+ * 2 for the band's, else 1 when a vertex lies on or past a side. */
 static int
-add(tr_work *w, const double *x, const double *y, const double *h, int a,
-    int b, int c, const double r[4])
+add(tr_work *w, const double *x, const double *y, const double *h,
+    const double *gx, const double *gy, int edge, int a, int b, int c,
+    const double r[4])
 {
+	double W = w->g->w0 - 1, H = w->g->h0 - 1;
 	tr_tri q;
 	int k[3] = { a, b, c };
 
 	q.lo[0] = q.lo[1] = INFINITY, q.hi[0] = q.hi[1] = -INFINITY;
+	q.edge = edge;
 	for (int i = 0; i < 3; i++) {
 		q.x[i] = x[k[i]], q.y[i] = y[k[i]], q.h[i] = h[k[i]];
+		q.gx[i] = gx[k[i]], q.gy[i] = gy[k[i]];
+		if (!(q.gx[i] > 0 && q.gx[i] < W && q.gy[i] > 0 && q.gy[i] < H))
+			q.edge = q.edge ? q.edge : 1;
 		q.lo[0] = fmin(q.lo[0], q.x[i]), q.hi[0] = fmax(q.hi[0], q.x[i]);
 		q.lo[1] = fmin(q.lo[1], q.y[i]), q.hi[1] = fmax(q.hi[1], q.y[i]);
 	}
@@ -145,8 +152,8 @@ add(tr_work *w, const double *x, const double *y, const double *h, int a,
  * apex whose triangles all turn the polygon's way (the map may bend a
  * thin one past a chord), else from vertex 0. */
 static int
-fan(tr_work *w, const double *x, const double *y, const double *h, int k,
-    const double r[4])
+fan(tr_work *w, const double *x, const double *y, const double *h,
+    const double *gx, const double *gy, int k, const double r[4])
 {
 	double s = 0;
 	int a = 0;
@@ -164,7 +171,8 @@ fan(tr_work *w, const double *x, const double *y, const double *h, int k,
 	}
 	for (int i = 1; i + 1 < k; i++)
 		if (area(x, y, a, (a + i) % k, (a + i + 1) % k) != 0 &&
-		    add(w, x, y, h, a, (a + i) % k, (a + i + 1) % k, r) < 0)
+		    add(w, x, y, h, gx, gy, 0, a, (a + i) % k, (a + i + 1) % k,
+		    r) < 0)
 			return -1;
 	return 0;
 }
@@ -196,7 +204,7 @@ band(tr_work *w, const gp *c, const double *x, const double *y,
     const double *h, int k, double d, const double r[4])
 {
 	double W = w->g->w0 - 1, H = w->g->h0 - 1, px[48], py[48], ph[48];
-	double mx[48], my[48];
+	double mx[48], my[48], gx[48], gy[48], gm[96];
 	int n = 0, m = 0, at[48];
 	tl_err e;
 
@@ -207,7 +215,9 @@ band(tr_work *w, const gp *c, const double *x, const double *y,
 		if (!outward(p, q, W, H, &dx, &dy))
 			continue;
 		/* p, q known; q', p' new */
+		gx[n] = p->x, gy[n] = p->y;
 		px[n] = x[i], py[n] = y[i], ph[n] = h[i], at[n++] = -1;
+		gx[n] = q->x, gy[n] = q->y;
 		px[n] = x[j], py[n] = y[j], ph[n] = h[j], at[n++] = -1;
 		mx[m] = q->x + d * dx, my[m] = q->y + d * dy;
 		ph[n] = q->h, at[n++] = m++;
@@ -218,6 +228,7 @@ band(tr_work *w, const gp *c, const double *x, const double *y,
 			double oy = o->y == 0 ? -d : d;
 			if (o->y != 0 && o->y != H)
 				continue;
+			gx[n] = o->x, gy[n] = o->y;
 			px[n] = x[s ? j : i], py[n] = y[s ? j : i];
 			ph[n] = o->h, at[n++] = -1;
 			mx[m] = o->x + d * dx, my[m] = o->y;
@@ -230,14 +241,17 @@ band(tr_work *w, const gp *c, const double *x, const double *y,
 	}
 	if (n == 0)
 		return 0;
+	for (int i = 0; i < m; i++)
+		gm[2 * i] = mx[i], gm[2 * i + 1] = my[i];
 	if (tr_lonlat(w->g, &w->proj, &w->ix->geo, mx, my, m, &e) < 0)
 		return -1;
 	for (int i = 0; i < n; i++)
-		if (at[i] >= 0)
+		if (at[i] >= 0) /* mx, my converted in place: theirs kept */
+			gx[i] = gm[2 * at[i]], gy[i] = gm[2 * at[i] + 1],
 			px[i] = mx[at[i]], py[i] = my[at[i]];
 	for (int i = 0; i < n; i += 4)
-		if (add(w, px, py, ph, i, i + 1, i + 2, r) < 0 ||
-		    add(w, px, py, ph, i, i + 2, i + 3, r) < 0)
+		if (add(w, px, py, ph, gx, gy, 2, i, i + 1, i + 2, r) < 0 ||
+		    add(w, px, py, ph, gx, gy, 2, i, i + 2, i + 3, r) < 0)
 			return -1;
 	return 0;
 }
@@ -295,7 +309,7 @@ tr_rim_sel(tr_work *w, const tr_choice *ch, const pyramid_block *b,
     const double r[4])
 {
 	const tr_grid *g = w->g;
-	double W = g->w0 - 1, H = g->h0 - 1, x[8], y[8], h[8];
+	double W = g->w0 - 1, H = g->h0 - 1, x[8], y[8], h[8], gx[8], gy[8];
 	gp o[3], a[8], c[8];
 	int n = 3, k = 0, idx[3], p = ch->p;
 	tl_err e;
@@ -332,13 +346,13 @@ tr_rim_sel(tr_work *w, const tr_choice *ch, const pyramid_block *b,
 		return -1;
 	nn = 0;
 	for (int i = 0; i < k; i++) {
-		h[i] = c[i].h;
+		h[i] = c[i].h, gx[i] = c[i].x, gy[i] = c[i].y;
 		if (c[i].v >= 0)
 			x[i] = lon[idx[c[i].v]], y[i] = lat[idx[c[i].v]];
 		else
 			x[i] = px[nn], y[i] = py[nn++];
 	}
-	if (keep_grid(w, ch->z, o, x, y, k, r) < 0 || fan(w, x, y, h, k, r) < 0)
+	if (keep_grid(w, ch->z, o, x, y, k, r) < 0 || fan(w, x, y, h, gx, gy, k, r) < 0)
 		return -1;
 	return band(w, c, x, y, h, k, tr_rim_band(g, ch->z), r);
 }

@@ -325,7 +325,7 @@ tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
 	if (boxes(g, ix, p, e) < 0)
 		return -1;
 	if (g->projected)
-		llfile(g, ix);
+		tr_curve(g, p, geo), llfile(g, ix);
 	return 0;
 }
 

@@ -49,6 +49,11 @@ typedef struct {
 	double fp[4];           /* projected: the box of the side samples */
 	double cell;            /* metres: the longest level-0 step */
 	double **box;           /* per level: 4 per block */
+	double d1psi, d2psi;    /* projected (tr_curve.c): bounds of the map
+	                         * psi from longitude, latitude (degrees) to
+	                         * level-0 places: |D psi| (cells a degree),
+	                         * |D2 psi[d, d]|, d a unit (cells a square
+	                         * degree); d2psi INFINITY: none known */
 	struct tr_llfile *ll;   /* projected: the blocks' vertex longitudes
 	                         * and latitudes, each through PROJ once a
 	                         * run, for all threads (tr_block); NULL:
@@ -60,6 +65,8 @@ typedef struct {
 int tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p,
     tl_err *e);
 void tr_grid_free(tr_grid *g, int nlevels);
+/* g's d1psi, d2psi (tr_curve.c). */
+void tr_curve(tr_grid *g, geo_proj *p, const georef *geo);
 /* Longitude, latitude of level-0 places, n at once (x, y in place). */
 int tr_lonlat(const tr_grid *g, geo_proj *p, const georef *geo, double *x,
     double *y, int n, tl_err *e);
@@ -74,12 +81,20 @@ typedef struct {
 	unsigned char *rim;     /* projected DEMs: per triangle, 1 past the
 	                         * footprint (tr_rim.c); else NULL */
 	int crim;
+	int *src;               /* projected DEMs: per triangle, the selection
+	                         * triangle (w->sel) it is a piece of, -1 past
+	                         * the footprint; with rim */
+	int csrc;
 } tr_mesh;
 
-/* A selection triangle: longitudes, latitudes, heights. */
+/* A selection triangle: longitudes, latitudes, heights; a projected
+ * DEM's, its level-0 places too (tr_cut.c), and whether it lies on the
+ * grid's outline (a vertex on or past a side: cut, or the band). */
 typedef struct {
 	double x[3], y[3], h[3];
 	double lo[2], hi[2];    /* its box */
+	double gx[3], gy[3];
+	int edge;               /* 1 on the outline, 2 the band's */
 } tr_tri;
 
 /* One thread's state. */
@@ -250,6 +265,10 @@ int tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
  * largest distance between the decoded surface and the selection's, d[1]
  * between it and the samples (tr_measure.c). */
 int tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e);
+/* The same over a projected DEM's samples within band cells of the
+ * grid's sides alone. */
+int tr_measure_band(tr_work *w, int z, int x, int y, double band,
+    double d[2], tl_err *e);
 
 /* A tile's measure in two halves, so that many tiles share one pass
  * over level 0 (tr_batch.c): tr_keep, the quantised tile's locator,
@@ -269,25 +288,44 @@ int tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi,
  * computing its own; tr_kept_block takes them, or NULL. */
 void tr_block_feet(const tr_grid *g, const double *lon, const double *lat,
     int bi, int bj, double *fu);
-/* Whether level-0 block kb meets the tile's part of the terrain. */
+/* Only kept tile k's samples within band cells of the grid's sides
+ * measured (a projected DEM's; INFINITY, as tr_keep makes it: all). */
+void tr_kept_band(tr_kept *k, double band);
+/* Whether level-0 block kb meets the tile's part of the terrain (and
+ * its band). */
 int tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb);
 /* Its samples in every level-0 block, through the thread's cache. */
 int tr_kept_walk(tr_work *w, const tr_kept *k, double d[2], tl_err *e);
 size_t tr_kept_bytes(const tr_kept *k);
 void tr_kept_free(tr_kept *k);
 /* Check mode: each sample of kept tile k fails the measure when farther
- * from the selection than its triangle's b[t] (tr_bound's, nt). */
-int tr_kept_check(tr_kept *k, const double *b, int nt, tl_err *e);
+ * from the selection than its triangle's b[t] (tr_bound's, nt), or, a
+ * projected DEM's, drawn by a triangle b leaves unbounded deeper than
+ * claim cells from the grid's sides (tr_bound's band). */
+int tr_kept_check(tr_kept *k, const double *b, int nt, double claim,
+    tl_err *e);
 
-/* An upper bound of d[0] over the quantised tile (z, x, y) of a
- * geographic DEM, minh, maxh its header heights (tr_bound.c): the largest
- * of its triangles' (their own, without the factor, into b when not
- * NULL), times TR_BOUND_SAFETY, plus 1 um; INFINITY for a projected
- * DEM, where a triangle is not boundable (tilted 89.9 degrees or more),
- * or, b NULL, as soon as the bound passes lim. */
+/* An upper bound of d[0] over the quantised tile (z, x, y), minh, maxh
+ * its header heights (tr_bound.c): the largest of its triangles' (their
+ * own, without the factor, into b when not NULL), times TR_BOUND_SAFETY,
+ * plus 1 um; INFINITY where a triangle is not boundable (tilted 89.9
+ * degrees or more; a projected DEM whose map has no bound, tr_curve.c),
+ * or, b NULL, as soon as the bound passes lim. A projected DEM's
+ * triangles past the footprint or in the band are not bounded (b
+ * INFINITY): the samples they may draw lie within *band cells of the
+ * grid's sides, to be measured (-1: none may). */
 #define TR_BOUND_SAFETY 2.0
 double tr_bound(const tr_work *w, int z, int x, int y, float minh,
-    float maxh, double lim, double *b);
+    float maxh, double lim, double *b, double *band);
+/* The CRS term (tr_crs.c) of a piece of selection triangle f whose
+ * decoded corners lie at xd, yd (degrees), gmax the steepest selected
+ * triangle of the tile (metres a cell): a bound of the selection's
+ * height at a sample's grid place against F_S at its longitude,
+ * latitude; *reach, cells, how far outside S that place may lie. */
+double tr_crs(const tr_grid *g, const tr_tri *f, const double xd[3],
+    const double yd[3], double gmax, double *reach);
+/* The same reach of f's pieces, their corners on it. */
+double tr_crs_reach(const tr_grid *g, const tr_tri *f);
 /* About the number of level-0 samples in tile (z, x, y) (geographic; 1
  * for a projected DEM), for the share measured. */
 long long tr_tile_samples(const tr_grid *g, int z, int x, int y);

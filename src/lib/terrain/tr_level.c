@@ -50,46 +50,62 @@ measure_checked(tr_work *w, int z, int x, int y, float lo, float hi,
 	tr_kept *k = NULL;
 	int r = -1;
 
+	double band;
+
 	d[0] = d[1] = 0;
 	if (b == NULL)
 		return tl_fail(e, "tile: out of memory");
-	tr_bound(w, z, x, y, lo, hi, INFINITY, b);
+	tr_bound(w, z, x, y, lo, hi, INFINITY, b, &band);
 	if (tr_keep(w, z, x, y, &k, e) == 0)
-		r = k == NULL ? 0 : tr_kept_check(k, b, w->m.nt, e) < 0 ? -1 :
-		    tr_kept_walk(w, k, d, e);
+		r = k == NULL ? 0 : tr_kept_check(k, b, w->m.nt, band, e) < 0 ?
+		    -1 : tr_kept_walk(w, k, d, e);
 	tr_kept_free(k), free(b);
 	return r;
 }
 
 /* Tile (x, y)'s distances d, or, while tiles are kept for one pass
  * (tr_batch), d 0 and the tile kept, measured at once past x->keep.
- * Where the bound of a geographic tile (tr_bound) fits c's budget,
- * E_L - max(tau, base), the tile is not measured: d[0] is the bound, d[1]
- * 0, and the level holds or not as the measure would have it (its
- * d[0] is within the bound); *m 0. */
+ * Where the tile's bound (tr_bound) fits c's budget, E_L - max(tau,
+ * base), the tile is not measured: d[0] is the bound, d[1] 0, and the
+ * level holds or not as the measure would have it (its d[0] is within
+ * the bound); *m 0. A projected tile's samples that the bound leaves
+ * out (those its triangles past the footprint or in the band may draw,
+ * near the grid's sides) are measured: d the larger of both. */
 static int
 measure(tr_export *j, tr_work *w, const tr_choice *c, int x, int y,
     float lo, float hi, double d[2], int *m, tl_err *e)
 {
 	int z = c->z, r;
+	double band;
 	tr_kept *k;
 
 	*m = 1;
 	if (measure_all())
 		return measure_checked(w, z, x, y, lo, hi, d, e);
 	d[0] = tr_bound(w, z, x, y, lo, hi, c->el - fmax(c->tau, c->base),
-	    NULL), d[1] = 0;
+	    NULL, &band), d[1] = 0;
 	if (fmax(c->tau, c->base) + d[0] <= c->el) {
+		double dm[2];
 		*m = 0;
-		return 0;
-	}
+		if (band < 0)
+			return 0;
+		if (j->keep == 0) {
+			if (tr_measure_band(w, z, x, y, band, dm, e) < 0)
+				return -1;
+			d[0] = fmax(d[0], dm[0]), d[1] = dm[1];
+			return 0;
+		}
+	} else
+		band = INFINITY;
 	if (j->keep == 0)
 		return tr_measure(w, z, x, y, d, e);
-	d[0] = d[1] = 0;
+	if (band == INFINITY)
+		d[0] = d[1] = 0; /* else the bound, the band's added later */
 	if (tr_keep(w, z, x, y, &k, e) < 0)
 		return -1;
 	if (k == NULL)
 		return 0;
+	tr_kept_band(k, band);
 	if (w->kbytes + tr_kept_bytes(k) <= j->keep) {
 		if (w->nkept == w->ckept) {
 			int n = w->ckept ? 2 * w->ckept : 16;

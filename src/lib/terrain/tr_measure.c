@@ -35,6 +35,11 @@ typedef struct {
 	double *bf;         /* in lon, lat: the same and the heights */
 	const double *bound; /* per triangle, tr_bound's: checked, or NULL */
 	const tr_gsel *gs;  /* projected: the selection in the grid */
+	double W, H;        /* projected: the grid's last place, x and y */
+	double band;        /* projected: only the samples within band
+	                     * cells of a side measured (INFINITY: all) */
+	double claim;       /* checked: those deeper drawn by bounded
+	                     * triangles (tr_bound's band) */
 } locator;
 #define TR_PLANES (4 + 2 * TR_BARY_TERMS + 3) /* doubles a triangle */
 
@@ -230,6 +235,31 @@ check(const locator *l, int q, const double f[3], const double up[3],
 	    l->bound[q]);
 }
 
+/* The same for a projected DEM's sample at grid place (gx, gy), depth
+ * cells from the nearest side, against the selection's height there
+ * (zs, or NaN past the footprint): a triangle not bounded (past the
+ * footprint, the band) draws only samples within l->claim of a side. */
+static int
+check_grid(const locator *l, int q, const double f[3], const double up[3],
+    double gx, double gy, double depth, double zs, tl_err *e)
+{
+	double d = fabs(drawn(l, q, f, up) - zs);
+
+	if (!(l->bound[q] < INFINITY)) {
+		if (depth <= l->claim)
+			return 0;
+		return tl_fail(e, "tile: sample (%.0f, %.0f), %.1f cells from "
+		    "the grid's sides, drawn by a triangle past the footprint or "
+		    "in the band, over the %.3f cells claimed", gx, gy, depth,
+		    l->claim);
+	}
+	if (d <= l->bound[q] * (1 + 1e-9) + 1e-7)
+		return 0;
+	return tl_fail(e, "tile: sample (%.0f, %.0f): %.6f m from the "
+	    "selection, over its triangle's bound %.6f m", gx, gy, d,
+	    l->bound[q]);
+}
+
 /* A geographic block's columns and rows: the normals' sines and cosines
  * (as geo_ellipsoid computes them) and the places in the tile's u, v
  * (as each sample computes them), per column and per row. */
@@ -279,8 +309,12 @@ measure_proj(const pyramid_block *b, const double *lon, const double *lat,
 {
 	double wd = r[2] - r[0], f[3], up[3];
 	int k = J * BT_SIZE + I, q;
-	double x = lon[k], y = lat[k];
+	double gx = bi * BT_CELLS + I, gy = bj * BT_CELLS + J;
+	double depth = dmin(dmin(gx, l->W - gx), dmin(gy, l->H - gy));
 
+	if (depth > l->band)
+		return 0;
+	double x = lon[k], y = lat[k];
 	if (x < t[0] || x > t[2] || y < t[1] || y > t[3])
 		return 0;
 	q = locate(l, (x - r[0]) / wd * QM_MAX, (y - r[1]) / wd * QM_MAX,
@@ -296,13 +330,13 @@ measure_proj(const pyramid_block *b, const double *lon, const double *lat,
 		return tl_fail(e, "tile: sample (%d, %d) under no triangle",
 		    bi * BT_CELLS + I, bj * BT_CELLS + J);
 	int out = rim && rim[q];
-	double gx = bi * BT_CELLS + I, gy = bj * BT_CELLS + J;
 	const double *gt = out ? NULL : tr_gsel_find(l->gs, gx, gy, ghint);
 	if ((!out && gt == NULL) || sample_grid(l, q, gt, f, up, gx, gy,
 	    b->z[k], dd) < 0)
 		return tl_fail(e, "tile: sample (%d, %d) in no selected "
 		    "triangle", bi * BT_CELLS + I, bj * BT_CELLS + J);
-	if (l->bound && !out && check(l, q, f, up, x, y, e) < 0)
+	if (l->bound && check_grid(l, q, f, up, gx, gy, depth, gt ?
+	    tr_bary_flat(gt, gx, gy) : NAN, e) < 0)
 		return -1;
 	return 0;
 }
@@ -416,6 +450,7 @@ struct tr_kept {
 	double *bound;
 	tr_gsel gs;
 	size_t bytes;
+	int nb0;        /* level 0's blocks a row */
 };
 
 void
@@ -462,6 +497,9 @@ tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e)
 	}
 	if (k->rim)
 		memcpy(k->rim, w->m.rim, nt);
+	k->l.W = w->g->w0 - 1, k->l.H = w->g->h0 - 1;
+	k->nb0 = w->ix->lev[0].blocks[0];
+	k->l.band = INFINITY, k->l.claim = INFINITY;
 	if (w->g->projected) {
 		if (tr_gsel_init(&k->gs, w) < 0) {
 			tr_kept_free(k);
@@ -477,8 +515,10 @@ tr_keep(tr_work *w, int z, int x, int y, tr_kept **out, tl_err *e)
 }
 
 int
-tr_kept_check(tr_kept *k, const double *b, int nt, tl_err *e)
+tr_kept_check(tr_kept *k, const double *b, int nt, double claim,
+    tl_err *e)
 {
+	k->l.claim = claim < 0 ? 0 : claim;
 	if ((k->bound = malloc((size_t)(nt ? nt : 1) * sizeof *b)) == NULL)
 		return tl_fail(e, "tile: out of memory");
 	for (int t = 0; t < nt; t++)
@@ -491,8 +531,19 @@ int
 tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb)
 {
 	const double *o = g->box[0] + 4 * (size_t)kb, *t = k->t;
+	double x0 = kb % k->nb0 * BT_CELLS, y0 = kb / k->nb0 * BT_CELLS;
+	double x1 = x0 + BT_CELLS, y1 = y0 + BT_CELLS;
 
+	/* a side's band alone measured: a block deeper holds none */
+	if (dmin(dmin(x0, k->l.W - x1), dmin(y0, k->l.H - y1)) > k->l.band)
+		return 0;
 	return !(o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3]);
+}
+
+void
+tr_kept_band(tr_kept *k, double band)
+{
+	k->l.band = band;
 }
 
 int
@@ -530,9 +581,11 @@ tr_kept_walk(tr_work *w, const tr_kept *kp, double d[2], tl_err *e)
 	return 0;
 }
 
-/* Every level-0 sample in the tile and in the terrain's rectangle. */
+/* Every level-0 sample in the tile and in the terrain's rectangle
+ * (a projected DEM's within band cells of a side). */
 int
-tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
+tr_measure_band(tr_work *w, int z, int x, int y, double band, double d[2],
+    tl_err *e)
 {
 	tr_kept *kp;
 	int ret;
@@ -540,7 +593,15 @@ tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
 	d[0] = d[1] = 0;
 	if (tr_keep(w, z, x, y, &kp, e) < 0)
 		return -1;
+	if (kp)
+		tr_kept_band(kp, band);
 	ret = kp ? tr_kept_walk(w, kp, d, e) : 0; /* NULL: no sample */
 	tr_kept_free(kp);
 	return ret;
+}
+
+int
+tr_measure(tr_work *w, int z, int x, int y, double d[2], tl_err *e)
+{
+	return tr_measure_band(w, z, x, y, INFINITY, d, e);
 }

@@ -217,7 +217,7 @@ tr_quantise(tr_work *w, int z, int x, int y, float *minh, float *maxh,
 			continue;
 		}
 		if (m->rim)
-			m->rim[nt] = m->rim[t];
+			m->rim[nt] = m->rim[t], m->src[nt] = m->src[t];
 		memmove(m->tri + 3 * nt++, k, 3 * sizeof *k);
 	}
 	m->nt = nt;

@@ -90,11 +90,23 @@ grow(void **p, int *cap, int need, size_t sz)
 	return 0;
 }
 
-/* m->rim over triangles from .. m->nt set to v. */
+/* m->src over triangles from .. m->nt set to s. */
+static int
+source(tr_mesh *m, int from, int s, tl_err *e)
+{
+	if (grow((void **)&m->src, &m->csrc, m->nt + 1, sizeof *m->src) < 0)
+		return tl_fail(e, "mesh: out of memory");
+	for (int t = from; t < m->nt; t++)
+		m->src[t] = s;
+	return 0;
+}
+
+/* m->rim over triangles from .. m->nt set to v (1: their m->src -1). */
 static int
 mark(tr_mesh *m, int from, int v, tl_err *e)
 {
-	if (grow((void **)&m->rim, &m->crim, m->nt + 1, 1) < 0)
+	if (grow((void **)&m->rim, &m->crim, m->nt + 1, 1) < 0 ||
+	    (v && source(m, from, -1, e) < 0))
 		return tl_fail(e, "mesh: out of memory");
 	memset(m->rim + from, v, (size_t)(m->nt - from));
 	return 0;
@@ -105,9 +117,11 @@ tr_rim_inherit(tr_mesh *m, int from, tl_err *e)
 {
 	if (m->rim == NULL)
 		return 0;
-	if (grow((void **)&m->rim, &m->crim, m->nt + 1, 1) < 0)
+	if (grow((void **)&m->rim, &m->crim, m->nt + 1, 1) < 0 ||
+	    grow((void **)&m->src, &m->csrc, m->nt + 1, sizeof *m->src) < 0)
 		return tl_fail(e, "mesh: out of memory");
 	m->rim[m->nt - 1] = m->rim[from];
+	m->src[m->nt - 1] = m->src[from];
 	return 0;
 }
 
@@ -142,7 +156,9 @@ dem_row(rim *R, int j)
 			const tr_tri *q = &w->sel[w->row[k]];
 			if (q->hi[0] < c[0] || q->lo[0] > c[2])
 				continue;
-			if (tr_clip(m, q, c, R->e) < 0)
+			int t1 = m->nt;
+			if (tr_clip(m, q, c, R->e) < 0 ||
+			    source(m, t1, w->row[k], R->e) < 0)
 				return -1;
 		}
 	}

@@ -91,7 +91,7 @@ void
 tr_mesh_free(tr_mesh *m)
 {
 	free(m->x), free(m->y), free(m->h), free(m->tri), free(m->hash);
-	free(m->rim);
+	free(m->rim), free(m->src);
 	memset(m, 0, sizeof *m);
 }
 
