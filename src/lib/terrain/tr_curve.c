@@ -89,20 +89,22 @@ tr_curve(tr_grid *g, geo_proj *p, const georef *geo)
 {
 	int big = g->w0 > g->h0 ? g->w0 : g->h0;
 	int s = big / NODES + 1, nx, ny, n;
-	double *x, *y, d1 = 0, d2 = 0, lat = 0;
+	double *x, *y, *h = NULL, d1 = 0, d2 = 0, lat = 0;
 	tl_err ignored;
 
 	g->d1psi = INFINITY, g->d2psi = INFINITY;
 	s = s < 8 ? 8 : s;
 	nx = (g->w0 - 1) / s + 4, ny = (g->h0 - 1) / s + 4, n = nx * ny;
 	x = malloc((size_t)n * sizeof *x), y = malloc((size_t)n * sizeof *y);
-	if (x == NULL || y == NULL)
+	if (x == NULL || y == NULL || (h = calloc((size_t)n, sizeof *h)) ==
+	    NULL)
 		goto done;
+	/* as tr_lonlat converts a projected grid's places */
 	for (int j = 0; j < ny; j++)
 		for (int i = 0; i < nx; i++)
-			x[j * nx + i] = (double)(i - 1) * s,
-			y[j * nx + i] = (double)(j - 1) * s;
-	if (tr_lonlat(g, p, geo, x, y, n, &ignored) < 0)
+			geo_grid_crs(geo, (double)(i - 1) * s, (double)(j - 1) * s,
+			    &x[j * nx + i], &y[j * nx + i]);
+	if (geo_proj_lonlat(p, x, y, h, n, &ignored) < 0)
 		goto done;
 	for (int k = 0; k < n; k++) {
 		lat = fmax(lat, fabs(y[k]));
@@ -127,5 +129,5 @@ tr_curve(tr_grid *g, geo_proj *p, const georef *geo)
 	if (!isfinite(g->d1psi) || !isfinite(g->d2psi))
 		g->d1psi = g->d2psi = INFINITY;
 done:
-	free(x), free(y);
+	free(x), free(y), free(h);
 }
