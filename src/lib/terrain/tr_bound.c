@@ -37,6 +37,7 @@
  * outside their triangle. Where the tilt reaches 80 degrees, or a term
  * is not finite, the bound is infinite: measure. */
 #include <math.h>
+#include <stdlib.h>
 
 #include "terrain/tr_bary.h"
 #include "terrain/tr_impl.h"
@@ -273,8 +274,9 @@ tan_tilt(const double *pos, const int *k, const double up0[3], double a)
  * selection triangle it is a piece of (its F), else NULL; *ep (f only)
  * the CRS term's reach in cells (tr_crs). */
 static double
-tri_bound(const tr_work *w, int t, const tr_tri *f, double gmax,
-    const double r[4], const double o[4], double lo, double hi, double *ep)
+tri_bound(const tr_work *w, int t, const tr_tri *f, const double *pre,
+    double gmax, const double r[4], const double o[4], double lo,
+    double hi, double *ep)
 {
 	const int *k = w->m.tri + 3 * t;
 	double A = 0, cmax, smax, up0[3] = { 0, 0, 1 }, da, v[3][3], sn, st;
@@ -285,7 +287,8 @@ tri_bound(const tr_work *w, int t, const tr_tri *f, double gmax,
 
 	if (corners_of(w, k, f, r, lo, hi, &c) < 0)
 		return INFINITY;
-	if (f && (C = tr_crs(w->g, f, c.xd, c.yd, gmax, ep)) == INFINITY)
+	if (f && (C = tr_crs(w->g, f, pre, c.xd, c.yd, gmax, ep)) ==
+	    INFINITY)
 		return INFINITY;
 	if (c.hi[0] < o[0] || c.lo[0] > o[2] || c.hi[1] < o[1] ||
 	    c.lo[1] > o[3])
@@ -348,7 +351,7 @@ double
 tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
     double lim, double *b, double *band)
 {
-	double r[4], o[4], most = 0, pad, gmax = 0, reach = -1;
+	double r[4], o[4], most = 0, pad, gmax = 0, reach = -1, *pre = NULL;
 	const tr_grid *g = w->g;
 
 	*band = -1;
@@ -358,8 +361,15 @@ tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
 			b[t] = INFINITY;
 		return INFINITY;
 	}
-	if (g->projected && !((gmax = gsel_steepest(w)) < INFINITY))
+	if (g->projected && (!((gmax = gsel_steepest(w)) < INFINITY) ||
+	    (pre = malloc(3 * (size_t)(w->nsel ? w->nsel : 1) *
+	    sizeof *pre)) == NULL)) {
+		for (int t = 0; b && t < w->m.nt; t++)
+			b[t] = INFINITY;
 		return INFINITY;
+	}
+	for (int i = 0; pre && i < w->nsel; i++)
+		pre[3 * i] = NAN; /* not yet */
 	tr_tile_rect(z, x, y, r);
 	/* the samples' rectangle (tr_keep's), widened by 1e-9 of the tile
 	 * for the roundings of the samples' u, v (1e-15 of it) */
@@ -370,30 +380,33 @@ tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
 	for (int t = 0; t < w->m.nt; t++) {
 		const tr_tri *f = NULL;
 		double d, ep = 0;
+		double *fp = NULL;
 		if (g->projected) {
 			int s = w->m.src[t];
+			if (s >= 0 && isnan(pre[3 * s]))
+				tr_crs_prep(g, &w->sel[s], pre + 3 * s);
 			if (s < 0 || w->sel[s].edge == 2) {
 				/* past the footprint, or the band: its
 				 * samples lie in the measured band */
-				reach = dmax(reach, 0);
-				if (s >= 0)
-					reach = dmax(reach, tr_crs_reach(g,
-					    &w->sel[s]));
+				reach = dmax(reach, s < 0 ? 0 : pre[3 * s + 2]);
 				if (b)
 					b[t] = INFINITY;
 				continue;
 			}
-			f = &w->sel[s];
+			f = &w->sel[s], fp = pre + 3 * s;
 		}
-		d = tri_bound(w, t, f, gmax, r, o, minh, maxh, &ep);
+		d = tri_bound(w, t, f, fp, gmax, r, o, minh, maxh, &ep);
 		if (f && f->edge)
 			reach = dmax(reach, ep);
 		if (b)
 			b[t] = d;
-		else if (!(d <= lim))
+		else if (!(d <= lim)) {
+			free(pre);
 			return INFINITY; /* measure it */
+		}
 		most = dmax(most, d);
 	}
+	free(pre);
 	/* the samples a rim or band triangle may draw: within the reach
 	 * of the outline's triangles, plus the quantisation's (a vertex
 	 * moves up to half a quantum in u and v, a merge a quantum) */

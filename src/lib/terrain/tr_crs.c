@@ -111,26 +111,27 @@ slope(const tr_tri *f)
 	return isfinite(n) ? n : -1;
 }
 
-double
-tr_crs_reach(const tr_grid *g, const tr_tri *f)
+void
+tr_crs_prep(const tr_grid *g, const tr_tri *f, double pre[3])
 {
 	double e = 0.5 * g->d2psi * enclosing(f->x, f->y);
 
-	return isfinite(e) ? e : INFINITY;
+	pre[0] = affine_norm(f), pre[1] = slope(f);
+	pre[2] = isfinite(e) ? e : INFINITY;
 }
 
 double
-tr_crs(const tr_grid *g, const tr_tri *f, const double xd[3],
-    const double yd[3], double gmax, double *reach)
+tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
+    const double xd[3], const double yd[3], double gmax, double *reach)
 {
-	double da = affine_norm(f), gp = slope(f), delta = 0, e, c;
+	double da = pre[0], gp = pre[1], delta = 0, e, c;
 
 	*reach = INFINITY;
 	if (da < 0 || gp < 0)
 		return INFINITY;
 	for (int j = 0; j < 3; j++)
 		delta = fmax(delta, outside(f->x, f->y, xd[j], yd[j]));
-	e = tr_crs_reach(g, f) + (da + g->d1psi) * delta;
+	e = pre[2] + (da + g->d1psi) * delta;
 	*reach = e + da * delta;
 	c = gp * e + (gp + gmax) * *reach;
 	return isfinite(c) ? c : INFINITY;

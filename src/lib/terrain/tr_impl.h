@@ -317,15 +317,17 @@ int tr_kept_check(tr_kept *k, const double *b, int nt, double claim,
 #define TR_BOUND_SAFETY 2.0
 double tr_bound(const tr_work *w, int z, int x, int y, float minh,
     float maxh, double lim, double *b, double *band);
-/* The CRS term (tr_crs.c) of a piece of selection triangle f whose
- * decoded corners lie at xd, yd (degrees), gmax the steepest selected
+/* The CRS term (tr_crs.c) of a piece of selection triangle f (pre its
+ * tr_crs_prep) whose decoded corners lie at xd, yd (degrees), gmax the
+ * steepest selected
  * triangle of the tile (metres a cell): a bound of the selection's
  * height at a sample's grid place against F_S at its longitude,
  * latitude; *reach, cells, how far outside S that place may lie. */
-double tr_crs(const tr_grid *g, const tr_tri *f, const double xd[3],
-    const double yd[3], double gmax, double *reach);
-/* The same reach of f's pieces, their corners on it. */
-double tr_crs_reach(const tr_grid *g, const tr_tri *f);
+double tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
+    const double xd[3], const double yd[3], double gmax, double *reach);
+/* f's own terms for tr_crs, pre: |D A_S|, |grad P| (-1: degenerate), the
+ * reach of its pieces whose corners lie on it. */
+void tr_crs_prep(const tr_grid *g, const tr_tri *f, double pre[3]);
 /* About the number of level-0 samples in tile (z, x, y) (geographic; 1
  * for a projected DEM), for the share measured. */
 long long tr_tile_samples(const tr_grid *g, int z, int x, int y);
