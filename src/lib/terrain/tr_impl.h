@@ -60,6 +60,16 @@ typedef struct {
 	                         * none, each load converts its own */
 } tr_grid;
 
+/* A run's records in a scratch file, shared by its threads
+ * (tr_store.c): n of size bytes each; NULL when none can be made (then
+ * every get fails). Get: record k into buf (size bytes) as put, or -1
+ * (never put, or lost: make it again). Put: record k's bytes, the same
+ * whoever puts them; dropped when the file is full or failed. */
+struct tr_store *tr_store_new(long long n, size_t size);
+void tr_store_free(struct tr_store *s);
+int tr_store_get(struct tr_store *s, long long k, void *buf);
+void tr_store_put(struct tr_store *s, long long k, const void *buf);
+
 /* The grid of the pyramid ix (tr_grid.c); p: a PROJ for a projected
  * DEM. */
 int tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p,
