@@ -13,6 +13,10 @@
 
 #include "terrain/tr_impl.h"
 
+/* A block's record in g->zs: its heights, errors, then base, zmin,
+ * zmax, emax (an undisplaced block: the terrain refuses others). */
+#define ZREC (2 * PYRAMID_N * sizeof(float) + 4 * sizeof(double))
+
 
 /* A geographic grid line the DEM means to lie on a line of the tiles
  * (a tile's edge, a lattice line: multiples of 180 / 2^24 degrees from
@@ -326,6 +330,10 @@ tr_grid_init(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
 		return -1;
 	if (g->projected)
 		tr_curve(g, p, geo), llfile(g, ix);
+	long long n = 0;
+	for (int l = 0; l < ix->nlevels; l++)
+		n += (long long)ix->lev[l].blocks[0] * ix->lev[l].blocks[1];
+	g->zs = tr_store_new(n, ZREC);
 	return 0;
 }
 
@@ -333,7 +341,8 @@ void
 tr_grid_free(tr_grid *g, int nlevels)
 {
 	llfile_free(g->ll);
-	g->ll = NULL;
+	tr_store_free(g->zs);
+	g->ll = NULL, g->zs = NULL;
 	for (int l = 0; g->box && l < nlevels; l++)
 		free(g->box[l]);
 	free(g->box);
@@ -429,6 +438,46 @@ lonlat(tr_work *w, int l, int bi, int bj, double *x, double *y, tl_err *e)
 	return 0;
 }
 
+/* Block b (level, bi, bj set) as decoded: from the run's store, or
+ * loaded (pyramid_block_load: read and checked) and put there. */
+static int
+block_load(tr_work *w, pyramid_block *b, tl_err *e)
+{
+	const pyramid_index *ix = w->ix;
+	long long k = (long long)b->bj * ix->lev[b->level].blocks[0] + b->bi;
+	unsigned char *r;
+	double v[4];
+
+	if (b->level < 0 || b->level >= ix->nlevels || b->bi < 0 ||
+	    b->bj < 0 || b->bi >= ix->lev[b->level].blocks[0] ||
+	    b->bj >= ix->lev[b->level].blocks[1])
+		return pyramid_block_load(w->dir, ix, b, e); /* it says */
+	for (int l = 0; l < b->level; l++)
+		k += (long long)ix->lev[l].blocks[0] * ix->lev[l].blocks[1];
+	if (w->zrec == NULL && w->g->zs && (w->zrec = malloc(ZREC)) == NULL)
+		return tl_fail(e, "block cache: out of memory");
+	r = w->zrec;
+	if (r && tr_store_get(w->g->zs, k, r) == 0) {
+		memcpy(b->z, r, PYRAMID_N * sizeof(float));
+		memcpy(b->e, r + PYRAMID_N * sizeof(float), PYRAMID_N *
+		    sizeof(float));
+		memcpy(v, r + 2 * PYRAMID_N * sizeof(float), sizeof v);
+		b->base = v[0], b->zmin = v[1], b->zmax = v[2], b->emax = v[3];
+		return 0;
+	}
+	if (pyramid_block_load(w->dir, ix, b, e) < 0)
+		return -1;
+	if (r) {
+		v[0] = b->base, v[1] = b->zmin, v[2] = b->zmax, v[3] = b->emax;
+		memcpy(r, b->z, PYRAMID_N * sizeof(float));
+		memcpy(r + PYRAMID_N * sizeof(float), b->e, PYRAMID_N *
+		    sizeof(float));
+		memcpy(r + 2 * PYRAMID_N * sizeof(float), v, sizeof v);
+		tr_store_put(w->g->zs, k, r);
+	}
+	return 0;
+}
+
 const pyramid_block *
 tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
     const double **lat, tl_err *e)
@@ -467,7 +516,7 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 		return tl_fail(e, "%s: level %d is displaced (QEM-3D): not "
 		    "exported", w->dir, l), NULL;
 	b->level = l, b->bi = bi, b->bj = bj, b->displaced = 0;
-	if (pyramid_block_load(w->dir, w->ix, b, e) < 0 ||
+	if (block_load(w, b, e) < 0 ||
 	    lonlat(w, l, bi, bj, w->clon[s], w->clat[s], e) < 0)
 		return NULL;
 	w->cused[s] = 1;

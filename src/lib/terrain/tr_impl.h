@@ -54,6 +54,7 @@ typedef struct {
 	                         * level-0 places: |D psi| (cells a degree),
 	                         * |D2 psi[d, d]|, d a unit (cells a square
 	                         * degree); d2psi INFINITY: none known */
+	struct tr_store *zs;    /* the blocks as decoded (tr_block), or NULL */
 	struct tr_llfile *ll;   /* projected: the blocks' vertex longitudes
 	                         * and latitudes, each through PROJ once a
 	                         * run, for all threads (tr_block); NULL:
@@ -119,6 +120,7 @@ typedef struct {
 	int ckey[TR_CACHE][3], cused[TR_CACHE];
 	unsigned long cstamp[TR_CACHE], clock; /* least recently used goes */
 	int ncache;             /* slots in use: TR_CACHE or TR_CACHE_PROJ */
+	unsigned char *zrec;    /* a block's record in g->zs (tr_block) */
 	double *cbox[TR_CACHE]; /* projected: a slot's squares' boxes
 	                         * (tr_far_boxes), or NULL */
 	unsigned char cboxok[TR_CACHE]; /* cbox holds the slot's block */

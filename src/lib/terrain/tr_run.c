@@ -174,6 +174,7 @@ work_free(tr_work *w)
 	free(w->u);
 	free(w->v);
 	free(w->q), free(w->pos), free(w->order), free(w->tmp), free(w->buf);
+	free(w->zrec);
 }
 
 /* The threads' state, each with its PROJ for a projected DEM. */
