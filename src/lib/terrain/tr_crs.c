@@ -48,7 +48,7 @@ enclosing(const double *x, const double *y)
 		return l[k] / 4; /* right or obtuse: half the longest */
 	h = 2 * (l[0] * l[1] + l[1] * l[2] + l[2] * l[0]) - (l[0] * l[0] +
 	    l[1] * l[1] + l[2] * l[2]);
-	return fmax(l[k] / 4, l[0] * l[1] * l[2] / h);
+	return dmax(l[k] / 4, l[0] * l[1] * l[2] / h);
 }
 
 /* The distance from (px, py) to the triangle x, y (0 inside). */
@@ -71,9 +71,9 @@ outside(const double *x, const double *y, double px, double py)
 		int j = (i + 1) % 3;
 		double ex = x[j] - x[i], ey = y[j] - y[i];
 		double qx = px - x[i], qy = py - y[i], l2 = ex * ex + ey * ey;
-		double t = l2 > 0 ? fmin(1, fmax(0, (ex * qx + ey * qy) / l2)) : 0;
+		double t = l2 > 0 ? dmin(1, dmax(0, (ex * qx + ey * qy) / l2)) : 0;
 		qx -= t * ex, qy -= t * ey;
-		d = fmin(d, qx * qx + qy * qy);
+		d = dmin(d, qx * qx + qy * qy);
 	}
 	return sqrt(d);
 }
@@ -130,7 +130,7 @@ tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
 	if (da < 0 || gp < 0)
 		return INFINITY;
 	for (int j = 0; j < 3; j++)
-		delta = fmax(delta, outside(f->x, f->y, xd[j], yd[j]));
+		delta = dmax(delta, outside(f->x, f->y, xd[j], yd[j]));
 	e = pre[2] + (da + g->d1psi) * delta;
 	*reach = e + da * delta;
 	c = gp * e + (gp + gmax) * *reach;
