@@ -36,15 +36,18 @@ struct tr_store {
 	uint64_t *sum;          /* per record: hash of its bytes (atomic) */
 };
 
-/* A hash of n bytes' 64-bit words (n a multiple of 8), four lanes. */
+/* A hash of n bytes, 64-bit words in four lanes (the last word padded
+ * with zeros). */
 static uint64_t
 hash(const void *p, size_t n)
 {
 	const unsigned char *b = p;
 	uint64_t h[4] = { 1, 2, 3, 4 }, u;
 
-	for (size_t i = 0; i < n / 8; i++) {
-		memcpy(&u, b + 8 * i, sizeof u);
+	for (size_t i = 0; 8 * i < n; i++) {
+		size_t m = n - 8 * i < 8 ? n - 8 * i : 8;
+		u = 0;
+		memcpy(&u, b + 8 * i, m);
 		h[i & 3] = (h[i & 3] ^ u) * 0x100000001b3u;
 		h[i & 3] ^= h[i & 3] >> 29;
 	}
@@ -61,7 +64,7 @@ tr_store_new(long long n, size_t size)
 
 	if (s == NULL)
 		return NULL;
-	s->fd = -1, s->size = (size + 7) & ~(size_t)7;
+	s->fd = -1, s->size = size;
 	s->state = calloc((size_t)(n > 0 ? n : 1), sizeof *s->state);
 	s->sum = calloc((size_t)(n > 0 ? n : 1), sizeof *s->sum);
 	if (s->state == NULL || s->sum == NULL ||
