@@ -287,8 +287,8 @@ tri_bound(const tr_work *w, int t, const tr_tri *f, const double *pre,
 
 	if (corners_of(w, k, f, r, lo, hi, &c) < 0)
 		return INFINITY;
-	if (f && (C = tr_crs(w->g, f, pre, c.xd, c.yd, gmax, ep)) ==
-	    INFINITY)
+	if (f && (C = tr_crs(w->g, f, pre, c.xd, c.yd, gmax, (r[2] - r[0]) /
+	    20, ep)) == INFINITY)
 		return INFINITY;
 	if (c.hi[0] < o[0] || c.lo[0] > o[2] || c.hi[1] < o[1] ||
 	    c.lo[1] > o[3])

@@ -21,7 +21,10 @@
  * gains (|D A_S| + |D psi|) delta. The first term is at most |grad P| e.
  * The second is 0 for g in S; else g lies within e + |D A_S| delta of S
  * (A_S maps T' onto S) and P - Z, 0 on S, grows by at most |grad P| + G
- * per cell from it, G the steepest selected triangle of the tile. So
+ * per cell from it, G the steepest selected triangle of the tile (those
+ * within a twentieth of a tile of it, tr_cut.c's keep_grid: the places
+ * reached lie within reach |D phi| degrees of S's piece there, which
+ * must be under half that). So
  *
  *   C = |grad P| e + (|grad P| + G) (e + |D A_S| delta).
  *
@@ -122,7 +125,8 @@ tr_crs_prep(const tr_grid *g, const tr_tri *f, double pre[3])
 
 double
 tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
-    const double xd[3], const double yd[3], double gmax, double *reach)
+    const double xd[3], const double yd[3], double gmax, double margin,
+    double *reach)
 {
 	double da = pre[0], gp = pre[1], delta = 0, e, c;
 
@@ -133,6 +137,11 @@ tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
 		delta = dmax(delta, outside(f->x, f->y, xd[j], yd[j]));
 	e = pre[2] + (da + g->d1psi) * delta;
 	*reach = e + da * delta;
+	/* G holds the triangles within margin of the tile, and the places
+	 * this may reach lie within reach cells of S: less than half the
+	 * margin, or no bound */
+	if (!(2 * *reach * g->d1phi < margin))
+		return INFINITY;
 	c = gp * e + (gp + gmax) * *reach;
 	return isfinite(c) ? c : INFINITY;
 }

@@ -35,11 +35,11 @@ quad(double a, double b, double c)
 }
 
 /* psi's bounds at node (i, j) of the nx-wide lattice x (longitudes), y
- * (latitudes) of step s: *d1 |D psi| (its Frobenius norm), *d2 the
- * largest |D2 psi[d, d]|; -1 where the map folds there. */
+ * (latitudes) of step s: *d0 |D phi|, *d1 |D psi| (Frobenius norms), *d2
+ * the largest |D2 psi[d, d]|; -1 where the map folds there. */
 static int
 node(const double *x, const double *y, int nx, int i, int j, double s,
-    double *d1, double *d2)
+    double *d0, double *d1, double *d2)
 {
 	const double *v[2] = { x, y };
 	double J[2][2], H[2][3], K[2][2];
@@ -55,6 +55,8 @@ node(const double *x, const double *y, int nx, int i, int j, double s,
 		    f[k - nx - 1]) / (4 * s * s);
 	}
 	double det = J[0][0] * J[1][1] - J[0][1] * J[1][0];
+	*d0 = sqrt(J[0][0] * J[0][0] + J[0][1] * J[0][1] + J[1][0] *
+	    J[1][0] + J[1][1] * J[1][1]);
 	if (!(fabs(det) > 0) || !isfinite(det))
 		return -1;
 	K[0][0] = J[1][1] / det, K[0][1] = -J[0][1] / det;
@@ -81,7 +83,7 @@ node(const double *x, const double *y, int nx, int i, int j, double s,
 		m[o] = quad(e[0], e[1], e[2]);
 	}
 	*d2 = sqrt(m[0] * m[0] + m[1] * m[1]);
-	return isfinite(*d1) && isfinite(*d2) ? 0 : -1;
+	return isfinite(*d0) && isfinite(*d1) && isfinite(*d2) ? 0 : -1;
 }
 
 void
@@ -89,10 +91,10 @@ tr_curve(tr_grid *g, geo_proj *p, const georef *geo)
 {
 	int big = g->w0 > g->h0 ? g->w0 : g->h0;
 	int s = big / NODES + 1, nx, ny, n;
-	double *x, *y, *h = NULL, d1 = 0, d2 = 0, lat = 0;
+	double *x, *y, *h = NULL, d0 = 0, d1 = 0, d2 = 0, lat = 0;
 	tl_err ignored;
 
-	g->d1psi = INFINITY, g->d2psi = INFINITY;
+	g->d1phi = g->d1psi = g->d2psi = INFINITY;
 	s = s < 8 ? 8 : s;
 	nx = (g->w0 - 1) / s + 4, ny = (g->h0 - 1) / s + 4, n = nx * ny;
 	x = malloc((size_t)n * sizeof *x), y = malloc((size_t)n * sizeof *y);
@@ -117,17 +119,18 @@ tr_curve(tr_grid *g, geo_proj *p, const georef *geo)
 		goto done;
 	for (int j = 1; j + 1 < ny; j++)
 		for (int i = 1; i + 1 < nx; i++) {
-			double a, b;
-			if (node(x, y, nx, i, j, s, &a, &b) < 0)
+			double a, b, c;
+			if (node(x, y, nx, i, j, s, &c, &a, &b) < 0)
 				goto done;
-			d1 = fmax(d1, a), d2 = fmax(d2, b);
+			d0 = fmax(d0, c), d1 = fmax(d1, a), d2 = fmax(d2, b);
 		}
 	/* between nodes: D psi within its change over a step, D2 psi
 	 * twice its largest, floored */
-	g->d1psi = 1.25 * d1;
+	g->d1phi = 1.25 * d0, g->d1psi = 1.25 * d1;
 	g->d2psi = fmax(2 * d2, 1e-3 * g->d1psi * M_PI / 180);
-	if (!isfinite(g->d1psi) || !isfinite(g->d2psi))
-		g->d1psi = g->d2psi = INFINITY;
+	if (!isfinite(g->d1phi) || !isfinite(g->d1psi) ||
+	    !isfinite(g->d2psi))
+		g->d1phi = g->d1psi = g->d2psi = INFINITY;
 done:
 	free(x), free(y), free(h);
 }

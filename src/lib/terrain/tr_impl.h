@@ -54,6 +54,8 @@ typedef struct {
 	                         * level-0 places: |D psi| (cells a degree),
 	                         * |D2 psi[d, d]|, d a unit (cells a square
 	                         * degree); d2psi INFINITY: none known */
+	double d1phi;           /* and |D phi| of its inverse (degrees a
+	                         * cell) */
 	struct tr_store *zs;    /* the blocks as decoded (tr_block), or NULL */
 	struct tr_llfile *ll;   /* projected: the blocks' vertex longitudes
 	                         * and latitudes, each through PROJ once a
@@ -336,7 +338,8 @@ double tr_bound(const tr_work *w, int z, int x, int y, float minh,
  * height at a sample's grid place against F_S at its longitude,
  * latitude; *reach, cells, how far outside S that place may lie. */
 double tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
-    const double xd[3], const double yd[3], double gmax, double *reach);
+    const double xd[3], const double yd[3], double gmax, double margin,
+    double *reach);
 /* f's own terms for tr_crs, pre: |D A_S|, |grad P| (-1: degenerate), the
  * reach of its pieces whose corners lie on it. */
 void tr_crs_prep(const tr_grid *g, const tr_tri *f, double pre[3]);
