@@ -1,6 +1,6 @@
-/* tr_bound.c - an upper bound, per triangle of a quantised tile of a
- * geographic DEM, of what the measure (tr_measure.c) finds at the
- * samples under it: d[0], the drawn surface (the ECEF plane of the
+/* tr_bound.c - an upper bound, per triangle of a quantised tile, of
+ * what the measure (tr_measure.c) finds at the samples under it: for a
+ * geographic DEM d[0], the drawn surface (the ECEF plane of the
  * decoded vertices P_i = E(p_i), p_i = (lon, lat, h) as they decode, met
  * by the normal through the sample) against the selection's (the same
  * triangle before quantisation, F, linear in lon, lat, h). With S' the
@@ -31,7 +31,15 @@
  *     1 and first c, 1), at most G with dl, dp, dh the extents, so
  *     |tau| <= |X - Y| <= G / 2.
  *
- * The tile's bound is 2 (A + B) + 1 um (TR_BOUND_SAFETY): the factor covers the
+ * A projected DEM's piece of selection triangle S is compared with F_S,
+ * the linear map over the straight image of S whose pieces the tile
+ * draws, not with the selection at the sample's grid place: A is taken
+ * against F_S (its plane in lon, lat, h), B is the same, and tr_crs.c
+ * adds C, F_S against the selection there. Its pieces past the
+ * footprint or in the band get no bound: the samples they may draw lie
+ * near the grid's sides, measured instead (tr_level.c).
+ *
+ * The tile's bound is 2 (A + B [+ C]) + 1 um (TR_BOUND_SAFETY): the factor covers the
  * roundings of the measure (relative 1e-13 of its terms) and of this
  * derivation's inputs, and the samples the locator puts a rounding
  * outside their triangle. Where the tilt reaches 80 degrees, or a term
