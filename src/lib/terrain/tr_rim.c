@@ -68,6 +68,8 @@ typedef struct {
 	int ne, ce;
 	int *loop;          /* scratch: a cell's sides, vertices */
 	int nlp, clp;
+	uint64_t *hs;       /* scratch: a cell's half-edges, hashed */
+	int chs;
 	double *co;         /* contour coordinates for GLU, 3 each */
 	int cco;
 	int tri[3], ntri;   /* GLU's current triangle */
@@ -308,6 +310,69 @@ pieces(rim *R, int t0, int t1, const double c[4], he **bd, int *nbd)
 	return chords;
 }
 
+static uint64_t
+hekey(int a, int b)
+{
+	return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
+}
+
+static unsigned
+heslot(uint64_t k, unsigned mask)
+{
+	k *= 0x9e3779b97f4a7c15u;
+	return (unsigned)(k >> 32) & mask;
+}
+
+/* Whether pieces() would find no chord among the cell's pieces t0 .. t1
+ * (each half-edge off the cell's sides has its reverse), without sorting:
+ * the half-edges hashed; 1 covered, 0 not, -1 out of memory. Most cells
+ * lie inside the footprint. */
+static int
+covered(rim *R, int t0, int t1, const double c[4])
+{
+	const tr_mesh *m = &R->w->m;
+	int n = 3 * (t1 - t0), sz = 16;
+	unsigned mask;
+
+	while (sz < 2 * n)
+		sz *= 2;
+	if (grow((void **)&R->hs, &R->chs, sz, sizeof *R->hs) < 0)
+		return tl_fail(R->e, "mesh: out of memory");
+	mask = (unsigned)sz - 1;
+	memset(R->hs, 0xff, (size_t)sz * sizeof *R->hs);
+	for (int t = t0; t < t1; t++) {
+		const int *k = m->tri + 3 * t;
+		double s = area(m->x, m->y, k[0], k[1], k[2]);
+		if (s == 0)
+			continue;
+		for (int i = 0; i < 3; i++) {
+			uint64_t key = s > 0 ? hekey(k[i], k[(i + 1) % 3]) :
+			    hekey(k[(i + 1) % 3], k[i]);
+			unsigned h = heslot(key, mask);
+			while (R->hs[h] != UINT64_MAX && R->hs[h] != key)
+				h = (h + 1) & mask;
+			R->hs[h] = key;
+		}
+	}
+	for (int t = t0; t < t1; t++) {
+		const int *k = m->tri + 3 * t;
+		double s = area(m->x, m->y, k[0], k[1], k[2]);
+		if (s == 0)
+			continue;
+		for (int i = 0; i < 3; i++) {
+			int a = k[i], b = k[(i + 1) % 3];
+			uint64_t key = s > 0 ? hekey(b, a) : hekey(a, b);
+			unsigned h = heslot(key, mask);
+			while (R->hs[h] != UINT64_MAX && R->hs[h] != key)
+				h = (h + 1) & mask;
+			if (R->hs[h] != key && (s > 0 ? sideof(m, c, a, b) :
+			    sideof(m, c, b, a)) < 0)
+				return 0;
+		}
+	}
+	return 1;
+}
+
 /* --- GLU ------------------------------------------------------------ */
 
 static void
@@ -470,6 +535,8 @@ rim_cell(rim *R, GLUtesselator *tess, int i, int j, const int *st)
 	he *bd = NULL;
 
 	cell(R, i, j, c);
+	if (st[i] < st[i + 1] && (chords = covered(R, st[i], st[i + 1], c)) != 0)
+		return chords < 0 ? -1 : 0;
 	if (st[i] < st[i + 1] && (chords = pieces(R, st[i], st[i + 1], c, &bd,
 	    &nbd)) <= 0)
 		return chords; /* covered (0) or failed */
@@ -584,6 +651,6 @@ done:
 	if (tess)
 		gluDeleteTess(tess);
 	free(R.st[0]), free(R.st[1]), free(R.lst), free(R.ed), free(R.loop);
-	free(R.co);
+	free(R.co), free(R.hs);
 	return r;
 }
