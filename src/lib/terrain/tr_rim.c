@@ -243,14 +243,6 @@ cmp_he(const void *a, const void *b)
 }
 
 static int
-has(const he *e, int n, int a, int b)
-{
-	he k = { a, b };
-
-	return bsearch(&k, e, (size_t)n, sizeof *e, cmp_he) != NULL;
-}
-
-static int
 edge(rim *R, int a, int b)
 {
 	if (grow((void **)&R->ed, &R->ce, R->ne + 1, sizeof *R->ed) < 0)
@@ -277,14 +269,36 @@ sideof(const tr_mesh *m, const double c[4], int a, int b)
 	return -1;
 }
 
+static uint64_t
+hekey(int a, int b)
+{
+	return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
+}
+
+/* The slot of half-edge key k in R->hs (mask + 1 slots, UINT64_MAX
+ * empty): where it is, or the empty one where it would go. */
+static unsigned
+heslot(const rim *R, uint64_t k, unsigned mask)
+{
+	unsigned h = (unsigned)((k * 0x9e3779b97f4a7c15u) >> 32) & mask;
+
+	while (R->hs[h] != UINT64_MAX && R->hs[h] != k)
+		h = (h + 1) & mask;
+	return h;
+}
+
 /* The boundary half-edges of the cell's pieces t0 .. t1 (turned
- * counter-clockwise), into R->ed sorted; returns how many are chords
- * (not on the cell's sides), or -1. */
+ * counter-clockwise), those whose reverse no piece has, into R->ed after
+ * the pieces' own; returns how many are chords (not on the cell's
+ * sides), or -1. Paired through a hash of the half-edges, not a sort:
+ * most cells are covered, and the order of the boundary is the
+ * tessellator's sort's (tessellate). */
 static int
 pieces(rim *R, int t0, int t1, const double c[4], he **bd, int *nbd)
 {
 	const tr_mesh *m = &R->w->m;
-	int n0, chords = 0;
+	int n0, chords = 0, sz = 16;
+	unsigned mask;
 
 	R->ne = 0;
 	for (int t = t0; t < t1; t++) {
@@ -298,79 +312,27 @@ pieces(rim *R, int t0, int t1, const double c[4], he **bd, int *nbd)
 				return -1;
 	}
 	n0 = R->ne;
-	if (n0 > 1)
-		qsort(R->ed, (size_t)n0, sizeof *R->ed, cmp_he);
-	for (int i = 0; i < n0; i++)
-		if (!has(R->ed, n0, R->ed[i].b, R->ed[i].a)) {
-			if (edge(R, R->ed[i].a, R->ed[i].b) < 0)
-				return -1;
-			chords += sideof(m, c, R->ed[i].a, R->ed[i].b) < 0;
-		}
-	*bd = R->ed + n0, *nbd = R->ne - n0;
-	return chords;
-}
-
-static uint64_t
-hekey(int a, int b)
-{
-	return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
-}
-
-static unsigned
-heslot(uint64_t k, unsigned mask)
-{
-	k *= 0x9e3779b97f4a7c15u;
-	return (unsigned)(k >> 32) & mask;
-}
-
-/* Whether pieces() would find no chord among the cell's pieces t0 .. t1
- * (each half-edge off the cell's sides has its reverse), without sorting:
- * the half-edges hashed; 1 covered, 0 not, -1 out of memory. Most cells
- * lie inside the footprint. */
-static int
-covered(rim *R, int t0, int t1, const double c[4])
-{
-	const tr_mesh *m = &R->w->m;
-	int n = 3 * (t1 - t0), sz = 16;
-	unsigned mask;
-
-	while (sz < 2 * n)
+	while (sz < 2 * n0)
 		sz *= 2;
 	if (grow((void **)&R->hs, &R->chs, sz, sizeof *R->hs) < 0)
 		return tl_fail(R->e, "mesh: out of memory");
 	mask = (unsigned)sz - 1;
 	memset(R->hs, 0xff, (size_t)sz * sizeof *R->hs);
-	for (int t = t0; t < t1; t++) {
-		const int *k = m->tri + 3 * t;
-		double s = area(m->x, m->y, k[0], k[1], k[2]);
-		if (s == 0)
-			continue;
-		for (int i = 0; i < 3; i++) {
-			uint64_t key = s > 0 ? hekey(k[i], k[(i + 1) % 3]) :
-			    hekey(k[(i + 1) % 3], k[i]);
-			unsigned h = heslot(key, mask);
-			while (R->hs[h] != UINT64_MAX && R->hs[h] != key)
-				h = (h + 1) & mask;
-			R->hs[h] = key;
-		}
+	for (int i = 0; i < n0; i++) {
+		uint64_t k = hekey(R->ed[i].a, R->ed[i].b);
+		R->hs[heslot(R, k, mask)] = k;
 	}
-	for (int t = t0; t < t1; t++) {
-		const int *k = m->tri + 3 * t;
-		double s = area(m->x, m->y, k[0], k[1], k[2]);
-		if (s == 0)
+	for (int i = 0; i < n0; i++) {
+		int a = R->ed[i].a, b = R->ed[i].b;
+		uint64_t k = hekey(b, a);
+		if (R->hs[heslot(R, k, mask)] == k)
 			continue;
-		for (int i = 0; i < 3; i++) {
-			int a = k[i], b = k[(i + 1) % 3];
-			uint64_t key = s > 0 ? hekey(b, a) : hekey(a, b);
-			unsigned h = heslot(key, mask);
-			while (R->hs[h] != UINT64_MAX && R->hs[h] != key)
-				h = (h + 1) & mask;
-			if (R->hs[h] != key && (s > 0 ? sideof(m, c, a, b) :
-			    sideof(m, c, b, a)) < 0)
-				return 0;
-		}
+		if (edge(R, a, b) < 0)
+			return -1;
+		chords += sideof(m, c, a, b) < 0;
 	}
-	return 1;
+	*bd = R->ed + n0, *nbd = R->ne - n0;
+	return chords;
 }
 
 /* --- GLU ------------------------------------------------------------ */
@@ -535,8 +497,6 @@ rim_cell(rim *R, GLUtesselator *tess, int i, int j, const int *st)
 	he *bd = NULL;
 
 	cell(R, i, j, c);
-	if (st[i] < st[i + 1] && (chords = covered(R, st[i], st[i + 1], c)) != 0)
-		return chords < 0 ? -1 : 0;
 	if (st[i] < st[i + 1] && (chords = pieces(R, st[i], st[i + 1], c, &bd,
 	    &nbd)) <= 0)
 		return chords; /* covered (0) or failed */
