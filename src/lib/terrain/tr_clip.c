@@ -145,6 +145,19 @@ fan(tr_mesh *m, const tr_tri *t, const int *id, int k, tl_err *e)
 	return 0;
 }
 
+/* Whether every vertex of t lies in r (its sides included): the clips
+ * would keep the triangle as it is, no vertex made. Most do, a cell
+ * being wider than the selection's triangles. */
+static int
+within(const tr_tri *t, const double r[4])
+{
+	for (int i = 0; i < 3; i++)
+		if (!(t->x[i] >= r[0] && t->x[i] <= r[2] && t->y[i] >= r[1] &&
+		    t->y[i] <= r[3]))
+			return 0;
+	return 1;
+}
+
 int
 tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e)
 {
@@ -155,10 +168,12 @@ tr_clip(tr_mesh *m, const tr_tri *t, const double r[4], tl_err *e)
 		a[i].x = t->x[i], a[i].y = t->y[i], a[i].h = t->h[i];
 		a[i].m = 1 << i | 1 << ((i + 2) % 3);
 	}
-	n = clip1(t, a, n, b, 0, r[0], 1, X0);
-	n = clip1(t, b, n, a, 0, r[2], 0, X1);
-	n = clip1(t, a, n, b, 1, r[1], 1, Y0);
-	n = clip1(t, b, n, a, 1, r[3], 0, Y1);
+	if (!within(t, r)) {
+		n = clip1(t, a, n, b, 0, r[0], 1, X0);
+		n = clip1(t, b, n, a, 0, r[2], 0, X1);
+		n = clip1(t, a, n, b, 1, r[1], 1, Y0);
+		n = clip1(t, b, n, a, 1, r[3], 0, Y1);
+	}
 	for (int i = 0; i < n; i++) {
 		const pv *p = &a[i], *q = &a[(i + 1) % n];
 		if (p->x == q->x && p->y == q->y)

@@ -60,6 +60,7 @@ typedef struct {
 	tr_work *w;
 	const tr_choice *ch;
 	int x, y, n;
+	double *lx, *ly;    /* lattice lines 0 .. n: longitudes, latitudes */
 	int *st[2];         /* per row (j & 1): first triangle of cell i */
 	int vr[3][2];       /* per row (j % 3): the vertices it made */
 	lv *lst;            /* scratch: vertices on lattice lines */
@@ -68,6 +69,8 @@ typedef struct {
 	int ne, ce;
 	int *loop;          /* scratch: a cell's sides, vertices */
 	int nlp, clp;
+	uint64_t *hs;       /* scratch: a cell's half-edges, hashed */
+	int chs;
 	double *co;         /* contour coordinates for GLU, 3 each */
 	int cco;
 	int tri[3], ntri;   /* GLU's current triangle */
@@ -128,10 +131,8 @@ tr_rim_inherit(tr_mesh *m, int from, tl_err *e)
 static void
 cell(const rim *R, int i, int j, double c[4])
 {
-	c[0] = llon(R->ch->z, R->x, R->n, i);
-	c[1] = llat(R->ch->z, R->y, R->n, j);
-	c[2] = llon(R->ch->z, R->x, R->n, i + 1);
-	c[3] = llat(R->ch->z, R->y, R->n, j + 1);
+	c[0] = R->lx[i], c[1] = R->ly[j];
+	c[2] = R->lx[i + 1], c[3] = R->ly[j + 1];
 }
 
 /* Row j of cells: the selection clipped to each cell, cell i's pieces
@@ -184,9 +185,9 @@ static int
 on_lines(rim *R, int r, int axis, int l)
 {
 	const tr_mesh *m = &R->w->m;
-	double o = axis ? 0 : llon(R->ch->z, R->x, R->n, 0);
-	double s = axis ? 0 : llon(R->ch->z, R->x, R->n, 1) - o;
-	double ly = axis ? llat(R->ch->z, R->y, R->n, l) : 0;
+	double o = axis ? 0 : R->lx[0];
+	double s = axis ? 0 : R->lx[1] - o;
+	double ly = axis ? R->ly[l] : 0;
 
 	if (r < 0 || r >= R->n)
 		return 0;
@@ -194,8 +195,7 @@ on_lines(rim *R, int r, int axis, int l)
 		int line = l;
 		if (axis == 0) {
 			line = (int)rint((m->x[v] - o) / s);
-			if (line < 0 || line > R->n || m->x[v] !=
-			    llon(R->ch->z, R->x, R->n, line))
+			if (line < 0 || line > R->n || m->x[v] != R->lx[line])
 				continue;
 		} else if (m->y[v] != ly)
 			continue;
@@ -257,14 +257,6 @@ cmp_he(const void *a, const void *b)
 }
 
 static int
-has(const he *e, int n, int a, int b)
-{
-	he k = { a, b };
-
-	return bsearch(&k, e, (size_t)n, sizeof *e, cmp_he) != NULL;
-}
-
-static int
 edge(rim *R, int a, int b)
 {
 	if (grow((void **)&R->ed, &R->ce, R->ne + 1, sizeof *R->ed) < 0)
@@ -291,35 +283,70 @@ sideof(const tr_mesh *m, const double c[4], int a, int b)
 	return -1;
 }
 
+static uint64_t
+hekey(int a, int b)
+{
+	return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
+}
+
+/* The slot of half-edge key k in R->hs (2^(64 - sh) slots, UINT64_MAX
+ * empty): where it is, or the empty one where it would go. */
+static unsigned
+heslot(const rim *R, uint64_t k, int sh)
+{
+	unsigned mask = (unsigned)(UINT64_MAX >> sh);
+	unsigned h = (unsigned)((k * 0x9e3779b97f4a7c15u) >> sh);
+
+	while (R->hs[h] != UINT64_MAX && R->hs[h] != k)
+		h = (h + 1) & mask;
+	return h;
+}
+
 /* The boundary half-edges of the cell's pieces t0 .. t1 (turned
- * counter-clockwise), into R->ed sorted; returns how many are chords
- * (not on the cell's sides), or -1. */
+ * counter-clockwise), those whose reverse no piece has, into R->ed after
+ * the pieces' own; returns how many are chords (not on the cell's
+ * sides), or -1. Paired through a hash of the half-edges, not a sort:
+ * most cells are covered, and the order of the boundary is the
+ * tessellator's sort's (tessellate). */
 static int
 pieces(rim *R, int t0, int t1, const double c[4], he **bd, int *nbd)
 {
 	const tr_mesh *m = &R->w->m;
-	int n0, chords = 0;
+	int n0, chords = 0, sz = 16, sh = 60;
 
+	/* the boundary no more than the half-edges */
+	if (grow((void **)&R->ed, &R->ce, 6 * (t1 - t0), sizeof *R->ed) < 0)
+		return tl_fail(R->e, "mesh: out of memory");
 	R->ne = 0;
 	for (int t = t0; t < t1; t++) {
 		const int *k = m->tri + 3 * t;
 		double s = area(m->x, m->y, k[0], k[1], k[2]);
 		if (s == 0)
 			continue;
-		for (int i = 0; i < 3; i++)
-			if (edge(R, k[s > 0 ? i : (3 - i) % 3],
-			    k[s > 0 ? (i + 1) % 3 : (5 - i) % 3]) < 0)
-				return -1;
+		for (int i = 0; i < 3; i++) {
+			he *d = R->ed + R->ne++;
+			d->a = k[s > 0 ? i : (3 - i) % 3];
+			d->b = k[s > 0 ? (i + 1) % 3 : (5 - i) % 3];
+		}
 	}
 	n0 = R->ne;
-	if (n0 > 1)
-		qsort(R->ed, (size_t)n0, sizeof *R->ed, cmp_he);
-	for (int i = 0; i < n0; i++)
-		if (!has(R->ed, n0, R->ed[i].b, R->ed[i].a)) {
-			if (edge(R, R->ed[i].a, R->ed[i].b) < 0)
-				return -1;
-			chords += sideof(m, c, R->ed[i].a, R->ed[i].b) < 0;
-		}
+	while (sz < 2 * n0)
+		sz *= 2, sh--;
+	if (grow((void **)&R->hs, &R->chs, sz, sizeof *R->hs) < 0)
+		return tl_fail(R->e, "mesh: out of memory");
+	memset(R->hs, 0xff, (size_t)sz * sizeof *R->hs);
+	for (int i = 0; i < n0; i++) {
+		uint64_t k = hekey(R->ed[i].a, R->ed[i].b);
+		R->hs[heslot(R, k, sh)] = k;
+	}
+	for (int i = 0; i < n0; i++) {
+		int a = R->ed[i].a, b = R->ed[i].b;
+		uint64_t k = hekey(b, a);
+		if (R->hs[heslot(R, k, sh)] == k)
+			continue;
+		R->ed[R->ne].a = a, R->ed[R->ne++].b = b;
+		chords += sideof(m, c, a, b) < 0;
+	}
 	*bd = R->ed + n0, *nbd = R->ne - n0;
 	return chords;
 }
@@ -576,10 +603,14 @@ tr_rim_tile(tr_work *w, const tr_choice *ch, int x, int y, tl_err *e)
 
 	R.st[0] = malloc(((size_t)R.n + 1) * sizeof *R.st[0]);
 	R.st[1] = malloc(((size_t)R.n + 1) * sizeof *R.st[1]);
-	if (tess == NULL || !R.st[0] || !R.st[1]) {
+	R.lx = malloc(2 * ((size_t)R.n + 1) * sizeof *R.lx);
+	if (tess == NULL || !R.st[0] || !R.st[1] || !R.lx) {
 		tl_fail(e, "mesh: out of memory");
 		goto done;
 	}
+	R.ly = R.lx + R.n + 1;
+	for (int k = 0; k <= R.n; k++)
+		R.lx[k] = llon(ch->z, x, R.n, k), R.ly[k] = llat(ch->z, y, R.n, k);
 	gluTessProperty(tess, GLU_TESS_WINDING_RULE, GLU_TESS_WINDING_ODD);
 	gluTessNormal(tess, 0, 0, 1);
 	gluTessCallback(tess, GLU_TESS_BEGIN_DATA, (_GLUfuncptr)cb_begin);
@@ -600,6 +631,6 @@ done:
 	if (tess)
 		gluDeleteTess(tess);
 	free(R.st[0]), free(R.st[1]), free(R.lst), free(R.ed), free(R.loop);
-	free(R.co);
+	free(R.co), free(R.hs), free(R.lx);
 	return r;
 }
