@@ -213,11 +213,13 @@ boxes(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
  * bytes: its 129 x 129 longitudes, then its latitudes, NaN where not
  * converted; in memory, per block, the vertices its bytes hold (0: not
  * written) and a hash of them. A slot is loaded from it, and written
- * back when dropped, with those another thread wrote there since it was
- * loaded (the hash changed). Both when LLMIN vertices or more are at
+ * to it once it converted many at once (a whole block, at once for the
+ * other threads) or when dropped, with those another thread wrote there
+ * since (the hash changed). Both when LLMIN vertices or more are at
  * stake: a block's read or write costs about as much as converting a
- * few hundred vertices (the selections alone ran 3 % faster without the
- * file than with every block read and written), a whole block's 16641
+ * few hundred vertices, and the selections come back to few of theirs
+ * once the cache dropped them (alone, they ran 3 % faster without the
+ * file than with every block read and written); a whole block's 16641
  * far more.
  *
  * No lock. Every buffer ever written holds, per vertex, NaN or its one
@@ -423,7 +425,7 @@ ll_merge(tr_work *w, int s, long long k)
 }
 
 /* Slot s's conversions into the run's file, with those another thread
- * wrote there since the slot was loaded. */
+ * wrote there since the slot was loaded or saved. */
 static void
 ll_save(tr_work *w, int s)
 {
@@ -448,8 +450,8 @@ ll_save(tr_work *w, int s)
 		__atomic_store_n(&f->room, -1, __ATOMIC_RELAXED);
 		return;
 	}
-	__atomic_store_n(&f->sum[k], llsum(w->clon[s], 2 * PYRAMID_N),
-	    __ATOMIC_RELAXED);
+	w->csum[s] = llsum(w->clon[s], 2 * PYRAMID_N);
+	__atomic_store_n(&f->sum[k], w->csum[s], __ATOMIC_RELAXED);
 	__atomic_store_n(&f->held[k], w->cnll[s], __ATOMIC_RELEASE);
 }
 
@@ -490,6 +492,8 @@ need(tr_work *w, int s, const int *v, int n, tl_err *e)
 		w->cnll[s] += m, w->cnew[s] += m;
 	if (x != sx)
 		free(x), free(at);
+	if (m >= LLMIN)
+		ll_save(w, s); /* a whole block at once: shared at once */
 	return r;
 }
 
