@@ -2,8 +2,8 @@
  * (affine for a geographic DEM, PROJ for a projected one), the rectangle
  * of the terrain made from it, each block's longitude-latitude box, and
  * a thread's cache of blocks with their vertices' longitudes and
- * latitudes (a projected DEM's through PROJ once a run: a scratch file
- * the threads share). */
+ * latitudes (a projected DEM's through PROJ as they are read, shared
+ * through a scratch file). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
