@@ -62,7 +62,7 @@ pass_block(tr_export *x, int k, int b, double *dd)
 		any += tr_kept_meets(&x->g, l[i].k, b);
 	if (!any)
 		return;
-	if ((pb = tr_block(w, 0, bi, bj, &lon, &lat, &x->err[k])) == NULL) {
+	if ((pb = tr_block_all(w, 0, bi, bj, &lon, &lat, &x->err[k])) == NULL) {
 		x->failed[k] = 1;
 		return;
 	}

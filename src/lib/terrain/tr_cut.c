@@ -323,6 +323,8 @@ tr_rim_sel(tr_work *w, const tr_choice *ch, const pyramid_block *b,
 		o[i].m = 1 << i | 1 << ((i + 2) % 3);
 		a[i] = o[i];
 	}
+	if (tr_ll_need(w, b, idx, 3, &e) < 0)
+		return -1;
 	if (far(g, ch->z, o, lon, lat, idx, r))
 		return 0;
 	n = gclip(o, a, n, c, 0, W, XW);

@@ -2,8 +2,8 @@
  * (affine for a geographic DEM, PROJ for a projected one), the rectangle
  * of the terrain made from it, each block's longitude-latitude box, and
  * a thread's cache of blocks with their vertices' longitudes and
- * latitudes (a projected DEM's through PROJ once a run: a scratch file
- * the threads share). */
+ * latitudes (a projected DEM's through PROJ as they are read, shared
+ * through a scratch file). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -203,45 +203,57 @@ boxes(tr_grid *g, const pyramid_index *ix, geo_proj *p, tl_err *e)
 	return 0;
 }
 
-/* A projected DEM's blocks' vertex longitudes and latitudes, each block
- * through PROJ once a run. A thread's cache holds 16 blocks; each time a
- * level's selection or a tile's measure came back to a block it had
- * dropped, its 16641 vertices went through PROJ again (on N48W125 in
- * UTM 10N 4526 conversions of its 995 blocks read, a third of the run).
- * Every block of every level has a fixed place in an anonymous scratch
- * file (tl_scratch: unlinked at once, so that no end of the run, SIGKILL
- * included, leaves it behind), LLBLOCK bytes: its 129 x 129 longitudes,
- * then its latitudes; in memory, per block, its state (LL_NONE,
- * LL_WRITTEN) and a hash of the bytes written.
+/* A projected DEM's blocks' vertex longitudes and latitudes, each vertex
+ * through PROJ when first read (tr_ll_need): of the 13 M vertices of the
+ * UTM warp of N48W125's level-0 blocks the selections read under 1 M (a
+ * deep level's tile walks its blocks whole but reads only the triangles
+ * near it: tr_far) and tr_far's boxes 25 a block; the measure reads its
+ * blocks whole (tr_block_all). A slot's vertex not yet converted holds
+ * NaN (a converted one is finite: geo_proj_lonlat). A thread's cache
+ * holds 32 blocks, and the levels come back to blocks it dropped, the
+ * threads to the same blocks; so every block of every level has a fixed
+ * place in an anonymous scratch file (tl_scratch: unlinked at once, so
+ * that no end of the run, SIGKILL included, leaves it behind), LLBLOCK
+ * bytes: its 129 x 129 longitudes, then its latitudes, NaN where not
+ * converted; in memory, per block, the vertices its bytes hold (0: not
+ * written) and a hash of them. A slot is loaded from it, and written
+ * to it once it converted many at once (a whole block, at once for the
+ * other threads) or when dropped, with those another thread wrote there
+ * since (the hash changed). Both when LLMIN vertices or more are at
+ * stake: a block's read or write costs about as much as converting a
+ * few hundred vertices, and the selections come back to few of theirs
+ * once the cache dropped them (alone, they ran 3 % faster without the
+ * file than with every block read and written); a whole block's 16641
+ * far more.
  *
- * No lock: a thread that finds a block not written converts it and
- * writes it, and two threads may do that at once. They write the same
- * bytes at the same place (a vertex's conversion depends only on its
- * grid place: the same PROJ operation, deterministic, on the same
- * doubles, 129 x 129 at once as ever), so in whatever order their
- * writes go the file holds those bytes; each sets hash and state only
- * after its whole write returned, the state last (release: a reader
- * that sees it written (acquire) reads after a write returned, which a
- * read sees, POSIX's read-after-write), and both set the same values.
- * A block is read only when written, and used only when the read is
- * whole and its hash agrees; else (a read error, a short file, bytes
- * the disk lost after a failed writeback) it is converted, as without
- * the file. A write that fails (ENOSPC, EIO, EFBIG) leaves its block
- * not written (a partial write put the right bytes anyway) and stops
- * all writes: the run goes on, converting what the file lacks. So does
- * a file that reaches half the space its file system had free when it
- * was made, which the output may be sharing. A file that cannot be
- * made, no file: every load converts. The tiles are the same bytes in
- * every case. */
+ * No lock. Every buffer ever written holds, per vertex, NaN or its one
+ * conversion (which depends only on its grid place: the same PROJ
+ * operation, deterministic, point by point, on the same doubles, in
+ * any batch), so the file holds NaN or the right doubles per vertex
+ * whatever writes go in whatever order. Each writer sets hash and count
+ * only after its whole write returned, the count last (release: a
+ * reader that sees it (acquire) reads after a write returned, which a
+ * read sees, POSIX's read-after-write). A block is used only when the
+ * read is whole and its hash agrees; else (two writers at once who set
+ * their hashes in the other order, a read across a write, a read error,
+ * a short file, bytes the disk lost after a failed writeback) it is
+ * taken as holding nothing, its vertices converted again: the same
+ * doubles, the work lost, never wrong doubles. A write that fails
+ * (ENOSPC, EIO, EFBIG) stops all writes (a partial one put NaN or right
+ * doubles, its hash stale): the run goes on, converting what the file
+ * lacks. So does a file whose blocks reach half the space its file
+ * system had free when it was made, which the output may be sharing. A
+ * file that cannot be made, no file: every block loads with no vertex
+ * converted. The tiles are the same bytes in every case. */
 #define LLBLOCK (2 * (size_t)PYRAMID_N * sizeof(double))
-enum { LL_NONE, LL_WRITTEN };
+#define LLMIN 4096
 
 struct tr_llfile {
 	int fd;
 	long long room;         /* bytes it may still take (atomic); -1
 	                         * after a failed write: no more writes */
 	long long *first;       /* per level: the place of its block 0 */
-	unsigned char *state;   /* per block (atomic) */
+	int *held;              /* per block: vertices written (atomic) */
 	uint64_t *sum;          /* per block: llsum of its bytes (atomic) */
 };
 
@@ -268,7 +280,7 @@ llfile_free(struct tr_llfile *f)
 		return;
 	if (f->fd >= 0)
 		close(f->fd);
-	free(f->first), free(f->state), free(f->sum), free(f);
+	free(f->first), free(f->held), free(f->sum), free(f);
 }
 
 /* g->ll for a projected DEM, or NULL when it cannot be made (memory,
@@ -290,9 +302,9 @@ llfile(tr_grid *g, const pyramid_index *ix)
 	for (int l = 0; l < ix->nlevels; l++)
 		f->first[l] = n, n += (long long)ix->lev[l].blocks[0] *
 		    ix->lev[l].blocks[1];
-	f->state = calloc((size_t)n, sizeof *f->state);
+	f->held = calloc((size_t)n, sizeof *f->held);
 	f->sum = calloc((size_t)n, sizeof *f->sum);
-	if (f->state == NULL || f->sum == NULL ||
+	if (f->held == NULL || f->sum == NULL ||
 	    (f->fd = tl_scratch(&ignored)) < 0 || fstatvfs(f->fd, &fs) < 0)
 		goto none;
 	f->room = (long long)(fs.f_bavail / 2 * fs.f_frsize);
@@ -349,93 +361,158 @@ tr_grid_free(tr_grid *g, int nlevels)
 	g->box = NULL;
 }
 
-/* Block (l, bi, bj)'s vertices' longitudes, latitudes into x, y. */
+/* A geographic block (l, bi, bj)'s longitude per column and latitude
+ * per row into x, y. */
 static int
 convert(tr_work *w, int l, int bi, int bj, double *x, double *y, tl_err *e)
 {
-	/* geographic: a column's longitude, a row's latitude */
-	int n = w->g->projected ? PYRAMID_N : BT_SIZE;
-
-	for (int k = 0; k < n; k++) {
-		x[k] = (double)(bi * BT_CELLS + k % BT_SIZE) * (1 << l);
-		y[k] = (double)(bj * BT_CELLS + (n == BT_SIZE ? k : k /
-		    BT_SIZE)) * (1 << l);
+	for (int k = 0; k < BT_SIZE; k++) {
+		x[k] = (double)(bi * BT_CELLS + k) * (1 << l);
+		y[k] = (double)(bj * BT_CELLS + k) * (1 << l);
 	}
-	return tr_lonlat(w->g, &w->proj, &w->ix->geo, x, y, n, e);
+	return tr_lonlat(w->g, &w->proj, &w->ix->geo, x, y, BT_SIZE, e);
 }
 
-static int lonlat(tr_work *, int, int, int, double *, double *, tl_err *);
-
-/* Level 1's block (bi, bj) from the four level-0 blocks under it, each
- * through lonlat (read back, or converted and written: level 0 is
- * needed whole later on, so it is converted once for both): its vertex
- * (c, r) is level-0 place (2 (128 bi + c), 2 (128 bj + r)), the same
- * doubles into the same PROJ operation, point by point, as converting
- * it here (a level-1 block was 3.4 M of the UTM warp's 16 M
- * conversions). -1: convert it. */
-static int
-from_level0(tr_work *w, int bi, int bj, double *x, double *y)
+/* The file's block (l, bi, bj). */
+static long long
+llindex(const tr_work *w, int l, int bi, int bj)
 {
-	const pyramid_level *L0 = &w->ix->lev[0];
-	double *t;
+	return w->g->ll->first[l] + (long long)bj * w->ix->lev[l].blocks[0] +
+	    bi;
+}
+
+/* Slot s's block (l, bi, bj) from the run's file, or with no vertex
+ * converted. */
+static void
+ll_load(tr_work *w, int s, int l, int bi, int bj)
+{
+	struct tr_llfile *f = w->g->ll;
+	double *x = w->clon[s];
+	long long k;
+	uint64_t h;
 	tl_err ignored;
 
-	if (2 * bi + 1 >= L0->blocks[0] || 2 * bj + 1 >= L0->blocks[1] ||
-	    (t = malloc(LLBLOCK)) == NULL)
-		return -1;
-	for (int q = 0; q < 4; q++) {
-		int a = q % 2, b = q / 2;
-		if (lonlat(w, 0, 2 * bi + a, 2 * bj + b, t, t + PYRAMID_N,
-		    &ignored) < 0) {
-			free(t);
-			return -1;
+	w->cnll[s] = 0, w->cnew[s] = 0, w->csum[s] = 0;
+	if (f != NULL) {
+		k = llindex(w, l, bi, bj);
+		if (__atomic_load_n(&f->held[k], __ATOMIC_ACQUIRE) >= LLMIN &&
+		    tl_pread(f->fd, x, LLBLOCK, k * (long long)LLBLOCK,
+		    "scratch", &ignored) == 0 &&
+		    (h = llsum(x, 2 * PYRAMID_N)) == __atomic_load_n(&f->sum[k],
+		    __ATOMIC_RELAXED)) {
+			for (int v = 0; v < PYRAMID_N; v++)
+				w->cnll[s] += !isnan(x[v]);
+			w->csum[s] = h;
+			return;
 		}
-		for (int r = 64 * b; r <= 64 * b + 64; r++)
-			for (int c = 64 * a; c <= 64 * a + 64; c++) {
-				int v = (2 * r - BT_CELLS * b) * BT_SIZE + 2 * c -
-				    BT_CELLS * a;
-				x[r * BT_SIZE + c] = t[v];
-				y[r * BT_SIZE + c] = t[PYRAMID_N + v];
-			}
 	}
-	free(t);
-	return 0;
+	for (size_t v = 0; v < 2 * (size_t)PYRAMID_N; v++)
+		x[v] = NAN;
 }
 
-/* The same through the run's file, when there is one (y = x +
- * PYRAMID_N): read when a thread wrote it, else converted and written. */
-static int
-lonlat(tr_work *w, int l, int bi, int bj, double *x, double *y, tl_err *e)
+/* Into slot s the vertices file block k holds that it lacks, when the
+ * block was written since the slot was loaded. */
+static void
+ll_merge(tr_work *w, int s, long long k)
+{
+	struct tr_llfile *f = w->g->ll;
+	double *x = w->clon[s], *t;
+	tl_err ignored;
+
+	if (__atomic_load_n(&f->sum[k], __ATOMIC_RELAXED) == w->csum[s] ||
+	    (t = malloc(LLBLOCK)) == NULL)
+		return;
+	if (tl_pread(f->fd, t, LLBLOCK, k * (long long)LLBLOCK, "scratch",
+	    &ignored) == 0 && llsum(t, 2 * PYRAMID_N) ==
+	    __atomic_load_n(&f->sum[k], __ATOMIC_RELAXED))
+		for (int v = 0; v < PYRAMID_N; v++)
+			if (isnan(x[v]) && !isnan(t[v])) {
+				x[v] = t[v], x[PYRAMID_N + v] = t[PYRAMID_N + v];
+				w->cnll[s]++;
+			}
+	free(t);
+}
+
+/* Slot s's conversions into the run's file, with those another thread
+ * wrote there since the slot was loaded or saved. */
+static void
+ll_save(tr_work *w, int s)
 {
 	struct tr_llfile *f = w->g->ll;
 	long long k, off;
 	tl_err ignored;
 
-	if (f == NULL)
-		return convert(w, l, bi, bj, x, y, e);
-	k = f->first[l] + (long long)bj * w->ix->lev[l].blocks[0] + bi;
+	if (f == NULL || w->cnew[s] < LLMIN ||
+	    __atomic_load_n(&f->room, __ATOMIC_RELAXED) < 0)
+		return;
+	k = llindex(w, w->ckey[s][0], w->ckey[s][1], w->ckey[s][2]);
 	off = k * (long long)LLBLOCK;
-	if (__atomic_load_n(&f->state[k], __ATOMIC_ACQUIRE) == LL_WRITTEN) {
-		if (tl_pread(f->fd, x, LLBLOCK, off, "scratch", &ignored) ==
-		    0 && llsum(x, 2 * PYRAMID_N) == __atomic_load_n(&f->sum[k],
-		    __ATOMIC_RELAXED))
-			return 0;
-		return convert(w, l, bi, bj, x, y, e);
-	}
-	if ((l != 1 || from_level0(w, bi, bj, x, y) < 0) &&
-	    convert(w, l, bi, bj, x, y, e) < 0)
-		return -1;
-	if (__atomic_load_n(&f->room, __ATOMIC_RELAXED) < (long long)LLBLOCK ||
-	    __atomic_sub_fetch(&f->room, LLBLOCK, __ATOMIC_RELAXED) < 0)
-		return 0;
-	if (tl_pwrite(f->fd, x, LLBLOCK, off, "scratch", &ignored) < 0) {
+	if (__atomic_load_n(&f->held[k], __ATOMIC_ACQUIRE) > 0)
+		ll_merge(w, s, k);
+	else if (__atomic_load_n(&f->room, __ATOMIC_RELAXED) <
+	    (long long)LLBLOCK || __atomic_sub_fetch(&f->room, LLBLOCK,
+	    __ATOMIC_RELAXED) < 0)
+		return; /* a new block past the room */
+	w->cnew[s] = 0;
+	if (tl_pwrite(f->fd, w->clon[s], LLBLOCK, off, "scratch",
+	    &ignored) < 0) {
 		__atomic_store_n(&f->room, -1, __ATOMIC_RELAXED);
-		return 0;
+		return;
 	}
-	__atomic_store_n(&f->sum[k], llsum(x, 2 * PYRAMID_N),
-	    __ATOMIC_RELAXED);
-	__atomic_store_n(&f->state[k], LL_WRITTEN, __ATOMIC_RELEASE);
-	return 0;
+	w->csum[s] = llsum(w->clon[s], 2 * PYRAMID_N);
+	__atomic_store_n(&f->sum[k], w->csum[s], __ATOMIC_RELAXED);
+	__atomic_store_n(&f->held[k], w->cnll[s], __ATOMIC_RELEASE);
+}
+
+/* Slot s's vertices v[0 .. n-1] (v NULL: all) through PROJ where not
+ * yet converted, in one batch; a vertex listed twice is converted once. */
+static int
+need(tr_work *w, int s, const int *v, int n, tl_err *e)
+{
+	double *lon = w->clon[s], *lat = w->clat[s], sx[2 * 64], *x = sx;
+	int sa[64], *at = sa, m = 0, r = 0, l = w->ckey[s][0];
+	int bi = w->ckey[s][1], bj = w->ckey[s][2];
+
+	if (w->cnll[s] == PYRAMID_N)
+		return 0;
+	if (v == NULL)
+		n = PYRAMID_N;
+	if (n > 64 && ((x = malloc(2 * (size_t)n * sizeof *x)) == NULL ||
+	    (at = malloc((size_t)n * sizeof *at)) == NULL)) {
+		if (x != sx)
+			free(x);
+		return tl_fail(e, "grid: out of memory");
+	}
+	for (int i = 0; i < n; i++) {
+		int k = v ? v[i] : i;
+		if (!isnan(lon[k]))
+			continue;
+		lon[k] = 0; /* taken */
+		at[m] = k;
+		x[m] = (double)(bi * BT_CELLS + k % BT_SIZE) * (1 << l);
+		x[n + m++] = (double)(bj * BT_CELLS + k / BT_SIZE) * (1 << l);
+	}
+	if (m > 0)
+		r = tr_lonlat(w->g, &w->proj, &w->ix->geo, x, x + n, m, e);
+	for (int i = 0; i < m; i++)
+		lon[at[i]] = r < 0 ? NAN : x[i], lat[at[i]] = r < 0 ? NAN :
+		    x[n + i];
+	if (r == 0 && m > 0)
+		w->cnll[s] += m, w->cnew[s] += m;
+	if (x != sx)
+		free(x), free(at);
+	if (m >= LLMIN)
+		ll_save(w, s); /* a whole block at once: shared at once */
+	return r;
+}
+
+int
+tr_ll_need(tr_work *w, const pyramid_block *b, const int *v, int n,
+    tl_err *e)
+{
+	if (!w->g->projected)
+		return 0;
+	return need(w, (int)(b - w->cache), v, n, e);
 }
 
 /* Block b (level, bi, bj set) as decoded: from the run's store, or
@@ -500,6 +577,8 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 	}
 	b = &w->cache[s];
 	w->cstamp[s] = ++w->clock;
+	if (w->cused[s] == 1 && w->g->projected)
+		ll_save(w, s);
 	if (w->cused[s] == 0) {
 		if (pyramid_block_alloc(b, 0, e) < 0)
 			return NULL;
@@ -516,10 +595,24 @@ tr_block(tr_work *w, int l, int bi, int bj, const double **lon,
 		return tl_fail(e, "%s: level %d is displaced (QEM-3D): not "
 		    "exported", w->dir, l), NULL;
 	b->level = l, b->bi = bi, b->bj = bj, b->displaced = 0;
-	if (block_load(w, b, e) < 0 ||
-	    lonlat(w, l, bi, bj, w->clon[s], w->clat[s], e) < 0)
+	if (block_load(w, b, e) < 0)
+		return NULL;
+	if (w->g->projected)
+		ll_load(w, s, l, bi, bj);
+	else if (convert(w, l, bi, bj, w->clon[s], w->clat[s], e) < 0)
 		return NULL;
 	w->cused[s] = 1;
 	w->ckey[s][0] = l, w->ckey[s][1] = bi, w->ckey[s][2] = bj;
+	return b;
+}
+
+const pyramid_block *
+tr_block_all(tr_work *w, int l, int bi, int bj, const double **lon,
+    const double **lat, tl_err *e)
+{
+	const pyramid_block *b = tr_block(w, l, bi, bj, lon, lat, e);
+
+	if (b != NULL && tr_ll_need(w, b, NULL, 0, e) < 0)
+		return NULL;
 	return b;
 }

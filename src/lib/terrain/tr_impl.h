@@ -120,6 +120,10 @@ typedef struct {
 	double *clon[TR_CACHE], *clat[TR_CACHE]; /* per block vertex
 	                         * (one allocation: clat follows clon) */
 	int ckey[TR_CACHE][3], cused[TR_CACHE];
+	int cnll[TR_CACHE];     /* projected: a slot's vertices converted
+	                         * (the others' clon, clat NaN: tr_ll_need) */
+	int cnew[TR_CACHE];     /* those since it was loaded or saved */
+	uint64_t csum[TR_CACHE]; /* the file's hash it was loaded at, or 0 */
 	unsigned long cstamp[TR_CACHE], clock; /* least recently used goes */
 	int ncache;             /* slots in use: TR_CACHE or TR_CACHE_PROJ */
 	unsigned char *zrec;    /* a block's record in g->zs (tr_block) */
@@ -165,6 +169,16 @@ typedef struct {
  * projected DEM; a geographic one's: 129 each, per column and per row;
  * tr_vlon, tr_vlat read either). */
 const pyramid_block *tr_block(tr_work *w, int l, int bi, int bj,
+    const double **lon, const double **lat, tl_err *e);
+/* A projected DEM's vertices come through PROJ as they are read: a
+ * block from tr_block holds only those some reader asked for (the
+ * others NaN); tr_ll_need converts vertices v[0 .. n-1] (r * 129 + c)
+ * of block b (through the thread's cache) before they are read, once,
+ * and tr_block_all, for the readers of whole blocks (the measure), is
+ * tr_block with every vertex converted. Geographic: no work. */
+int tr_ll_need(tr_work *w, const pyramid_block *b, const int *v, int n,
+    tl_err *e);
+const pyramid_block *tr_block_all(tr_work *w, int l, int bi, int bj,
     const double **lon, const double **lat, tl_err *e);
 
 /* The lesser and greater of a and b, a kept when they tie or b is NaN

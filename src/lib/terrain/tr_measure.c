@@ -572,7 +572,7 @@ tr_kept_walk(tr_work *w, const tr_kept *kp, double d[2], tl_err *e)
 		const pyramid_block *b;
 		if (!tr_kept_meets(w->g, kp, k))
 			continue;
-		if ((b = tr_block(w, 0, bi, bj, &lon, &lat, e)) == NULL ||
+		if ((b = tr_block_all(w, 0, bi, bj, &lon, &lat, e)) == NULL ||
 		    tr_kept_block(w->g, kp, k, bi, bj, b, lon, lat, NULL, NULL,
 		    w->g->projected ? tr_far_boxes(w, b, lon, lat) : NULL, d,
 		    e) < 0)

@@ -39,7 +39,7 @@ tr_batch_own(tr_export *x, int k, tr_part *p, tl_err *e)
 			any = tr_kept_meets(&x->g, w->kept[i].k, b);
 		if (!any)
 			continue;
-		if ((pb = tr_block(w, 0, bi, bj, &lon, &lat, e)) == NULL)
+		if ((pb = tr_block_all(w, 0, bi, bj, &lon, &lat, e)) == NULL)
 			goto done;
 		if (x->g.projected)
 			bx = tr_far_boxes(w, pb, lon, lat);
