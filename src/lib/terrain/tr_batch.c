@@ -58,19 +58,24 @@ pass_block(tr_export *x, int k, int b, double *dd)
 	double *fu = NULL;
 	const pyramid_block *pb;
 
-	for (int i = 0; i < x->nkeep && any < 2; i++)
-		any += tr_kept_meets(&x->g, l[i].k, b);
+	double band = -1;
+
+	for (int i = 0; i < x->nkeep; i++)
+		if (tr_kept_meets(&x->g, l[i].k, b))
+			any++, band = fmax(band, tr_kept_band_of(l[i].k));
 	if (!any)
 		return;
-	if ((pb = tr_block_all(w, 0, bi, bj, &lon, &lat, &x->err[k])) == NULL) {
+	if ((pb = tr_block_band(w, bi, bj, band, &lon, &lat, &x->err[k])) ==
+	    NULL) {
 		x->failed[k] = 1;
 		return;
 	}
 	/* a projected block's feet once for the tiles (one a level) that
-	 * measure it: their sines and cosines were a fifth of the export;
-	 * without the memory, each tile its own */
-	if (x->g.projected && any > 1 && (w->fu != NULL || (w->fu =
-	    malloc(6 * (size_t)PYRAMID_N * sizeof *w->fu)) != NULL)) {
+	 * measure it whole: their sines and cosines were a fifth of the
+	 * export; without the memory, or for the sides' band alone, each
+	 * tile its own */
+	if (x->g.projected && any > 1 && band == INFINITY && (w->fu != NULL ||
+	    (w->fu = malloc(6 * (size_t)PYRAMID_N * sizeof *w->fu)) != NULL)) {
 		tr_block_feet(&x->g, lon, lat, bi, bj, w->fu);
 		fu = w->fu;
 	}

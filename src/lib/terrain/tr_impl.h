@@ -317,8 +317,15 @@ int tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi,
 void tr_block_feet(const tr_grid *g, const double *lon, const double *lat,
     int bi, int bj, double *fu);
 /* Only kept tile k's samples within band cells of the grid's sides
- * measured (a projected DEM's; INFINITY, as tr_keep makes it: all). */
+ * measured (a projected DEM's; INFINITY, as tr_keep makes it: all);
+ * its band. */
 void tr_kept_band(tr_kept *k, double band);
+double tr_kept_band_of(const tr_kept *k);
+/* Level-0 block (bi, bj) for the measure, through w's cache: with the
+ * longitudes and latitudes of its samples within band cells of the
+ * grid's sides (INFINITY: all, tr_block_all). */
+const pyramid_block *tr_block_band(tr_work *w, int bi, int bj,
+    double band, const double **lon, const double **lat, tl_err *e);
 /* Whether level-0 block kb meets the tile's part of the terrain (and
  * its band). */
 int tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb);

@@ -546,6 +546,39 @@ tr_kept_band(tr_kept *k, double band)
 	k->l.band = band;
 }
 
+double
+tr_kept_band_of(const tr_kept *k)
+{
+	return k->l.band;
+}
+
+const pyramid_block *
+tr_block_band(tr_work *w, int bi, int bj, double band, const double **lon,
+    const double **lat, tl_err *e)
+{
+	const pyramid_block *b;
+	double W = w->g->w0 - 1, H = w->g->h0 - 1;
+	int *v, n = 0;
+
+	if (!w->g->projected || !(band < INFINITY))
+		return tr_block_all(w, 0, bi, bj, lon, lat, e);
+	if ((b = tr_block(w, 0, bi, bj, lon, lat, e)) == NULL)
+		return NULL;
+	if ((v = malloc(PYRAMID_N * sizeof *v)) == NULL)
+		return tl_fail(e, "tile: out of memory"), NULL;
+	/* measure_proj's test of a sample */
+	for (int J = 0; J < BT_SIZE; J++)
+		for (int I = 0; I < BT_SIZE; I++) {
+			double gx = bi * BT_CELLS + I, gy = bj * BT_CELLS + J;
+			if (dmin(dmin(gx, W - gx), dmin(gy, H - gy)) <= band)
+				v[n++] = J * BT_SIZE + I;
+		}
+	if (tr_ll_need(w, b, v, n, e) < 0)
+		b = NULL;
+	free(v);
+	return b;
+}
+
 int
 tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi, int bj,
     const pyramid_block *b, const double *lon, const double *lat,
@@ -572,7 +605,8 @@ tr_kept_walk(tr_work *w, const tr_kept *kp, double d[2], tl_err *e)
 		const pyramid_block *b;
 		if (!tr_kept_meets(w->g, kp, k))
 			continue;
-		if ((b = tr_block_all(w, 0, bi, bj, &lon, &lat, e)) == NULL ||
+		if ((b = tr_block_band(w, bi, bj, kp->l.band, &lon, &lat, e)) ==
+		    NULL ||
 		    tr_kept_block(w->g, kp, k, bi, bj, b, lon, lat, NULL, NULL,
 		    w->g->projected ? tr_far_boxes(w, b, lon, lat) : NULL, d,
 		    e) < 0)

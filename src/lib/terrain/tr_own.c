@@ -35,11 +35,14 @@ tr_batch_own(tr_export *x, int k, tr_part *p, tl_err *e)
 		int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
 		const double *lon, *lat, *bx = NULL;
 		const pyramid_block *pb;
-		for (int i = 0; i < w->nkept && !any; i++)
-			any = tr_kept_meets(&x->g, w->kept[i].k, b);
+		double band = -1;
+		for (int i = 0; i < w->nkept; i++)
+			if (tr_kept_meets(&x->g, w->kept[i].k, b))
+				any = 1, band = fmax(band,
+				    tr_kept_band_of(w->kept[i].k));
 		if (!any)
 			continue;
-		if ((pb = tr_block_all(w, 0, bi, bj, &lon, &lat, e)) == NULL)
+		if ((pb = tr_block_band(w, bi, bj, band, &lon, &lat, e)) == NULL)
 			goto done;
 		if (x->g.projected)
 			bx = tr_far_boxes(w, pb, lon, lat);
