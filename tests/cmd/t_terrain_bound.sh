@@ -6,9 +6,9 @@
 # terrain made without measuring those tiles is byte for byte the one
 # made measuring all, in both formats, -j 1 and -j 2. On real DEMs: an
 # ellipsoidal crop of N48W125 with coast cliffs and sea voids, a crop of
-# N42E001 (the Pyrenees, SRTM 3"), and UTM 10N warps of two crops of
-# N48W125 (projected: the CRS term in the bound, the sides' samples
-# measured).
+# N42E001 (the Pyrenees, SRTM 3"), UTM 10N warps of two crops of N48W125
+# and one moved to 85 N in polar stereographic (projected: the CRS term
+# in the bound, the sides' samples measured).
 . "$(dirname "$0")/../lib.sh"
 
 PY=/usr/bin/python3
@@ -77,5 +77,11 @@ gdal_translate -q -a_srs EPSG:4326+5773 -srcwin 2700 1500 769 769 \
 $PY "$TOP/tests/tools/ellipsoidal.py" "$T/srtm4.tif" "$T/coast.tif"
 gdalwarp -q -t_srs EPSG:32610 -r bilinear "$T/coast.tif" "$T/utmc.tif"
 exports "$T/utmc.tif" "UTM coast" 8
+# polar stereographic (EPSG:3413) at 85 N: the coast crop moved there,
+# the map's curve at its strongest, long band triangles bowing far in
+gdal_translate -q -a_srs EPSG:4326 -a_ullr -40 85.2 -39.786 84.986 \
+    "$T/coast.tif" "$T/polar.tif"
+gdalwarp -q -t_srs EPSG:3413 -r bilinear "$T/polar.tif" "$T/pst.tif"
+exports "$T/pst.tif" "polar stereographic" 8
 
 done_testing

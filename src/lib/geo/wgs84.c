@@ -100,6 +100,19 @@ geo_proj_lonlat(geo_proj *p, double *x, double *y, double *z, int n, tl_err *e)
 	return 0;
 }
 
+int
+geo_proj_crs(geo_proj *p, double *x, double *y, double *z, int n)
+{
+	size_t s = sizeof(double);
+
+	proj_trans_generic(p->op, PJ_INV, x, s, (size_t)n, y, s, (size_t)n,
+	    z, s, (size_t)n, NULL, 0, 0);
+	for (int k = 0; k < n; k++)
+		if (!isfinite(x[k]) || !isfinite(y[k]))
+			return -1;
+	return 0;
+}
+
 void
 geo_grid_crs(const georef *g, double I, double J, double *x, double *y)
 {

@@ -19,6 +19,10 @@ void geo_proj_close(geo_proj *p);
 int geo_proj_lonlat(geo_proj *p, double *x, double *y, double *z, int n,
     tl_err *e);
 
+/* The inverse, n points in place: lon, lat (deg), h (m) in; x, y (CRS),
+ * z out; -1 when one has no place in the CRS. */
+int geo_proj_crs(geo_proj *p, double *x, double *y, double *z, int n);
+
 /* Level-0 grid place (I, J) in the DEM's CRS (geo_vertex_crs), kept on
  * the globe for a geographic DEM: padding past a pole stops at the pole,
  * padding past a full turn of longitude from column 0 stops a turn away

@@ -47,7 +47,6 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "terrain/tr_bary.h"
 #include "terrain/tr_impl.h"
 
 #define RMAX 6399593.7    /* m: a / sqrt(1 - e^2), the largest N, M */
@@ -338,29 +337,13 @@ tri_bound(const tr_work *w, int t, const tr_tri *f, const double *pre,
 	return isfinite(d) ? d : INFINITY;
 }
 
-/* The largest gradient (metres a cell) of the tile's selected
- * triangles in the grid (tr_gsel.c's terms), those the samples' places
- * lie in. */
-static double
-gsel_steepest(const tr_work *w)
-{
-	double most = 0;
-
-	for (int i = 0; i < w->ngsel; i++) {
-		const double *t = w->gsel + (TR_BARY_TERMS + 3) * (size_t)i;
-		double gx = (t[5] * t[9] - t[3] * t[10]) / t[6];
-		double gy = (t[2] * t[10] - t[4] * t[9]) / t[6];
-		most = dmax(most, gx * gx + gy * gy);
-	}
-	return isfinite(most) ? sqrt(most) * (1 + 1e-15) : INFINITY;
-}
-
 double
-tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
+tr_bound(tr_work *w, int z, int x, int y, float minh, float maxh,
     double lim, double *b, double *band)
 {
-	double r[4], o[4], most = 0, pad, gmax = 0, reach = -1, *pre = NULL;
+	double r[4], o[4], most = 0, pad, *pre = NULL;
 	const tr_grid *g = w->g;
+	tr_steep st = { .mx = NULL };
 
 	*band = -1;
 	if ((g->projected && !(g->d2psi < INFINITY)) || (!g->projected &&
@@ -369,15 +352,16 @@ tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
 			b[t] = INFINITY;
 		return INFINITY;
 	}
-	if (g->projected && (!((gmax = gsel_steepest(w)) < INFINITY) ||
-	    (pre = malloc(3 * (size_t)(w->nsel ? w->nsel : 1) *
-	    sizeof *pre)) == NULL)) {
+	if (g->projected && (tr_steep_init(&st, w) < 0 || !(st.all <
+	    INFINITY) || (pre = malloc(TR_CRS_PRE * (size_t)(w->nsel ?
+	    w->nsel : 1) * sizeof *pre)) == NULL)) {
+		tr_steep_free(&st);
 		for (int t = 0; b && t < w->m.nt; t++)
 			b[t] = INFINITY;
 		return INFINITY;
 	}
 	for (int i = 0; pre && i < w->nsel; i++)
-		pre[3 * i] = NAN; /* not yet */
+		pre[TR_CRS_PRE * i] = NAN; /* not yet */
 	tr_tile_rect(z, x, y, r);
 	/* the samples' rectangle (tr_keep's), widened by 1e-9 of the tile
 	 * for the roundings of the samples' u, v (1e-15 of it) */
@@ -391,36 +375,32 @@ tr_bound(const tr_work *w, int z, int x, int y, float minh, float maxh,
 		double *fp = NULL;
 		if (g->projected) {
 			int s = w->m.src[t];
-			if (s >= 0 && isnan(pre[3 * s]))
-				tr_crs_prep(g, &w->sel[s], pre + 3 * s);
+			double *q = pre + TR_CRS_PRE * (s < 0 ? 0 : s);
+			if (s >= 0 && isnan(q[0]))
+				tr_crs_prep(g, &st, &w->sel[s], q);
 			if (s < 0 || w->sel[s].edge == 2) {
 				/* past the footprint, or the band: its
 				 * samples lie in the measured band */
-				reach = dmax(reach, s < 0 ? 0 : pre[3 * s + 2]);
 				if (b)
-					b[t] = INFINITY;
+					b[t] = NAN;
 				continue;
 			}
-			f = &w->sel[s], fp = pre + 3 * s;
+			f = &w->sel[s], fp = q;
 		}
-		d = tri_bound(w, t, f, fp, gmax, r, o, minh, maxh, &ep);
-		if (f && f->edge)
-			reach = dmax(reach, ep);
+		d = tri_bound(w, t, f, fp, st.all, r, o, minh, maxh, &ep);
 		if (b)
 			b[t] = d;
 		else if (!(d <= lim)) {
-			free(pre);
+			free(pre), tr_steep_free(&st);
 			return INFINITY; /* measure it */
 		}
 		most = dmax(most, d);
 	}
-	free(pre);
-	/* the samples a rim or band triangle may draw: within the reach
-	 * of the outline's triangles, plus the quantisation's (a vertex
-	 * moves up to half a quantum in u and v, a merge a quantum) */
-	if (reach >= 0)
-		*band = 1 + reach + 2 * g->d1psi * 1.5 * ldexp(180, -z) /
-		    QM_MAX;
+	free(pre), tr_steep_free(&st);
+	/* the samples a rim or band triangle may draw (a cell more for the
+	 * roundings and the map's bounds) */
+	if (g->projected && (*band = tr_crs_claim(w, r)) >= 0)
+		*band += 1;
 	return TR_BOUND_SAFETY * most + 1e-6;
 }
 

@@ -18,20 +18,23 @@
  * so |a - g| <= e = 1/2 M rho^2 for l in T' (M bounds |D2 psi[d, d]|,
  * tr_curve.c; sum b_i |l_i - l|^2 <= rho^2, T''s least enclosing circle
  * squared); for l up to delta outside T' (a decoded corner's place) e
- * gains (|D A_S| + |D psi|) delta. The first term is at most |grad P| e.
+ * gains |D A_S - D psi| delta, bounded from M and T' (turn()). The first term is at most |grad P| e.
  * The second is 0 for g in S; else g lies within e + |D A_S| delta of S
  * (A_S maps T' onto S) and P - Z, 0 on S, grows by at most |grad P| + G
- * per cell from it, G the steepest selected triangle of the tile (those
- * within a twentieth of a tile of it, tr_cut.c's keep_grid: the places
- * reached lie within reach |D phi| degrees of S's piece there, which
- * must be under half that). So
+ * per cell from it, G the steepest selected triangle within the reach of
+ * S (of the tile's, those within a twentieth of a tile of it, tr_cut.c's
+ * keep_grid: the places reached lie within reach |D phi| degrees of S's
+ * piece there, which must be under half that; found by buckets of the
+ * grid, each holding its triangles' steepest). So
  *
  *   C = |grad P| e + (|grad P| + G) (e + |D A_S| delta).
  *
  * The reach e + |D A_S| delta also bounds how far inside the grid a
  * sample drawn past S's outline edge can lie (tr_bound's band). */
 #include <math.h>
+#include <stdlib.h>
 
+#include "terrain/tr_bary.h"
 #include "terrain/tr_impl.h"
 
 /* The least enclosing circle's radius squared of the triangle x, y. */
@@ -114,34 +117,206 @@ slope(const tr_tri *f)
 	return isfinite(n) ? n : -1;
 }
 
+/* How far D A_S may differ from D psi within T' (cells a degree):
+ * with E = (l1 - l0, l2 - l0), D A_S E = D psi(l0) E + (R1, R2), |R_k|
+ * <= M |l_k - l0|^2 / 2, so |D A_S - D psi(l0)| <= |(R1, R2)| |E^-1|
+ * (Frobenius norms), and D psi moves by at most M a degree from l0:
+ * plus M diam T' (tr_crs adds M delta for a corner delta outside). */
+static double
+turn(const tr_grid *g, const tr_tri *f)
+{
+	double ax = f->x[1] - f->x[0], ay = f->y[1] - f->y[0];
+	double bx = f->x[2] - f->x[0], by = f->y[2] - f->y[0];
+	double a2 = ax * ax + ay * ay, b2 = bx * bx + by * by;
+	double c2 = (f->x[2] - f->x[1]) * (f->x[2] - f->x[1]) +
+	    (f->y[2] - f->y[1]) * (f->y[2] - f->y[1]);
+	double det = fabs(ax * by - ay * bx), M = g->d2psi;
+	double t = 0.5 * M * sqrt(a2 * a2 + b2 * b2) * sqrt(a2 + b2) / det +
+	    M * sqrt(dmax(a2, dmax(b2, c2)));
+
+	return isfinite(t) ? t : INFINITY;
+}
+
+/* A gsel triangle's (tr_gsel.c's terms) box along k and gradient
+ * squared. */
+static void
+gbox(const double *t, int k, double *lo, double *hi)
+{
+	double a = t[k], b = t[k] + t[2 + k], c = t[k] + t[4 + k];
+
+	*lo = dmin(a, dmin(b, c)), *hi = dmax(a, dmax(b, c));
+}
+
+static double
+gslope2(const double *t)
+{
+	double gx = (t[5] * t[9] - t[3] * t[10]) / t[6];
+	double gy = (t[2] * t[10] - t[4] * t[9]) / t[6];
+
+	return gx * gx + gy * gy;
+}
+
+static int
+sbucket(const tr_steep *st, double c, int k)
+{
+	double b = floor((c - st->o[k]) * st->s[k]);
+
+	return b < 0 ? 0 : b >= st->nb ? st->nb - 1 : (int)b;
+}
+
+int
+tr_steep_init(tr_steep *st, const tr_work *w)
+{
+	enum { GT = TR_BARY_TERMS + 3 };
+	double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
+
+	st->nb = 16, st->all = 0;
+	if ((st->mx = calloc((size_t)st->nb * st->nb, sizeof *st->mx)) == NULL)
+		return -1;
+	for (int i = 0; i < w->ngsel; i++)
+		for (int k = 0; k < 2; k++) {
+			double a, b;
+			gbox(w->gsel + GT * (size_t)i, k, &a, &b);
+			lo[k] = dmin(lo[k], a), hi[k] = dmax(hi[k], b);
+		}
+	for (int k = 0; k < 2; k++)
+		st->o[k] = lo[k], st->s[k] = st->nb / (hi[k] - lo[k] + 1);
+	for (int i = 0; i < w->ngsel; i++) {
+		const double *t = w->gsel + GT * (size_t)i;
+		double g2 = gslope2(t), x0, x1, y0, y1;
+		/* a degenerate triangle: NaN, no sample in it; infinite: none
+		 * bounded */
+		if (isnan(g2))
+			continue;
+		st->all = dmax(st->all, g2);
+		gbox(t, 0, &x0, &x1), gbox(t, 1, &y0, &y1);
+		for (int j = sbucket(st, y0, 1); j <= sbucket(st, y1, 1); j++)
+			for (int b = sbucket(st, x0, 0); b <= sbucket(st, x1, 0); b++)
+				st->mx[j * st->nb + b] = dmax(st->mx[j * st->nb + b], g2);
+	}
+	for (int i = 0; i < st->nb * st->nb; i++)
+		st->mx[i] = sqrt(st->mx[i]) * (1 + 1e-15);
+	st->all = sqrt(st->all) * (1 + 1e-15);
+	if (!isfinite(st->all))
+		st->all = INFINITY;
+	return 0;
+}
+
 void
-tr_crs_prep(const tr_grid *g, const tr_tri *f, double pre[3])
+tr_steep_free(tr_steep *st)
+{
+	free(st->mx);
+	st->mx = NULL;
+}
+
+/* The steepest of the tile's selected triangles within d cells of f's
+ * box in the grid. */
+static double
+steep_near(const tr_steep *st, const tr_tri *f, double d)
+{
+	double x0 = dmin(f->gx[0], dmin(f->gx[1], f->gx[2])) - d;
+	double x1 = dmax(f->gx[0], dmax(f->gx[1], f->gx[2])) + d;
+	double y0 = dmin(f->gy[0], dmin(f->gy[1], f->gy[2])) - d;
+	double y1 = dmax(f->gy[0], dmax(f->gy[1], f->gy[2])) + d;
+	double most = 0;
+
+	if (!isfinite(st->all))
+		return INFINITY;
+	for (int j = sbucket(st, y0, 1); j <= sbucket(st, y1, 1); j++)
+		for (int b = sbucket(st, x0, 0); b <= sbucket(st, x1, 0); b++)
+			most = dmax(most, st->mx[j * st->nb + b]);
+	return most;
+}
+
+void
+tr_crs_prep(const tr_grid *g, const tr_steep *st, const tr_tri *f,
+    double pre[TR_CRS_PRE])
 {
 	double e = 0.5 * g->d2psi * enclosing(f->x, f->y);
 
 	pre[0] = affine_norm(f), pre[1] = slope(f);
 	pre[2] = isfinite(e) ? e : INFINITY;
+	pre[5] = turn(g, f);
+	/* the neighbours within the reach of pieces a cell off S at most
+	 * (past it, the tile's steepest) */
+	pre[4] = pre[2] + 1;
+	pre[3] = steep_near(st, f, pre[4]);
 }
 
 double
-tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
+tr_crs(const tr_grid *g, const tr_tri *f, const double pre[TR_CRS_PRE],
     const double xd[3], const double yd[3], double gmax, double margin,
     double *reach)
 {
-	double da = pre[0], gp = pre[1], delta = 0, e, c;
+	double da = pre[0], gp = pre[1], delta = 0, e, c, G;
 
 	*reach = INFINITY;
 	if (da < 0 || gp < 0)
 		return INFINITY;
 	for (int j = 0; j < 3; j++)
 		delta = dmax(delta, outside(f->x, f->y, xd[j], yd[j]));
-	e = pre[2] + (da + g->d1psi) * delta;
+	e = pre[2] + (pre[5] + g->d2psi * delta) * delta;
 	*reach = e + da * delta;
 	/* G holds the triangles within margin of the tile, and the places
 	 * this may reach lie within reach cells of S: less than half the
 	 * margin, or no bound */
 	if (!(2 * *reach * g->d1phi < margin))
 		return INFINITY;
-	c = gp * e + (gp + gmax) * *reach;
+	G = *reach <= pre[4] ? pre[3] : gmax;
+	c = gp * e + (gp + G) * *reach;
 	return isfinite(c) ? c : INFINITY;
+}
+
+/* The deepest level-0 place, in cells from the grid's nearest side,
+ * that the decoded triangle (lon, lat) x, y may draw: with g_j =
+ * psi(x_j, y_j) (PROJ's inverse) and A its affine interpolant over the
+ * triangle, psi is within e = M rho^2 / 2 of A; each side's distance is
+ * linear, so over the triangle A's is at most its largest at a corner,
+ * and the depth (the least of the four) at most the least of those;
+ * INFINITY where PROJ has no inverse there. */
+static double
+deepest(tr_work *w, const double *x, const double *y)
+{
+	const tr_grid *g = w->g;
+	double X[3], Y[3], Z[3] = { 0, 0, 0 }, W = g->w0 - 1, H = g->h0 - 1;
+	double far[4] = { -INFINITY, -INFINITY, -INFINITY, -INFINITY };
+
+	for (int j = 0; j < 3; j++)
+		X[j] = x[j], Y[j] = y[j];
+	if (geo_proj_crs(&w->proj, X, Y, Z, 3) < 0)
+		return INFINITY;
+	for (int j = 0; j < 3; j++) {
+		double I = (X[j] - g->ax) / g->bx, J = (Y[j] - g->ay) / g->by;
+		far[0] = dmax(far[0], I), far[1] = dmax(far[1], W - I);
+		far[2] = dmax(far[2], J), far[3] = dmax(far[3], H - J);
+	}
+	double d = dmin(dmin(far[0], far[1]), dmin(far[2], far[3])) +
+	    0.5 * g->d2psi * enclosing(x, y);
+
+	return isfinite(d) ? d : INFINITY;
+}
+
+double
+tr_crs_claim(tr_work *w, const double r[4])
+{
+	const tr_mesh *m = &w->m;
+	double most = -1;
+
+	for (int t = 0; t < m->nt; t++) {
+		int s = m->src[t];
+		const int *k = m->tri + 3 * t;
+		double x[3], y[3];
+		if (!m->rim[t] && !(s >= 0 && w->sel[s].edge == 2))
+			continue;
+		for (int j = 0; j < 3; j++) {
+			double tu = w->u[k[j]] / (double)QM_MAX;
+			double tv = w->v[k[j]] / (double)QM_MAX;
+			x[j] = (1 - tu) * r[0] + tu * r[2];
+			y[j] = (1 - tv) * r[1] + tv * r[3];
+		}
+		most = dmax(most, deepest(w, x, y));
+		if (most == INFINITY)
+			break;
+	}
+	return most;
 }

@@ -346,11 +346,11 @@ int tr_kept_check(tr_kept *k, const double *b, int nt, double claim,
  * plus 1 um; INFINITY where a triangle is not boundable (tilted 89.9
  * degrees or more; a projected DEM whose map has no bound, tr_curve.c),
  * or, b NULL, as soon as the bound passes lim. A projected DEM's
- * triangles past the footprint or in the band are not bounded (b
- * INFINITY): the samples they may draw lie within *band cells of the
- * grid's sides, to be measured (-1: none may). */
+ * triangles past the footprint or in the band are not bounded (b NaN):
+ * the samples they may draw lie within *band cells of the grid's sides,
+ * to be measured (-1: none may). */
 #define TR_BOUND_SAFETY 2.0
-double tr_bound(const tr_work *w, int z, int x, int y, float minh,
+double tr_bound(tr_work *w, int z, int x, int y, float minh,
     float maxh, double lim, double *b, double *band);
 /* The CRS term (tr_crs.c) of a piece of selection triangle f (pre its
  * tr_crs_prep) whose decoded corners lie at xd, yd (degrees), gmax the
@@ -358,12 +358,28 @@ double tr_bound(const tr_work *w, int z, int x, int y, float minh,
  * triangle of the tile (metres a cell): a bound of the selection's
  * height at a sample's grid place against F_S at its longitude,
  * latitude; *reach, cells, how far outside S that place may lie. */
-double tr_crs(const tr_grid *g, const tr_tri *f, const double pre[3],
-    const double xd[3], const double yd[3], double gmax, double margin,
-    double *reach);
+#define TR_CRS_PRE 6
+double tr_crs(const tr_grid *g, const tr_tri *f,
+    const double pre[TR_CRS_PRE], const double xd[3], const double yd[3],
+    double gmax, double margin, double *reach);
+/* How deep in the grid (cells from its nearest side) a sample drawn
+ * by the quantised tile's pieces past the footprint or in the band
+ * (tile rectangle r) may lie: -1 when it has none, INFINITY when not
+ * known (PROJ's inverse). */
+double tr_crs_claim(tr_work *w, const double r[4]);
+/* The steepest of a tile's selected triangles in the grid (w->gsel),
+ * all (metres a cell) and by bucket. */
+typedef struct {
+	double o[2], s[2], *mx, all;
+	int nb;
+} tr_steep;
+int tr_steep_init(tr_steep *st, const tr_work *w);
+void tr_steep_free(tr_steep *st);
 /* f's own terms for tr_crs, pre: |D A_S|, |grad P| (-1: degenerate), the
- * reach of its pieces whose corners lie on it. */
-void tr_crs_prep(const tr_grid *g, const tr_tri *f, double pre[3]);
+ * reach of its pieces whose corners lie on it, the steepest triangle
+ * within pre[4] cells of it, how far D A_S may differ from D psi. */
+void tr_crs_prep(const tr_grid *g, const tr_steep *st, const tr_tri *f,
+    double pre[TR_CRS_PRE]);
 /* About the number of level-0 samples in tile (z, x, y) (geographic; 1
  * for a projected DEM), for the share measured. */
 long long tr_tile_samples(const tr_grid *g, int z, int x, int y);

@@ -237,15 +237,18 @@ check(const locator *l, int q, const double f[3], const double up[3],
 
 /* The same for a projected DEM's sample at grid place (gx, gy), depth
  * cells from the nearest side, against the selection's height there
- * (zs, or NaN past the footprint): a triangle not bounded (past the
- * footprint, the band) draws only samples within l->claim of a side. */
+ * (zs, or NaN past the footprint): a piece that has no bound (NaN: past
+ * the footprint, the band) draws only samples within l->claim of a
+ * side; an infinite one checks nothing. */
 static int
 check_grid(const locator *l, int q, const double f[3], const double up[3],
     double gx, double gy, double depth, double zs, tl_err *e)
 {
 	double d = fabs(drawn(l, q, f, up) - zs);
 
-	if (!(l->bound[q] < INFINITY)) {
+	if (l->bound[q] == INFINITY)
+		return 0;
+	if (isnan(l->bound[q])) {
 		if (depth <= l->claim)
 			return 0;
 		return tl_fail(e, "tile: sample (%.0f, %.0f), %.1f cells from "
