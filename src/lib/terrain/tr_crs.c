@@ -314,6 +314,15 @@ tr_crs_claim(tr_work *w, const double r[4])
 			x[j] = (1 - tu) * r[0] + tu * r[2];
 			y[j] = (1 - tv) * r[1] + tv * r[3];
 		}
+		/* one wholly past the terrain's rectangle draws no sample the
+		 * measure takes (tr_keep: the tile's part in it), and may lie
+		 * where the CRS has no place */
+		const double *o = w->g->r;
+		if (dmax(x[0], dmax(x[1], x[2])) < o[0] ||
+		    dmin(x[0], dmin(x[1], x[2])) > o[2] ||
+		    dmax(y[0], dmax(y[1], y[2])) < o[1] ||
+		    dmin(y[0], dmin(y[1], y[2])) > o[3])
+			continue;
 		most = dmax(most, deepest(w, x, y));
 		if (most == INFINITY)
 			break;
