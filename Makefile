@@ -232,7 +232,7 @@ clean:
 # tilepack and dem2vgis on a real DEM under ThreadSanitizer (a build of
 # their own in build-tsan/, the levels on parallel threads).
 # dem2vgis and the stages it runs (tests/tsan), not every program
-TSAN_PROGS = dem2vgis dem2fqm fqmfilter fqmsolve tilepack vgis-job
+TSAN_PROGS = dem2vgis dem2fqm fqmfilter fqmsolve tilepack vgis-job vgis2terrain
 check-tsan:
 	$(MAKE) $(PAR) B=build-tsan CFLAGS='-O1 -g -fsanitize=thread' \
 	    CXXFLAGS='-O1 -g -fsanitize=thread' LDFLAGS=-fsanitize=thread \
