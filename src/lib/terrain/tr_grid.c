@@ -254,24 +254,8 @@ struct tr_llfile {
 	                         * after a failed write: no more writes */
 	long long *first;       /* per level: the place of its block 0 */
 	int *held;              /* per block: vertices written (atomic) */
-	uint64_t *sum;          /* per block: llsum of its bytes (atomic) */
+	uint64_t *sum;          /* per block: tr_hash of its bytes (atomic) */
 };
-
-/* A hash of n doubles' bits (four lanes, for speed), to tell the bytes
- * read back from those written. */
-static uint64_t
-llsum(const double *v, size_t n)
-{
-	uint64_t h[4] = { 1, 2, 3, 4 }, u;
-
-	for (size_t i = 0; i < n; i++) {
-		memcpy(&u, &v[i], sizeof u);
-		h[i & 3] = (h[i & 3] ^ u) * 0x100000001b3u;
-		h[i & 3] ^= h[i & 3] >> 29;
-	}
-	return (h[0] * 0x9e3779b97f4a7c15u ^ h[1]) * 0x9e3779b97f4a7c15u ^
-	    (h[2] * 0x9e3779b97f4a7c15u ^ h[3]);
-}
 
 static void
 llfile_free(struct tr_llfile *f)
@@ -398,7 +382,7 @@ ll_load(tr_work *w, int s, int l, int bi, int bj)
 		if (__atomic_load_n(&f->held[k], __ATOMIC_ACQUIRE) >= LLMIN &&
 		    tl_pread(f->fd, x, LLBLOCK, k * (long long)LLBLOCK,
 		    "scratch", &ignored) == 0 &&
-		    (h = llsum(x, 2 * PYRAMID_N)) == __atomic_load_n(&f->sum[k],
+		    (h = tr_hash(x, LLBLOCK)) == __atomic_load_n(&f->sum[k],
 		    __ATOMIC_RELAXED)) {
 			for (int v = 0; v < PYRAMID_N; v++)
 				w->cnll[s] += !isnan(x[v]);
@@ -423,7 +407,7 @@ ll_merge(tr_work *w, int s, long long k)
 	    (t = malloc(LLBLOCK)) == NULL)
 		return;
 	if (tl_pread(f->fd, t, LLBLOCK, k * (long long)LLBLOCK, "scratch",
-	    &ignored) == 0 && llsum(t, 2 * PYRAMID_N) ==
+	    &ignored) == 0 && tr_hash(t, LLBLOCK) ==
 	    __atomic_load_n(&f->sum[k], __ATOMIC_RELAXED))
 		for (int v = 0; v < PYRAMID_N; v++)
 			if (isnan(x[v]) && !isnan(t[v])) {
@@ -459,7 +443,7 @@ ll_save(tr_work *w, int s)
 		__atomic_store_n(&f->room, -1, __ATOMIC_RELAXED);
 		return;
 	}
-	w->csum[s] = llsum(w->clon[s], 2 * PYRAMID_N);
+	w->csum[s] = tr_hash(w->clon[s], LLBLOCK);
 	__atomic_store_n(&f->sum[k], w->csum[s], __ATOMIC_RELAXED);
 	__atomic_store_n(&f->held[k], w->cnll[s], __ATOMIC_RELEASE);
 }

@@ -69,6 +69,9 @@ typedef struct {
  * (never put, or lost: make it again). Put: record k's bytes, the same
  * whoever puts them; dropped when the file is full or failed. */
 struct tr_store *tr_store_new(long long n, size_t size);
+/* A hash of n bytes (64-bit words in four lanes), to tell the bytes read
+ * back from a scratch file from those written. */
+uint64_t tr_hash(const void *p, size_t n);
 void tr_store_free(struct tr_store *s);
 int tr_store_get(struct tr_store *s, long long k, void *buf);
 void tr_store_put(struct tr_store *s, long long k, const void *buf);

@@ -36,18 +36,21 @@ struct tr_store {
 	uint64_t *sum;          /* per record: hash of its bytes (atomic) */
 };
 
-/* A hash of n bytes, 64-bit words in four lanes (the last word padded
- * with zeros). */
-static uint64_t
-hash(const void *p, size_t n)
+uint64_t
+tr_hash(const void *p, size_t n)
 {
 	const unsigned char *b = p;
 	uint64_t h[4] = { 1, 2, 3, 4 }, u;
+	size_t i = 0;
 
-	for (size_t i = 0; 8 * i < n; i++) {
-		size_t m = n - 8 * i < 8 ? n - 8 * i : 8;
+	for (; 8 * i + 8 <= n; i++) {
+		memcpy(&u, b + 8 * i, sizeof u);
+		h[i & 3] = (h[i & 3] ^ u) * 0x100000001b3u;
+		h[i & 3] ^= h[i & 3] >> 29;
+	}
+	if (8 * i < n) { /* the last word, padded with zeros */
 		u = 0;
-		memcpy(&u, b + 8 * i, m);
+		memcpy(&u, b + 8 * i, n - 8 * i);
 		h[i & 3] = (h[i & 3] ^ u) * 0x100000001b3u;
 		h[i & 3] ^= h[i & 3] >> 29;
 	}
@@ -95,7 +98,7 @@ tr_store_get(struct tr_store *s, long long k, void *buf)
 	    __atomic_load_n(&s->state[k], __ATOMIC_ACQUIRE) != ST_WRITTEN)
 		return -1;
 	if (tl_pread(s->fd, buf, s->size, k * (long long)s->size, "scratch",
-	    &ignored) < 0 || hash(buf, s->size) !=
+	    &ignored) < 0 || tr_hash(buf, s->size) !=
 	    __atomic_load_n(&s->sum[k], __ATOMIC_RELAXED))
 		return -1;
 	return 0;
@@ -118,6 +121,6 @@ tr_store_put(struct tr_store *s, long long k, const void *buf)
 		__atomic_store_n(&s->room, -1, __ATOMIC_RELAXED);
 		return;
 	}
-	__atomic_store_n(&s->sum[k], hash(buf, s->size), __ATOMIC_RELAXED);
+	__atomic_store_n(&s->sum[k], tr_hash(buf, s->size), __ATOMIC_RELAXED);
 	__atomic_store_n(&s->state[k], ST_WRITTEN, __ATOMIC_RELEASE);
 }
