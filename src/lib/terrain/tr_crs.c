@@ -18,8 +18,8 @@
  * so |a - g| <= e = 1/2 M rho^2 for l in T' (M bounds |D2 psi[d, d]|,
  * tr_curve.c; sum b_i |l_i - l|^2 <= rho^2, T''s least enclosing circle
  * squared); for l up to delta outside T' (a decoded corner's place) e
- * gains |D A_S - D psi| delta, bounded from M and T' (turn()). The first term is at most |grad P| e.
- * The second is 0 for g in S; else g lies within e + |D A_S| delta of S
+ * gains |D A_S - D psi| delta, bounded from M and T' (turn()). The
+ * first term is at most |grad P| e. The second is 0 for g in S; else g lies within e + |D A_S| delta of S
  * (A_S maps T' onto S) and P - Z, 0 on S, grows by at most |grad P| + G
  * per cell from it, G the steepest selected triangle within the reach of
  * S (of the tile's, those within a twentieth of a tile of it, tr_cut.c's
@@ -29,8 +29,10 @@
  *
  *   C = |grad P| e + (|grad P| + G) (e + |D A_S| delta).
  *
- * The reach e + |D A_S| delta also bounds how far inside the grid a
- * sample drawn past S's outline edge can lie (tr_bound's band). */
+ * The pieces past the footprint or in the band get no bound: how deep
+ * in the grid a sample they draw may lie comes from their corners
+ * through PROJ's inverse (tr_crs_claim), and those samples are
+ * measured (tr_level.c). */
 #include <math.h>
 #include <stdlib.h>
 
