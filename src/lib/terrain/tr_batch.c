@@ -57,13 +57,9 @@ pass_block(tr_export *x, int k, int b, double *dd)
 	const double *lon, *lat, *bx = NULL;
 	double *fu = NULL;
 	const pyramid_block *pb;
+	double band;
 
-	double band = -1;
-
-	for (int i = 0; i < x->nkeep; i++)
-		if (tr_kept_meets(&x->g, l[i].k, b))
-			any++, band = fmax(band, tr_kept_band_of(l[i].k));
-	if (!any)
+	if ((any = tr_kept_meeting(&x->g, l, x->nkeep, b, &band)) == 0)
 		return;
 	if ((pb = tr_block_band(w, bi, bj, band, &lon, &lat, &x->err[k])) ==
 	    NULL) {

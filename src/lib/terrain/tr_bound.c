@@ -137,24 +137,7 @@ spread(const double v[3][3], int d, const double q[3], const cpt *c, int n,
 	return fmax(best, l[0] * l[1] * l[2] / sw);
 }
 
-/* The least circle's radius squared of a triangle of sides squared l
- * (any dimension): half the longest when right or obtuse, else the
- * circumradius (16 area^2 by Heron). */
-static double
-encl(const double l[3])
-{
-	int k = l[1] > l[0] ? 1 : 0;
-	double h;
-
-	k = l[2] > l[k] ? 2 : k;
-	if (l[k] >= l[(k + 1) % 3] + l[(k + 2) % 3])
-		return l[k] / 4;
-	h = 2 * (l[0] * l[1] + l[1] * l[2] + l[2] * l[0]) - (l[0] * l[0] +
-	    l[1] * l[1] + l[2] * l[2]);
-	return dmax(l[k] / 4, l[0] * l[1] * l[2] / h);
-}
-
-/* spread() over the whole triangle: encl in the metric q. */
+/* spread() over the whole triangle: tr_encl in the metric q. */
 static double
 spread_all(const double v[3][3], int d, const double q[3])
 {
@@ -166,7 +149,7 @@ spread_all(const double v[3][3], int d, const double q[3])
 		for (int k = 0; k < d; k++)
 			l[i] += q[k] * (v[a][k] - v[b][k]) * (v[a][k] - v[b][k]);
 	}
-	return encl(l);
+	return tr_encl(l);
 }
 
 /* A triangle's corners as the measure has them and as they decode. */

@@ -39,24 +39,32 @@
 #include "terrain/tr_bary.h"
 #include "terrain/tr_impl.h"
 
-/* The least enclosing circle's radius squared of the triangle x, y. */
+double
+tr_encl(const double l[3])
+{
+	int k = l[1] > l[0] ? 1 : 0;
+	double h;
+
+	k = l[2] > l[k] ? 2 : k;
+	if (l[k] >= l[(k + 1) % 3] + l[(k + 2) % 3])
+		return l[k] / 4;
+	h = 2 * (l[0] * l[1] + l[1] * l[2] + l[2] * l[0]) - (l[0] * l[0] +
+	    l[1] * l[1] + l[2] * l[2]);
+	return dmax(l[k] / 4, l[0] * l[1] * l[2] / h);
+}
+
+/* tr_encl of the triangle x, y. */
 static double
 enclosing(const double *x, const double *y)
 {
-	double l[3], h;
-	int k = 0;
+	double l[3];
 
 	for (int i = 0; i < 3; i++) {
 		int a = (i + 1) % 3, b = (i + 2) % 3;
 		l[i] = (x[a] - x[b]) * (x[a] - x[b]) + (y[a] - y[b]) * (y[a] -
 		    y[b]);
-		k = l[i] > l[k] ? i : k;
 	}
-	if (l[k] >= l[(k + 1) % 3] + l[(k + 2) % 3])
-		return l[k] / 4; /* right or obtuse: half the longest */
-	h = 2 * (l[0] * l[1] + l[1] * l[2] + l[2] * l[0]) - (l[0] * l[0] +
-	    l[1] * l[1] + l[2] * l[2]);
-	return dmax(l[k] / 4, l[0] * l[1] * l[2] / h);
+	return tr_encl(l);
 }
 
 /* The distance from (px, py) to the triangle x, y (0 inside). */
@@ -139,16 +147,7 @@ turn(const tr_grid *g, const tr_tri *f)
 	return isfinite(t) ? t : INFINITY;
 }
 
-/* A gsel triangle's (tr_gsel.c's terms) box along k and gradient
- * squared. */
-static void
-gbox(const double *t, int k, double *lo, double *hi)
-{
-	double a = t[k], b = t[k] + t[2 + k], c = t[k] + t[4 + k];
-
-	*lo = dmin(a, dmin(b, c)), *hi = dmax(a, dmax(b, c));
-}
-
+/* A gsel triangle's (tr_gsel.c's terms) gradient squared. */
 static double
 gslope2(const double *t)
 {
@@ -161,9 +160,7 @@ gslope2(const double *t)
 static int
 sbucket(const tr_steep *st, double c, int k)
 {
-	double b = floor((c - st->o[k]) * st->s[k]);
-
-	return b < 0 ? 0 : b >= st->nb ? st->nb - 1 : (int)b;
+	return tr_bucket(c, st->o[k], st->s[k], st->nb);
 }
 
 int
@@ -178,7 +175,7 @@ tr_steep_init(tr_steep *st, const tr_work *w)
 	for (int i = 0; i < w->ngsel; i++)
 		for (int k = 0; k < 2; k++) {
 			double a, b;
-			gbox(w->gsel + GT * (size_t)i, k, &a, &b);
+			tr_gsel_box(w->gsel + GT * (size_t)i, k, &a, &b);
 			lo[k] = dmin(lo[k], a), hi[k] = dmax(hi[k], b);
 		}
 	for (int k = 0; k < 2; k++)
@@ -191,7 +188,7 @@ tr_steep_init(tr_steep *st, const tr_work *w)
 		if (isnan(g2))
 			continue;
 		st->all = dmax(st->all, g2);
-		gbox(t, 0, &x0, &x1), gbox(t, 1, &y0, &y1);
+		tr_gsel_box(t, 0, &x0, &x1), tr_gsel_box(t, 1, &y0, &y1);
 		for (int j = sbucket(st, y0, 1); j <= sbucket(st, y1, 1); j++)
 			for (int b = sbucket(st, x0, 0); b <= sbucket(st, x1, 0); b++)
 				st->mx[j * st->nb + b] = dmax(st->mx[j * st->nb + b], g2);

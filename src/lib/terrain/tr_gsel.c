@@ -46,14 +46,11 @@ tr_gsel_add(tr_work *w, const double x[3], const double y[3],
 static int
 bucket(const tr_gsel *g, double c, int k)
 {
-	double b = floor((c - g->o[k]) * g->s[k]);
-
-	return b < 0 ? 0 : b >= g->nb ? g->nb - 1 : (int)b;
+	return tr_bucket(c, g->o[k], g->s[k], g->nb);
 }
 
-/* Triangle t's box (its terms' places): lo, hi along x (k 0), y (1). */
-static void
-box(const double *t, int k, double *lo, double *hi)
+void
+tr_gsel_box(const double *t, int k, double *lo, double *hi)
 {
 	double a = t[k], b = t[k] + t[2 + k], c = t[k] + t[4 + k];
 
@@ -79,7 +76,7 @@ tr_gsel_init(tr_gsel *g, const tr_work *w)
 	for (size_t i = 0; i < n; i++)
 		for (int k = 0; k < 2; k++) {
 			double a, b;
-			box(g->t + GT * i, k, &a, &b);
+			tr_gsel_box(g->t + GT * i, k, &a, &b);
 			lo[k] = dmin(lo[k], a), hi[k] = dmax(hi[k], b);
 		}
 	for (int k = 0; k < 2 && n; k++)
@@ -88,8 +85,8 @@ tr_gsel_init(tr_gsel *g, const tr_work *w)
 	for (int pass = 0; pass < 2; pass++) {
 		for (size_t i = 0; i < n; i++) {
 			double x0, x1, y0, y1;
-			box(g->t + GT * i, 0, &x0, &x1);
-			box(g->t + GT * i, 1, &y0, &y1);
+			tr_gsel_box(g->t + GT * i, 0, &x0, &x1);
+			tr_gsel_box(g->t + GT * i, 1, &y0, &y1);
 			for (int c = bucket(g, y0, 1); c <= bucket(g, y1, 1); c++)
 				for (int b = bucket(g, x0, 0); b <= bucket(g, x1, 0);
 				    b++) {

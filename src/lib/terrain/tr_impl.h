@@ -4,6 +4,7 @@
 #ifndef TL_TR_IMPL_H
 #define TL_TR_IMPL_H
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -286,6 +287,17 @@ int tr_gsel_init(tr_gsel *g, const tr_work *w);
 void tr_gsel_free(tr_gsel *g);
 const double *tr_gsel_find(const tr_gsel *g, double x, double y,
     int *hint);
+/* A selected triangle's (its tr_gsel terms t) box along x (k 0), y. */
+void tr_gsel_box(const double *t, int k, double *lo, double *hi);
+/* Bucket of coordinate c in a grid of nb buckets from o, s a unit:
+ * floor((c - o) s) within 0 .. nb - 1. */
+static inline int
+tr_bucket(double c, double o, double s, int nb)
+{
+	double b = floor((c - o) * s);
+
+	return b < 0 ? 0 : b >= nb ? nb - 1 : (int)b;
+}
 
 /* Quantise, order, decode w->m for tile (z, x, y): fills u, v, q, pos,
  * the triangles counter-clockwise in u, v; *minh, *maxh the header's
@@ -320,10 +332,12 @@ int tr_kept_block(const tr_grid *g, const tr_kept *k, int kb, int bi,
 void tr_block_feet(const tr_grid *g, const double *lon, const double *lat,
     int bi, int bj, double *fu);
 /* Only kept tile k's samples within band cells of the grid's sides
- * measured (a projected DEM's; INFINITY, as tr_keep makes it: all);
- * its band. */
+ * measured (a projected DEM's; INFINITY, as tr_keep makes it: all). */
 void tr_kept_band(tr_kept *k, double band);
-double tr_kept_band_of(const tr_kept *k);
+/* How many of the n kept tiles l meet level-0 block kb; *band the
+ * widest of their bands (-1: none meets). */
+int tr_kept_meeting(const tr_grid *g, const struct tr_keptz *l, int n,
+    int kb, double *band);
 /* Level-0 block (bi, bj) for the measure, through w's cache: with the
  * longitudes and latitudes of its samples within band cells of the
  * grid's sides (INFINITY: all, tr_block_all). */
@@ -370,6 +384,10 @@ double tr_crs(const tr_grid *g, const tr_tri *f,
  * (tile rectangle r) may lie: -1 when it has none, INFINITY when not
  * known (PROJ's inverse). */
 double tr_crs_claim(tr_work *w, const double r[4]);
+/* The least circle's radius squared of a triangle of sides squared l
+ * (any dimension): half the longest when right or obtuse, else the
+ * circumradius (16 area^2 by Heron). */
+double tr_encl(const double l[3]);
 /* The steepest of a tile's selected triangles in the grid (w->gsel),
  * all (metres a cell) and by bucket. */
 typedef struct {

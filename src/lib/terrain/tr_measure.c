@@ -161,6 +161,15 @@ locate(const locator *l, double su, double sv, int hint)
 	return locate_far(l, su, sv);
 }
 
+/* How deep in the grid (its last places W, H) the box x0 .. x1, y0 ..
+ * y1 of places lies: cells from the nearest side to its nearest point
+ * (a place: x0 = x1, y0 = y1). */
+static inline double
+depth_in(double W, double H, double x0, double y0, double x1, double y1)
+{
+	return dmin(dmin(x0, W - x1), dmin(y0, H - y1));
+}
+
 /* The drawn surface's height over a sample: the plane of triangle q
  * (decoded, ECEF) met by the normal through the sample's foot f,
  * direction up. */
@@ -313,7 +322,7 @@ measure_proj(const pyramid_block *b, const double *lon, const double *lat,
 	double wd = r[2] - r[0], f[3], up[3];
 	int k = J * BT_SIZE + I, q;
 	double gx = bi * BT_CELLS + I, gy = bj * BT_CELLS + J;
-	double depth = dmin(dmin(gx, l->W - gx), dmin(gy, l->H - gy));
+	double depth = depth_in(l->W, l->H, gx, gy, gx, gy);
 
 	if (depth > l->band)
 		return 0;
@@ -538,7 +547,7 @@ tr_kept_meets(const tr_grid *g, const tr_kept *k, int kb)
 	double x1 = x0 + BT_CELLS, y1 = y0 + BT_CELLS;
 
 	/* a side's band alone measured: a block deeper holds none */
-	if (dmin(dmin(x0, k->l.W - x1), dmin(y0, k->l.H - y1)) > k->l.band)
+	if (depth_in(k->l.W, k->l.H, x0, y0, x1, y1) > k->l.band)
 		return 0;
 	return !(o[2] < t[0] || o[0] > t[2] || o[3] < t[1] || o[1] > t[3]);
 }
@@ -549,10 +558,17 @@ tr_kept_band(tr_kept *k, double band)
 	k->l.band = band;
 }
 
-double
-tr_kept_band_of(const tr_kept *k)
+int
+tr_kept_meeting(const tr_grid *g, const struct tr_keptz *l, int n, int kb,
+    double *band)
 {
-	return k->l.band;
+	int any = 0;
+
+	*band = -1;
+	for (int i = 0; i < n; i++)
+		if (tr_kept_meets(g, l[i].k, kb))
+			any++, *band = dmax(*band, l[i].k->l.band);
+	return any;
 }
 
 const pyramid_block *
@@ -569,11 +585,11 @@ tr_block_band(tr_work *w, int bi, int bj, double band, const double **lon,
 		return NULL;
 	if ((v = malloc(PYRAMID_N * sizeof *v)) == NULL)
 		return tl_fail(e, "tile: out of memory"), NULL;
-	/* measure_proj's test of a sample */
+	/* the samples measure_proj measures */
 	for (int J = 0; J < BT_SIZE; J++)
 		for (int I = 0; I < BT_SIZE; I++) {
 			double gx = bi * BT_CELLS + I, gy = bj * BT_CELLS + J;
-			if (dmin(dmin(gx, W - gx), dmin(gy, H - gy)) <= band)
+			if (depth_in(W, H, gx, gy, gx, gy) <= band)
 				v[n++] = J * BT_SIZE + I;
 		}
 	if (tr_ll_need(w, b, v, n, e) < 0)

@@ -32,15 +32,11 @@ tr_batch_own(tr_export *x, int k, tr_part *p, tl_err *e)
 	    malloc(6 * (size_t)PYRAMID_N * sizeof *w->fu)) != NULL))
 		w->fok = malloc(PYRAMID_N); /* NULL: each tile its own */
 	for (int b = L0->blocks[0] * L0->blocks[1] - 1; b >= 0; b--) {
-		int bi = b % L0->blocks[0], bj = b / L0->blocks[0], any = 0;
+		int bi = b % L0->blocks[0], bj = b / L0->blocks[0];
 		const double *lon, *lat, *bx = NULL;
 		const pyramid_block *pb;
-		double band = -1;
-		for (int i = 0; i < w->nkept; i++)
-			if (tr_kept_meets(&x->g, w->kept[i].k, b))
-				any = 1, band = fmax(band,
-				    tr_kept_band_of(w->kept[i].k));
-		if (!any)
+		double band;
+		if (tr_kept_meeting(&x->g, w->kept, w->nkept, b, &band) == 0)
 			continue;
 		if ((pb = tr_block_band(w, bi, bj, band, &lon, &lat, e)) == NULL)
 			goto done;
